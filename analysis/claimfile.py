@@ -1,0 +1,455 @@
+"""Published claims as data: loading and checking the claims files.
+
+A claims file (TOML, one per published source) lists claims. Each claim says which
+scene family to run, which parameter to sweep over which log-spaced range, which two
+quantities to measure, and which power law ``y = Theta(x^k)`` to expect between them.
+Adding a claim needs no code: see ``docs/analysis.md`` for the format.
+"""
+
+import math
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from .expr import Expression, ExpressionError
+from .loader import ALIASES, COUNTERS
+
+__all__ = [
+    "Claim",
+    "SweepRange",
+    "ClaimsFileError",
+    "load_claims",
+    "load_claims_dir",
+    "MODES",
+]
+
+#: Sweep modes a claim may give ranges for.
+MODES = ("quick", "full")
+
+_ORACLES = ("garmann", "hanrahan", "bf")
+
+
+class ClaimsFileError(ValueError):
+    """A claims file that cannot be read or does not follow the format.
+
+    Attributes
+    ----------
+    path : str
+        The file.
+    line : int or None
+        1-based line of the problem, when known.
+    claim_id : str or None
+        The claim the problem belongs to, when known.
+    key : str or None
+        The offending key, when known.
+    """
+
+    def __init__(self, path, message, line=None, claim_id=None, key=None):
+        self.path = str(path)
+        self.line = line
+        self.claim_id = claim_id
+        self.key = key
+        where = f"{self.path}:{line}" if line else self.path
+        prefix = f"claim {claim_id!r}: " if claim_id else ""
+        super().__init__(f"{where}: {prefix}{message}")
+
+
+@dataclass(frozen=True)
+class SweepRange:
+    """A log-spaced range of the swept parameter.
+
+    Attributes
+    ----------
+    start, stop : float
+        First and last value (in the parameter's unit; either may be the larger).
+    per_decade : float
+        Points per decade (factor 10) of the parameter.
+    """
+
+    start: float
+    stop: float
+    per_decade: float
+
+    def values(self):
+        """The swept values, log-spaced from `start` to `stop` inclusive.
+
+        Returns
+        -------
+        values : list of float
+            Rounded to 5 significant digits, so that they print and cache identically
+            on every run.
+        """
+        decades = abs(math.log10(self.stop / self.start))
+        n = max(2, int(round(decades * self.per_decade)) + 1)
+        out = []
+        for i in range(n):
+            v = self.start * (self.stop / self.start) ** (i / (n - 1))
+            v = float(f"{v:.5g}")
+            if not out or v != out[-1]:
+                out.append(v)
+        return out
+
+
+@dataclass
+class Claim:
+    """One published statement, turned into a measurement.
+
+    Attributes
+    ----------
+    id : str
+        Short unique name, e.g. ``"C4"``.
+    statement : str
+        The statement as written in the source, e.g. ``"L = Theta(N^2)"``.
+    source : str
+        Citation of the source.
+    source_key : str
+        Short key of the source (the claims file's name by default).
+    description : str
+        One or two sentences for a reader who has not seen the paper.
+    scene : str
+        Scene family of ``hrbench run``.
+    params : dict of str to float
+        Fixed scene parameters (scene units).
+    oracle : str
+        Oracle name.
+    sweep_param : str
+        ``"eps"`` or the name of a scene parameter.
+    ranges : dict of str to SweepRange
+        Range of the swept parameter per mode (``"quick"``, ``"full"``).
+    x, y : Expression
+        Measured quantities (formulas over the fields of a run).
+    x_label, y_label : str
+        Axis labels with units, for plots.
+    expected_exponent : float
+        The exponent ``k`` of ``y = Theta(x^k)`` (dimensionless).
+    tolerance : float
+        How far the measured exponent may lie from `expected_exponent` (dimensionless).
+    x_min, x_max : float or None
+        The asymptotic regime: only points with ``x_min <= x <= x_max`` count.
+    expected_to_hold : bool
+        Whether the claim is expected to hold for this measurement.
+    min_points : int
+        Fewest points in the regime for a verdict.
+    min_decades : float
+        Fewest decades of ``x`` spanned by the regime for a verdict.
+    window_decades : float
+        Width of the sliding windows (decades of ``x``) that judge whether the slope settled.
+    theta_band : float
+        Largest ``max/min`` of ``y / x^k`` over the regime that counts as bounded.
+    min_area : float or None
+        ``--min-area`` passed to every run (scene units).
+    max_depth : int or None
+        ``--max-depth`` passed to every run (levels).
+    path : str
+        The claims file.
+    line : int
+        Line of the claim in the file.
+    """
+
+    id: str
+    statement: str
+    source: str
+    source_key: str
+    description: str
+    scene: str
+    params: dict
+    oracle: str
+    sweep_param: str
+    ranges: dict
+    x: Expression
+    y: Expression
+    x_label: str
+    y_label: str
+    expected_exponent: float
+    tolerance: float
+    x_min: object = None
+    x_max: object = None
+    expected_to_hold: bool = True
+    min_points: int = 8
+    min_decades: float = 1.5
+    window_decades: float = 1.0
+    theta_band: float = 10.0
+    min_area: object = None
+    max_depth: object = None
+    path: str = ""
+    line: int = 0
+
+    def range_for(self, mode):
+        """The sweep range for `mode`, falling back to the other mode's range."""
+        if mode in self.ranges:
+            return self.ranges[mode]
+        return next(iter(self.ranges.values()))
+
+
+_CLAIM_KEYS = {
+    "id", "statement", "source", "description", "scene", "params", "oracle", "sweep",
+    "x", "y", "x_label", "y_label", "expected_exponent", "tolerance", "regime",
+    "expected_to_hold", "min_points", "min_decades", "window_decades", "theta_band",
+    "min_area", "max_depth",
+}
+_REQUIRED = ("id", "statement", "scene", "params", "sweep", "x", "y",
+             "expected_exponent", "tolerance")
+_SWEEP_KEYS = {"param", "quick", "full", "range"}
+_RANGE_KEYS = {"from", "to", "per_decade"}
+_REGIME_KEYS = {"x_min", "x_max"}
+
+
+class _Locator:
+    """Find the line of a claim, or of a key inside a claim, in the raw TOML text."""
+
+    def __init__(self, text):
+        self.lines = text.splitlines()
+        self.headers = [n + 1 for n, line in enumerate(self.lines)
+                        if re.match(r"\s*\[\[\s*claim\s*\]\]", line)]
+
+    def claim_line(self, index):
+        return self.headers[index] if index < len(self.headers) else None
+
+    def key_line(self, index, key):
+        start = self.claim_line(index)
+        if start is None:
+            return None
+        stop = self.headers[index + 1] - 1 if index + 1 < len(self.headers) else len(self.lines)
+        parts = key.split(".")
+        last = re.escape(parts[-1])
+        patterns = [
+            rf"\s*{re.escape(key)}\s*=",                      # dotted key: sweep.param =
+            rf"\s*\[\s*claim\.{re.escape(key)}\s*\]",          # table header: [claim.sweep]
+            rf"\s*{last}\s*=",                                 # key inside a sub-table
+            rf".*\b{last}\s*=",                                # key inside an inline table
+        ]
+        for pattern in patterns:
+            for n in range(start - 1, stop):
+                if re.match(pattern, self.lines[n]):
+                    return n + 1
+        return start
+
+
+def _is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def load_claims(path):
+    """Read and check one claims file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A TOML claims file (format in ``docs/analysis.md``).
+
+    Returns
+    -------
+    claims : list of Claim
+        In file order.
+
+    Raises
+    ------
+    ClaimsFileError
+        If the file is not valid TOML (the message gives tomllib's line and column),
+        or a claim misses a required key, has an unknown key, a value of the wrong type,
+        or a formula that does not parse. The message names the file, the line, the claim
+        id and the key.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ClaimsFileError(path, f"cannot read: {exc.strerror}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        match = re.search(r"line (\d+)", str(exc))
+        line = int(match.group(1)) if match else None
+        raise ClaimsFileError(path, f"not valid TOML: {exc}", line=line) from None
+    loc = _Locator(text)
+
+    unknown = set(data) - {"source", "claim"}
+    if unknown:
+        raise ClaimsFileError(path, f"unknown top-level key(s) {', '.join(sorted(unknown))}; "
+                              "allowed: source, claim")
+    source = data.get("source", {})
+    if not isinstance(source, dict):
+        raise ClaimsFileError(path, "[source] must be a table with 'key' and 'citation'")
+    source_key = str(source.get("key", path.stem))
+    citation = str(source.get("citation", source_key))
+    raw_claims = data.get("claim", [])
+    if not isinstance(raw_claims, list) or not raw_claims:
+        raise ClaimsFileError(path, "no claims: add at least one [[claim]] table")
+    claims = []
+    seen = {}
+    for index, raw in enumerate(raw_claims):
+        claim = _parse_claim(raw, index, path, loc, source_key, citation)
+        if claim.id in seen:
+            raise ClaimsFileError(path, f"duplicate id (first at line {seen[claim.id]})",
+                                  line=claim.line, claim_id=claim.id, key="id")
+        seen[claim.id] = claim.line
+        claims.append(claim)
+    return claims
+
+
+def _parse_claim(raw, index, path, loc, source_key, citation):
+    claim_id = raw.get("id") if isinstance(raw.get("id"), str) else None
+
+    def fail(message, key=None):
+        line = loc.key_line(index, key) if key else loc.claim_line(index)
+        raise ClaimsFileError(path, message, line=line, claim_id=claim_id or f"#{index + 1}",
+                              key=key)
+
+    def want(key, kind, value=None):
+        value = raw.get(key) if value is None else value
+        if kind == "str" and not (isinstance(value, str) and value.strip()):
+            fail(f"key {key!r} must be a non-empty string, got {value!r}", key)
+        if kind == "num" and not _is_number(value):
+            fail(f"key {key!r} must be a finite number, got {value!r}", key)
+        if kind == "pos" and not (_is_number(value) and value > 0):
+            fail(f"key {key!r} must be a positive number, got {value!r}", key)
+        if kind == "bool" and not isinstance(value, bool):
+            fail(f"key {key!r} must be true or false, got {value!r}", key)
+        if kind == "table" and not isinstance(value, dict):
+            fail(f"key {key!r} must be a table, got {value!r}", key)
+        return value
+
+    # Check the keys present against the format.
+    for key in _REQUIRED:
+        if key not in raw:
+            fail(f"missing required key {key!r}", None)
+    unknown = set(raw) - _CLAIM_KEYS
+    if unknown:
+        key = sorted(unknown)[0]
+        fail(f"unknown key {key!r}; allowed keys: {', '.join(sorted(_CLAIM_KEYS))}", key)
+
+    want("id", "str")
+    want("statement", "str")
+    want("scene", "str")
+    params = want("params", "table")
+    for name, value in params.items():
+        if not _is_number(value):
+            fail(f"scene parameter {name!r} must be a number, got {value!r}", f"params.{name}")
+    oracle = raw.get("oracle", "garmann")
+    if oracle not in _ORACLES:
+        fail(f"key 'oracle' must be one of {', '.join(_ORACLES)}, got {oracle!r}", "oracle")
+
+    # Read the sweep: parameter and per-mode ranges.
+    sweep = want("sweep", "table")
+    unknown = set(sweep) - _SWEEP_KEYS
+    if unknown:
+        key = sorted(unknown)[0]
+        fail(f"unknown key 'sweep.{key}'; allowed: {', '.join(sorted(_SWEEP_KEYS))}",
+             f"sweep.{key}")
+    sweep_param = want("sweep.param", "str", sweep.get("param", ""))
+    if sweep_param != "eps" and sweep_param not in params:
+        fail(f"sweep.param {sweep_param!r} must be 'eps' or one of the scene parameters "
+             f"({', '.join(sorted(params))})", "sweep.param")
+    ranges = {}
+    for mode in (*MODES, "range"):
+        if mode not in sweep:
+            continue
+        spec = sweep[mode]
+        key = f"sweep.{mode}"
+        if not isinstance(spec, dict):
+            fail(f"key {key!r} must be a table {{ from = ..., to = ..., per_decade = ... }}", key)
+        missing = _RANGE_KEYS - set(spec)
+        extra = set(spec) - _RANGE_KEYS
+        if missing or extra:
+            fail(f"key {key!r} needs exactly the keys from, to, per_decade", key)
+        for sub in _RANGE_KEYS:
+            want(f"{key}.{sub}", "pos", spec[sub])
+        if spec["from"] == spec["to"]:
+            fail(f"key {key!r}: 'from' and 'to' must differ", key)
+        ranges[mode] = SweepRange(float(spec["from"]), float(spec["to"]),
+                                  float(spec["per_decade"]))
+    if "range" in ranges:
+        common = ranges.pop("range")
+        for mode in MODES:
+            ranges.setdefault(mode, common)
+    if not ranges:
+        fail("sweep needs a range: 'quick', 'full' or 'range' = { from, to, per_decade }",
+             "sweep")
+
+    # Parse the measured quantities and check the names they read.
+    known = set(COUNTERS) | set(ALIASES) | {"eps"} | set(params)
+    if sweep_param != "eps":
+        known.add(sweep_param)
+    if "l" in params and "d" in params:
+        known.add("g")
+    exprs = {}
+    for key in ("x", "y"):
+        want(key, "str")
+        try:
+            exprs[key] = Expression(raw[key])
+        except ExpressionError as exc:
+            fail(f"key {key!r}: {exc}", key)
+        unknown_names = exprs[key].names - known
+        if unknown_names:
+            fail(f"key {key!r} reads unknown name(s) {', '.join(sorted(unknown_names))}; "
+                 f"known: {', '.join(sorted(known))}", key)
+
+    k = float(want("expected_exponent", "num"))
+    tol = float(want("tolerance", "pos"))
+    regime = raw.get("regime", {})
+    if not isinstance(regime, dict) or set(regime) - _REGIME_KEYS:
+        fail("key 'regime' must be a table with optional x_min and x_max", "regime")
+    for sub in regime:
+        want(f"regime.{sub}", "num", regime[sub])
+    defaults = Claim.__dataclass_fields__
+    options = {}
+    for key, kind in (("min_points", "pos"), ("min_decades", "pos"),
+                      ("window_decades", "pos"), ("theta_band", "pos")):
+        if key in raw:
+            options[key] = want(key, kind)
+    if "min_points" in options:
+        options["min_points"] = int(options["min_points"])
+    if options.get("theta_band", defaults["theta_band"].default) < 1:
+        fail("key 'theta_band' must be at least 1", "theta_band")
+    for key in ("min_area", "max_depth"):
+        if key in raw:
+            want(key, "pos")
+    expected = want("expected_to_hold", "bool", raw.get("expected_to_hold", True))
+    for key in ("source", "description", "x_label", "y_label"):
+        if key in raw:
+            want(key, "str")
+
+    return Claim(
+        id=raw["id"], statement=raw["statement"], source=raw.get("source", citation),
+        source_key=source_key, description=raw.get("description", ""),
+        scene=raw["scene"], params={k_: float(v) for k_, v in params.items()},
+        oracle=oracle, sweep_param=sweep_param, ranges=ranges,
+        x=exprs["x"], y=exprs["y"],
+        x_label=raw.get("x_label", raw["x"]), y_label=raw.get("y_label", raw["y"]),
+        expected_exponent=k, tolerance=tol,
+        x_min=regime.get("x_min"), x_max=regime.get("x_max"),
+        expected_to_hold=expected, min_area=raw.get("min_area"),
+        max_depth=int(raw["max_depth"]) if "max_depth" in raw else None,
+        path=str(path), line=loc.claim_line(index) or 0, **options)
+
+
+def load_claims_dir(directory):
+    """Read every ``*.toml`` claims file in a directory, in name order.
+
+    Parameters
+    ----------
+    directory : str or path-like
+
+    Returns
+    -------
+    claims : list of Claim
+
+    Raises
+    ------
+    ClaimsFileError
+        If a file is malformed, or two files use the same claim id.
+    """
+    claims = []
+    seen = {}
+    files = sorted(Path(directory).glob("*.toml"))
+    if not files:
+        raise ClaimsFileError(directory, "no claims files (*.toml) found")
+    for path in files:
+        for claim in load_claims(path):
+            if claim.id in seen:
+                raise ClaimsFileError(path, f"id already used in {seen[claim.id]}",
+                                      line=claim.line, claim_id=claim.id, key="id")
+            seen[claim.id] = claim.path
+            claims.append(claim)
+    return claims

@@ -1,0 +1,293 @@
+"""Sweeps: expand claims into ``hrbench run`` invocations and run them in parallel.
+
+Every run is looked up in the :class:`~analysis.store.ResultStore` first; only missing
+points are run, on a pool of worker threads (each runs one ``hrbench`` process), and
+each finished point is committed to the store as soon as it finishes.
+"""
+
+import os
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor, as_completed
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .loader import ResultFormatError, parse_run_json, run_environment
+from .store import PointKey, StoredPoint
+
+__all__ = [
+    "SweepError",
+    "SweepPoint",
+    "ClaimData",
+    "engine_version",
+    "expand_claim",
+    "run_points",
+    "get_claim_data",
+    "format_number",
+]
+
+
+class SweepError(RuntimeError):
+    """The engine cannot be run at all (missing, not executable, no version)."""
+
+
+def format_number(value):
+    """Format a parameter value for the command line and the cache key (up to 10 digits)."""
+    return f"{float(value):.10g}"
+
+
+@dataclass(frozen=True)
+class SweepPoint:
+    """One run of a sweep.
+
+    Attributes
+    ----------
+    key : PointKey
+        Cache key of the run.
+    value : float
+        Value of the swept parameter.
+    argv : tuple of str
+        Command line (the engine path first).
+    """
+
+    key: PointKey
+    value: float
+    argv: tuple
+
+
+def engine_version(hrbench):
+    """The version string of an ``hrbench`` executable.
+
+    Parameters
+    ----------
+    hrbench : str or path-like
+        Path of the executable.
+
+    Returns
+    -------
+    version : str
+        First line of ``hrbench --version``.
+
+    Raises
+    ------
+    SweepError
+        If the executable is missing or ``--version`` fails.
+    """
+    hrbench = os.fspath(hrbench)
+    if not os.path.isfile(hrbench) or not os.access(hrbench, os.X_OK):
+        raise SweepError(f"engine not found or not executable: {hrbench} "
+                         "(build it first, or pass --hrbench PATH)")
+    try:
+        proc = subprocess.run([hrbench, "--version"], capture_output=True, text=True,
+                              timeout=60)
+    except OSError as exc:
+        raise SweepError(f"cannot run {hrbench}: {exc}") from None
+    lines = proc.stdout.strip().splitlines()
+    if proc.returncode != 0 or not lines:
+        raise SweepError(f"{hrbench} --version failed with exit code {proc.returncode}")
+    return lines[0].strip()
+
+
+def expand_claim(claim, mode, hrbench, version):
+    """The runs a claim needs.
+
+    Parameters
+    ----------
+    claim : Claim
+    mode : {"quick", "full"}
+        Which of the claim's ranges to sweep.
+    hrbench : str
+        Path of the engine.
+    version : str
+        Engine version, part of every cache key.
+
+    Returns
+    -------
+    points : list of SweepPoint
+        One per value of the swept parameter, in sweep order.
+    """
+    points = []
+    for value in claim.range_for(mode).values():
+        params = dict(claim.params)
+        eps = value if claim.sweep_param == "eps" else None
+        if eps is None:
+            params[claim.sweep_param] = value
+            eps = params.pop("eps", None)
+        if eps is None:
+            raise ValueError(f"claim {claim.id}: no eps (sweep eps or give params.eps)")
+        key = PointKey(version=version, scene=claim.scene,
+                       params=tuple(sorted(params.items())), eps=float(eps),
+                       oracle=claim.oracle, min_area=claim.min_area,
+                       max_depth=claim.max_depth, mode="count-only")
+        argv = [os.fspath(hrbench), "run", claim.scene]
+        argv += [f"{k}={format_number(v)}" for k, v in sorted(params.items())]
+        argv += ["--eps", format_number(eps), "--oracle", claim.oracle]
+        if claim.min_area is not None:
+            argv += ["--min-area", format_number(claim.min_area)]
+        if claim.max_depth is not None:
+            argv += ["--max-depth", str(int(claim.max_depth))]
+        argv += ["--count-only", "--json"]
+        points.append(SweepPoint(key=key, value=value, argv=tuple(argv)))
+    return points
+
+
+def _execute(point):
+    # Run one point in a worker thread; the caller stores the result.
+    start = time.perf_counter()
+    try:
+        proc = subprocess.run(point.argv, capture_output=True, text=True)
+        code, out, err = proc.returncode, proc.stdout, proc.stderr
+    except OSError as exc:
+        code, out, err = 127, "", str(exc)
+    wall = time.perf_counter() - start
+    lines = [line for line in err.splitlines() if line.strip()]
+    last = lines[-1].strip() if lines else ""
+    ok = code == 0
+    if ok:
+        try:
+            parse_run_json(out)
+        except ResultFormatError as exc:
+            ok, last = False, f"unreadable output: {exc}"
+    elif not last:
+        last = f"exited with code {code} and no message"
+    return StoredPoint(point.key, ok, code, "" if ok else last, out, wall)
+
+
+class _Progress:
+    """A plain-text progress bar on a stream (rewritten in place on a terminal)."""
+
+    def __init__(self, total, cached, stream, width=30):
+        self.total, self.done, self.failed = total, cached, 0
+        self.cached = cached
+        self.stream, self.width = stream, width
+        self.start = time.perf_counter()
+        self.tty = stream is not None and hasattr(stream, "isatty") and stream.isatty()
+        self.last_print = -1.0
+
+    def update(self, failed=False, final=False):
+        if self.stream is None:
+            return
+        self.failed += bool(failed)
+        elapsed = time.perf_counter() - self.start
+        frac = self.done / self.total if self.total else 1.0
+        if not (self.tty or final or frac - self.last_print >= 0.1):
+            return
+        self.last_print = frac
+        bar = "#" * int(round(frac * self.width))
+        text = (f"[{bar:<{self.width}}] {self.done}/{self.total} points "
+                f"({self.cached} cached, {self.failed} failed) {elapsed:6.1f} s")
+        self.stream.write(("\r" + text) if self.tty else (text + "\n"))
+        if final and self.tty:
+            self.stream.write("\n")
+        self.stream.flush()
+
+
+def run_points(points, store, jobs=None, progress=sys.stderr):
+    """Run every point that the store does not hold yet, in parallel.
+
+    Parameters
+    ----------
+    points : sequence of SweepPoint
+        Duplicates (same key) are run once.
+    store : ResultStore
+        Cache; each finished point is committed to it at once.
+    jobs : int, optional
+        Number of concurrent runs; default ``os.cpu_count()``.
+    progress : text stream or None
+        Where to draw the progress bar (standard error by default; ``None`` for silence).
+
+    Returns
+    -------
+    summary : dict
+        ``{"total": ..., "cached": ..., "ran": ..., "failed": ...}`` (counts of points).
+    """
+    unique = {}
+    for point in points:
+        unique.setdefault(point.key, point)
+    todo = [p for p in unique.values() if not store.is_final(p.key)]
+    cached = len(unique) - len(todo)
+    bar = _Progress(len(unique), cached, progress)
+    failed = 0
+    if todo:
+        # Start the most expensive runs first (sweeps are listed cheap to dear).
+        todo.reverse()
+        with ThreadPoolExecutor(max_workers=jobs or os.cpu_count() or 1) as pool:
+            futures = [pool.submit(_execute, p) for p in todo]
+            for future in as_completed(futures):
+                result = future.result()
+                store.put(result)
+                failed += not result.ok
+                bar.done += 1
+                bar.update(failed=not result.ok)
+    bar.update(final=True)
+    return {"total": len(unique), "cached": cached, "ran": len(todo), "failed": failed}
+
+
+@dataclass
+class ClaimData:
+    """The measured points of one claim, read back from the store.
+
+    Attributes
+    ----------
+    value : ndarray
+        Swept parameter of every successful point (its unit).
+    x, y : ndarray
+        Measured quantities of every successful point, sorted by `x`.
+    failures : list of dict
+        Failed points: ``{"value", "exit_code", "stderr", "command"}``.
+    missing : int
+        Points not in the store (the sweep did not reach them).
+    engine_seconds : float
+        Sum of the refinement times reported by the engine (s).
+    """
+
+    value: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    failures: list = field(default_factory=list)
+    missing: int = 0
+    engine_seconds: float = 0.0
+
+
+def get_claim_data(claim, points, store):
+    """Read a claim's points from the store and evaluate its x and y formulas.
+
+    Parameters
+    ----------
+    claim : Claim
+    points : sequence of SweepPoint
+        The claim's points (from :func:`expand_claim`).
+    store : ResultStore
+
+    Returns
+    -------
+    data : ClaimData
+        Points whose x or y is not a finite positive number are dropped (they cannot
+        enter a log-log fit) and reported as failures.
+    """
+    rows, failures, missing, seconds = [], [], 0, 0.0
+    for point in points:
+        stored = store.get(point.key)
+        if stored is None:
+            missing += 1
+            continue
+        if not stored.ok:
+            failures.append({"value": point.value, "exit_code": stored.exit_code,
+                             "stderr": stored.stderr, "command": " ".join(point.argv[1:])})
+            continue
+        result = parse_run_json(stored.output)
+        env = run_environment(result)
+        seconds += result.counters.get("seconds", 0.0)
+        x, y = claim.x(env), claim.y(env)
+        if not (np.isfinite(x) and np.isfinite(y) and x > 0 and y > 0):
+            failures.append({"value": point.value, "exit_code": 0,
+                             "stderr": f"x={x!r}, y={y!r} not positive",
+                             "command": " ".join(point.argv[1:])})
+            continue
+        rows.append((x, y, point.value))
+    rows.sort()
+    arr = np.array(rows, dtype=float).reshape(-1, 3)
+    return ClaimData(value=arr[:, 2], x=arr[:, 0], y=arr[:, 1], failures=failures,
+                     missing=missing, engine_seconds=seconds)

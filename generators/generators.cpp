@@ -1,0 +1,81 @@
+#include "generators.h"
+
+#include <cmath>
+
+#include "flatland.h"
+#include "util/error.h"
+
+namespace hrbench {
+
+const std::vector<Family> &Families() {
+    static const std::vector<Family> families = FlatlandFamilies();
+    return families;
+}
+
+std::string DescribeRange(const ParamSpec &s) {
+    std::string kind = s.integer ? "integer " : "";
+    bool noHigh = std::isinf(s.high), noLow = std::isinf(s.low);
+    if (noLow && noHigh)
+        return kind + "any finite value";
+    if (noHigh)
+        return kind + (s.lowOpen ? "> " : ">= ") + FormatDouble(s.low);
+    return kind + "in " + (s.lowOpen ? "(" : "[") + FormatDouble(s.low) + ", " +
+           FormatDouble(s.high) + (s.highOpen ? ")" : "]");
+}
+
+static const Family &FindFamily(const std::string &name) {
+    std::string names;
+    for (const Family &f : Families()) {
+        if (f.name == name)
+            return f;
+        names += (names.empty() ? "" : ", ") + f.name;
+    }
+    throw InputError("unknown scene '" + name + "' (choose one of: " + names + ")");
+}
+
+Scene MakeScene(const std::string &familyName, const ParamMap &given) {
+    const Family &family = FindFamily(familyName);
+
+    // Reject parameters the family does not have.
+    for (const auto &[key, value] : given) {
+        bool known = false;
+        for (const ParamSpec &spec : family.params)
+            known |= spec.name == key;
+        if (!known) {
+            std::string names;
+            for (const ParamSpec &spec : family.params)
+                names += (names.empty() ? "" : ", ") + spec.name;
+            throw InputError("scene " + family.name + " has no parameter '" + key +
+                             "' (its parameters: " + names + ")");
+        }
+    }
+
+    // Fill in defaults, then check every value against its range.
+    ParamMap params;
+    for (const ParamSpec &spec : family.params) {
+        auto it = given.find(spec.name);
+        if (it != given.end())
+            params[spec.name] = it->second;
+        else
+            params[spec.name] = spec.defaultFrom.empty() ? spec.defaultValue
+                                                         : params.at(spec.defaultFrom);
+    }
+    for (const ParamSpec &spec : family.params) {
+        double v = params[spec.name];
+        bool ok = std::isfinite(v) && (spec.lowOpen ? v > spec.low : v >= spec.low) &&
+                  (spec.highOpen ? v < spec.high : v <= spec.high) && (!spec.integer || v == std::floor(v));
+        if (!ok)
+            throw InputError("scene " + family.name + ": parameter " + spec.name + "=" +
+                             FormatDouble(v) + " is out of range (" + DescribeRange(spec) + ")");
+    }
+
+    Scene scene;
+    scene.dimension = 2;
+    scene.family = family.name;
+    scene.params = params;
+    scene.segments = family.build(params);
+    ValidateScene(scene);
+    return scene;
+}
+
+}  // namespace hrbench

@@ -1,0 +1,64 @@
+// Element trees of all root patches in one flat arena: indices, not pointers,
+// and no allocation per element beyond the arena's amortised growth.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "scene.h"
+
+namespace hrbench {
+
+// What the refinement kernel reads for every oracle call, packed in 32 bytes.
+struct Element {
+    Vec2 center;          // midpoint of the element (where it is halved)
+    double size;          // A: the element's length (2D)
+    uint32_t firstChild;  // index of the first of two children; kNoChildren if a leaf
+    uint32_t root;        // index of the root patch in scene order
+};
+
+class ElementForest {
+  public:
+    // Element 0 is always a root, so it can never be anyone's child.
+    static constexpr uint32_t kNoChildren = 0;
+
+    // Creates one root element per patch of _scene_; elements 0..n-1 are the roots.
+    // _maxElements_ bounds the arena (a memory budget); exceeding it throws LimitError.
+    ElementForest(const Scene &scene, size_t maxElements);
+
+    const Element &operator[](uint32_t i) const { return hot_[i]; }
+    size_t Size() const { return hot_.size(); }
+    size_t NumRoots() const { return numRoots_; }
+
+    // Returns the index of the first child of _i_, halving _i_ at its midpoint the
+    // first time it is asked; later calls share the same two children.
+    uint32_t Children(uint32_t i) {
+        uint32_t first = hot_[i].firstChild;
+        return first != kNoChildren ? first : Subdivide(i);
+    }
+
+    // Cold data, for output and tests.
+    int Depth(uint32_t i) const { return depth_[i]; }
+    const Vec2 &Start(uint32_t i) const { return start_[i]; }
+    const Vec2 &End(uint32_t i) const { return end_[i]; }
+    // Interval [T0, T1] of the element in arc length along its root, from the root's start.
+    double T0(uint32_t i) const;
+    double T1(uint32_t i) const;
+
+    // Counters of the trees: elements per depth, leaves, deepest element.
+    std::vector<uint64_t> NodesPerDepth() const;
+    uint64_t NumLeaves() const;
+
+  private:
+    uint32_t Subdivide(uint32_t i);
+
+    size_t numRoots_;
+    size_t maxElements_;
+    std::vector<Element> hot_;
+    std::vector<Vec2> start_, end_;
+    std::vector<uint8_t> depth_;
+    std::vector<uint64_t> position_;  // index of the element among the 2^depth of its depth
+    std::vector<double> rootLength_;
+};
+
+}  // namespace hrbench

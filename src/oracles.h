@@ -1,0 +1,59 @@
+// The concrete oracles. Each is a small value type with an inline Acceptable(),
+// so the kernel instantiated for it compiles the oracle into the recursion.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "element_tree.h"
+
+namespace hrbench {
+
+// Garmann & Mueller: e = max(A_i, A_j) / r_ij, acceptable iff max(A_i, A_j) <= eps * r.
+class GarmannOracle {
+  public:
+    explicit GarmannOracle(double eps) : eps_(eps), eps2_(eps * eps) {}
+
+    bool Acceptable(const Element &i, const Element &j) const {
+        double m = std::max(i.size, j.size);
+        double r2 = (i.center - j.center).squaredNorm();
+        // Decide on squares, which needs no square root, unless the pair is within
+        // rounding of the threshold; then evaluate the exact form so that ties fall
+        // as in DESIGN section 2. 1e-12 exceeds the relative error of either side.
+        double lhs = m * m, rhs = eps2_ * r2;
+        if (lhs < rhs * (1 - 1e-12))
+            return true;
+        if (lhs > rhs * (1 + 1e-12))
+            return false;
+        return m <= eps_ * std::sqrt(r2);
+    }
+
+  private:
+    double eps_, eps2_;
+};
+
+// Hanrahan, Salzman & Aupperle: the flatland point-to-centred-segment form factor
+// F(i<-j) = A_j cos+_i cos+_j / sqrt(4 r^2 + A_j^2), cosines at the centroids.
+class HanrahanOracle {
+  public:
+    HanrahanOracle(double eps, std::vector<Vec2> rootNormals)
+        : eps_(eps), normals_(std::move(rootNormals)) {}
+
+    bool Acceptable(const Element &i, const Element &j) const {
+        Vec2 d = j.center - i.center;
+        double r2 = d.squaredNorm();
+        double r = std::sqrt(r2);
+        double cosI = std::max(0.0, normals_[i.root].dot(d) / r);
+        double cosJ = std::max(0.0, -normals_[j.root].dot(d) / r);
+        double fIJ = j.size * cosI * cosJ / std::sqrt(4 * r2 + j.size * j.size);
+        double fJI = i.size * cosI * cosJ / std::sqrt(4 * r2 + i.size * i.size);
+        return fIJ <= eps_ && fJI <= eps_;
+    }
+
+  private:
+    double eps_;
+    std::vector<Vec2> normals_;
+};
+
+}  // namespace hrbench

@@ -1,0 +1,25 @@
+// Scene files: the documented JSON format (docs/scene-format.md).
+#pragma once
+
+#include <string>
+
+#include "scene.h"
+
+namespace hrbench {
+
+constexpr int kSceneSchemaVersion = 1;
+
+// Serialises _scene_ as a JSON document.
+std::string SceneToJson(const Scene &scene);
+
+// Parses a scene document; _source_ names it in error messages. Throws InputError
+// with one line that says what is wrong and where.
+Scene SceneFromJson(const std::string &text, const std::string &source);
+
+// Reads and parses the scene file at _path_.
+Scene LoadScene(const std::string &path);
+
+// Writes _scene_ to _path_; throws InputError when the file cannot be written.
+void SaveScene(const Scene &scene, const std::string &path);
+
+}  // namespace hrbench

@@ -1,0 +1,61 @@
+#include "util/args.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "util/error.h"
+
+namespace hrbench {
+
+double ParseDouble(const std::string &text, const std::string &what) {
+    if (text.empty())
+        throw InputError(what + ": expected a number, got an empty string");
+    errno = 0;
+    char *end = nullptr;
+    double value = std::strtod(text.c_str(), &end);
+    if (end != text.c_str() + text.size())
+        throw InputError(what + ": '" + text + "' is not a number");
+    if (!std::isfinite(value) || errno == ERANGE)
+        throw InputError(what + ": '" + text + "' is not a finite number");
+    return value;
+}
+
+int64_t ParseInt(const std::string &text, const std::string &what) {
+    double value = ParseDouble(text, what);
+    if (value < 0 || value != std::floor(value) || value > 9.0e15)
+        throw InputError(what + ": '" + text + "' is not a non-negative integer");
+    return static_cast<int64_t>(value);
+}
+
+bool IsParamWord(const std::string &word) {
+    size_t eq = word.find('=');
+    return eq != std::string::npos && eq > 0 && word.rfind("--", 0) != 0;
+}
+
+ParamMap ParseParams(const std::vector<std::string> &words) {
+    ParamMap params;
+    for (const std::string &word : words) {
+        if (!IsParamWord(word))
+            throw InputError("expected a parameter key=value, got '" + word + "'");
+        size_t eq = word.find('=');
+        std::string key = word.substr(0, eq);
+        if (params.count(key))
+            throw InputError("parameter '" + key + "' is given twice");
+        params[key] = ParseDouble(word.substr(eq + 1), "parameter " + key);
+    }
+    return params;
+}
+
+std::string FormatDouble(double value) {
+    char buffer[32];
+    for (int precision = 6; precision <= 17; ++precision) {
+        std::snprintf(buffer, sizeof buffer, "%.*g", precision, value);
+        if (std::strtod(buffer, nullptr) == value)
+            break;
+    }
+    return buffer;
+}
+
+}  // namespace hrbench
