@@ -6,7 +6,7 @@
 
 namespace hrbench {
 
-ElementForest::ElementForest(const Scene &scene, size_t maxElements)
+SegmentForest::SegmentForest(const Scene &scene, size_t maxElements)
     : numRoots_(scene.segments.size()), maxElements_(maxElements) {
     if (numRoots_ >= (size_t(1) << 31))
         throw InputError("scene has too many patches");
@@ -15,12 +15,13 @@ ElementForest::ElementForest(const Scene &scene, size_t maxElements)
         start_.push_back(s.a);
         end_.push_back(s.b);
         depth_.push_back(0);
+        parent_.push_back(uint32_t(parent_.size()));
         position_.push_back(0);
         rootLength_.push_back(s.Length());
     }
 }
 
-uint32_t ElementForest::Subdivide(uint32_t i) {
+uint32_t SegmentForest::Subdivide(uint32_t i) {
     // Refuse to grow past the budget or past 32-bit indices.
     if (hot_.size() + 2 > maxElements_ || hot_.size() + 2 > UINT32_MAX)
         throw LimitError("element trees would exceed the memory budget (" +
@@ -45,20 +46,21 @@ uint32_t ElementForest::Subdivide(uint32_t i) {
     start_.push_back(a), end_.push_back(m);
     start_.push_back(m), end_.push_back(b);
     depth_.push_back(uint8_t(depth)), depth_.push_back(uint8_t(depth));
+    parent_.push_back(i), parent_.push_back(i);
     position_.push_back(position), position_.push_back(position + 1);
     hot_[i].firstChild = first;
     return first;
 }
 
-double ElementForest::T0(uint32_t i) const {
+double SegmentForest::T0(uint32_t i) const {
     return rootLength_[hot_[i].root] * std::ldexp(double(position_[i]), -depth_[i]);
 }
 
-double ElementForest::T1(uint32_t i) const {
+double SegmentForest::T1(uint32_t i) const {
     return rootLength_[hot_[i].root] * std::ldexp(double(position_[i] + 1), -depth_[i]);
 }
 
-std::vector<uint64_t> ElementForest::NodesPerDepth() const {
+std::vector<uint64_t> SegmentForest::NodesPerDepth() const {
     std::vector<uint64_t> histogram;
     for (uint8_t d : depth_) {
         if (d >= histogram.size())
@@ -68,9 +70,9 @@ std::vector<uint64_t> ElementForest::NodesPerDepth() const {
     return histogram;
 }
 
-uint64_t ElementForest::NumLeaves() const {
+uint64_t SegmentForest::NumLeaves() const {
     uint64_t leaves = 0;
-    for (const Element &e : hot_)
+    for (const ElementType &e : hot_)
         leaves += e.firstChild == kNoChildren;
     return leaves;
 }

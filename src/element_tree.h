@@ -9,24 +9,29 @@
 
 namespace hrbench {
 
-// What the refinement kernel reads for every oracle call, packed in 32 bytes.
+// What the refinement kernel reads for every oracle call (32 bytes in 2D).
+template <int D>
 struct Element {
-    Vec2 center;          // midpoint of the element (where it is halved)
-    double size;          // A: the element's length (2D)
-    uint32_t firstChild;  // index of the first of two children; kNoChildren if a leaf
+    Eigen::Matrix<double, D, 1> center;  // centroid (2D: the midpoint, where it is halved)
+    double size;                         // A: length (2D) or area (3D)
+    uint32_t firstChild;  // index of the first child (children are consecutive); 0 if a leaf
     uint32_t root;        // index of the root patch in scene order
 };
 
-class ElementForest {
+// Element 0 is always a root, so it can never be anyone's child.
+constexpr uint32_t kNoChildren = 0;
+
+// The trees of a flatland scene: every segment halved at its midpoint, on demand.
+class SegmentForest {
   public:
-    // Element 0 is always a root, so it can never be anyone's child.
-    static constexpr uint32_t kNoChildren = 0;
+    using ElementType = Element<2>;
+    static constexpr int kArity = 2;  // binary subdivision
 
     // Creates one root element per patch of _scene_; elements 0..n-1 are the roots.
     // _maxElements_ bounds the arena (a memory budget); exceeding it throws LimitError.
-    ElementForest(const Scene &scene, size_t maxElements);
+    SegmentForest(const Scene &scene, size_t maxElements);
 
-    const Element &operator[](uint32_t i) const { return hot_[i]; }
+    const ElementType &operator[](uint32_t i) const { return hot_[i]; }
     size_t Size() const { return hot_.size(); }
     size_t NumRoots() const { return numRoots_; }
 
@@ -39,6 +44,8 @@ class ElementForest {
 
     // Cold data, for output and tests.
     int Depth(uint32_t i) const { return depth_[i]; }
+    // Parent element, or the element itself for a root.
+    uint32_t Parent(uint32_t i) const { return parent_[i]; }
     const Vec2 &Start(uint32_t i) const { return start_[i]; }
     const Vec2 &End(uint32_t i) const { return end_[i]; }
     // Interval [T0, T1] of the element in arc length along its root, from the root's start.
@@ -54,9 +61,10 @@ class ElementForest {
 
     size_t numRoots_;
     size_t maxElements_;
-    std::vector<Element> hot_;
+    std::vector<ElementType> hot_;
     std::vector<Vec2> start_, end_;
     std::vector<uint8_t> depth_;
+    std::vector<uint32_t> parent_;
     std::vector<uint64_t> position_;  // index of the element among the 2^depth of its depth
     std::vector<double> rootLength_;
 };

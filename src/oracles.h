@@ -10,12 +10,12 @@
 
 namespace hrbench {
 
-// Garmann & Mueller: e = max(A_i, A_j) / r_ij, acceptable iff max(A_i, A_j) <= eps * r.
+// Garmann & Mueller (flatland): e = max(A_i, A_j) / r_ij, acceptable iff max(A_i, A_j) <= eps * r.
 class GarmannOracle {
   public:
     explicit GarmannOracle(double eps) : eps_(eps), eps2_(eps * eps) {}
 
-    bool Acceptable(const Element &i, const Element &j) const {
+    bool Acceptable(const Element<2> &i, const Element<2> &j) const {
         double m = std::max(i.size, j.size);
         double r2 = (i.center - j.center).squaredNorm();
         // Decide on squares, which needs no square root, unless the pair is within
@@ -33,14 +33,14 @@ class GarmannOracle {
     double eps_, eps2_;
 };
 
-// Hanrahan, Salzman & Aupperle: the flatland point-to-centred-segment form factor
+// Hanrahan, Salzman & Aupperle (flatland): the point-to-centred-segment form factor
 // F(i<-j) = A_j cos+_i cos+_j / sqrt(4 r^2 + A_j^2), cosines at the centroids.
 class HanrahanOracle {
   public:
     HanrahanOracle(double eps, std::vector<Vec2> rootNormals)
         : eps_(eps), normals_(std::move(rootNormals)) {}
 
-    bool Acceptable(const Element &i, const Element &j) const {
+    bool Acceptable(const Element<2> &i, const Element<2> &j) const {
         Vec2 d = j.center - i.center;
         double r2 = d.squaredNorm();
         double r = std::sqrt(r2);

@@ -13,12 +13,12 @@ namespace hrbench {
 
 namespace {
 
-// The recursion of DESIGN section 2 for one oracle type and one storage mode,
-// so that the oracle and the link sink are inlined into the hot path.
-template <typename Oracle, bool kStoreLinks>
+// The recursion of DESIGN section 2 for one element kind, one oracle type and one
+// storage mode, so that subdivision, the oracle and the link sink are inlined.
+template <typename Forest, typename Oracle, bool kStoreLinks>
 class ProjectKernel {
   public:
-    ProjectKernel(ElementForest &forest, const Oracle &oracle, const RefineOptions &options,
+    ProjectKernel(Forest &forest, const Oracle &oracle, const RefineOptions &options,
                   Counters &counters, std::vector<Link> &links, size_t maxLinks)
         : forest_(forest), oracle_(oracle), minArea_(options.minArea),
           depthLimit_(options.maxDepth >= 0 ? options.maxDepth : kSafetyDepth),
@@ -27,7 +27,7 @@ class ProjectKernel {
 
     void Project(uint32_t i, uint32_t j, int depthI, int depthJ) {
         ++counters_.oracleCalls;
-        const Element &ei = forest_[i], &ej = forest_[j];
+        const auto &ei = forest_[i], &ej = forest_[j];
         if (oracle_.Acceptable(ei, ej))
             return AddLink(i, j, depthI + depthJ);
 
@@ -42,15 +42,15 @@ class ProjectKernel {
             return AddLink(i, j, depthI + depthJ);
         }
 
-        // Recurse into the two children of the preferred element, first child first.
+        // Recurse into the children of the preferred element, first child first.
         if (splitI) {
             uint32_t child = forest_.Children(i);
-            Project(child, j, depthI + 1, depthJ);
-            Project(child + 1, j, depthI + 1, depthJ);
+            for (int c = 0; c < Forest::kArity; ++c)
+                Project(child + c, j, depthI + 1, depthJ);
         } else {
             uint32_t child = forest_.Children(j);
-            Project(i, child, depthI, depthJ + 1);
-            Project(i, child + 1, depthI, depthJ + 1);
+            for (int c = 0; c < Forest::kArity; ++c)
+                Project(i, child + c, depthI, depthJ + 1);
         }
     }
 
@@ -83,7 +83,7 @@ class ProjectKernel {
                          "or --max-depth");
     }
 
-    ElementForest &forest_;
+    Forest &forest_;
     const Oracle oracle_;
     const double minArea_;
     const int depthLimit_;
@@ -98,7 +98,7 @@ class ProjectKernel {
 template <typename Oracle, bool kStoreLinks>
 void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOptions &options,
                     size_t maxLinks, Refinement &result) {
-    ProjectKernel<Oracle, kStoreLinks> kernel(result.forest, oracle, options, result.counters,
+    ProjectKernel<SegmentForest, Oracle, kStoreLinks> kernel(result.forest, oracle, options, result.counters,
                                               result.links, maxLinks);
     const auto &patches = scene.segments;
     for (uint32_t p = 0; p < patches.size(); ++p) {
@@ -164,11 +164,11 @@ Refinement Refine(const Scene &scene, const RefineOptions &options) {
 
     // Split the memory budget: elements cost about 100 bytes each, links 8.
     size_t budget = EffectiveBudget(options);
-    size_t elementBytes = sizeof(Element) + 2 * sizeof(Vec2) + sizeof(uint8_t) + sizeof(uint64_t);
+    size_t elementBytes = sizeof(Element<2>) + 2 * sizeof(Vec2) + sizeof(uint8_t) + sizeof(uint32_t) + sizeof(uint64_t);
     size_t maxElements = options.storeLinks ? budget / 4 / elementBytes : budget / elementBytes;
     size_t maxLinks = budget / 4 * 3 / sizeof(Link);
 
-    Refinement result{ElementForest(scene, maxElements), {}, {}, {}, 0};
+    Refinement result{SegmentForest(scene, maxElements), {}, {}, {}, 0};
     auto start = std::chrono::steady_clock::now();
     switch (options.oracle) {
     case OracleKind::Garmann:

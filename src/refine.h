@@ -43,7 +43,7 @@ struct PairTally {
 };
 
 struct Refinement {
-    ElementForest forest;
+    SegmentForest forest;
     Counters counters;
     std::vector<Link> links;       // empty in count-only mode
     std::vector<PairTally> pairs;  // refined (non-culled) root pairs in order

@@ -71,7 +71,7 @@ void PrintRunTable(const json &record, std::ostream &out) {
 }
 
 void WriteLinksCsv(const Refinement &refinement, std::ostream &out) {
-    const ElementForest &forest = refinement.forest;
+    const SegmentForest &forest = refinement.forest;
     out << "root_i,elem_i,t0_i,t1_i,depth_i,root_j,elem_j,t0_j,t1_j,depth_j\n";
     for (const Link &link : refinement.links) {
         for (uint32_t e : {link.i, link.j}) {
