@@ -51,8 +51,12 @@ Scene SceneFromJson(const std::string &text, const std::string &source) {
     json doc;
     try {
         doc = json::parse(text);
-    } catch (const json::parse_error &e) {
-        throw InputError(source + ": malformed JSON at byte " + std::to_string(e.byte));
+    } catch (const json::exception &e) {
+        // Drop the library's "[json.exception.parse_error.101] " tag, keep its line and column.
+        std::string what = e.what();
+        size_t tag = what.find("] ");
+        throw InputError(source + ": malformed JSON: " +
+                         (tag == std::string::npos ? what : what.substr(tag + 2)));
     }
     if (!doc.is_object() || doc.value("format", "") != "hrbench-scene")
         throw InputError(source + ": not an hrbench scene (\"format\": \"hrbench-scene\" missing)");
