@@ -13,7 +13,8 @@ namespace hrbench {
 // Garmann & Mueller (flatland): e = max(A_i, A_j) / r_ij, acceptable iff max(A_i, A_j) <= eps * r.
 class GarmannOracle {
   public:
-    explicit GarmannOracle(double eps) : eps_(eps), eps2_(eps * eps) {}
+    explicit GarmannOracle(double eps)
+        : eps_(eps), acceptBelow_(eps * eps * (1 - 1e-12)), rejectAbove_(eps * eps * (1 + 1e-12)) {}
 
     bool Acceptable(const Element<2> &i, const Element<2> &j) const {
         double m = std::max(i.size, j.size);
@@ -21,16 +22,17 @@ class GarmannOracle {
         // Decide on squares, which needs no square root, unless the pair is within
         // rounding of the threshold; then evaluate the exact form so that ties fall
         // as in DESIGN section 2. 1e-12 exceeds the relative error of either side.
-        double lhs = m * m, rhs = eps2_ * r2;
-        if (lhs < rhs * (1 - 1e-12))
+        double m2 = m * m;
+        if (m2 < acceptBelow_ * r2)
             return true;
-        if (lhs > rhs * (1 + 1e-12))
+        if (m2 > rejectAbove_ * r2)
             return false;
         return m <= eps_ * std::sqrt(r2);
     }
 
   private:
-    double eps_, eps2_;
+    double eps_;
+    double acceptBelow_, rejectAbove_;  // eps^2 widened by the margin, either side
 };
 
 // Hanrahan, Salzman & Aupperle (flatland): the point-to-centred-segment form factor

@@ -1,9 +1,14 @@
 #include "refine.h"
 
+#include <algorithm>
+#include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <fstream>
 #include <string>
+#include <thread>
 
 #include "culling.h"
 #include "oracles.h"
@@ -13,20 +18,69 @@ namespace hrbench {
 
 namespace {
 
+// Pairs whose depths add up to this are handed to the worker threads as tasks.
+// A constant, not a function of the thread count, so that the task list (and with
+// it the order of links) is the same for every thread count.
+constexpr int kTaskDepth = 10;
+
+// A pending ProjectKernel call.
+struct Call {
+    uint32_t i, j;
+    int32_t depthI, depthJ;
+};
+
+// A subtree of the refinement left to a worker, with the root pair it belongs to.
+struct Task {
+    Call call;
+    uint32_t pair;
+};
+
+// What one kernel instance counted.
+struct Tally {
+    uint64_t oracleCalls = 0, links = 0, forcedLinks = 0;
+    std::array<uint64_t, 2 * kSafetyDepth + 1> linksPerDepth{};
+
+    void Add(const Tally &other) {
+        oracleCalls += other.oracleCalls, links += other.links, forcedLinks += other.forcedLinks;
+        for (size_t d = 0; d < linksPerDepth.size(); ++d)
+            linksPerDepth[d] += other.linksPerDepth[d];
+    }
+};
+
 // The recursion of DESIGN section 2 for one element kind, one oracle type and one
-// storage mode, so that subdivision, the oracle and the link sink are inlined.
-template <typename Forest, typename Oracle, bool kStoreLinks>
+// storage mode, so that subdivision, the oracle and the link sink are inlined. It
+// runs depth-first, first child first. With _kFrontier_ it stops at kTaskDepth and
+// records the pairs there as tasks instead.
+template <typename Forest, typename Oracle, bool kStoreLinks, bool kFrontier>
 class ProjectKernel {
   public:
     ProjectKernel(Forest &forest, const Oracle &oracle, const RefineOptions &options,
-                  Counters &counters, std::vector<Link> &links, size_t maxLinks)
+                  size_t maxLinks)
         : forest_(forest), oracle_(oracle), minArea_(options.minArea),
           depthLimit_(options.maxDepth >= 0 ? options.maxDepth : kSafetyDepth),
-          userDepthLimit_(options.maxDepth >= 0), counters_(counters), links_(links),
-          maxLinks_(maxLinks), linksPerDepth_(2 * kSafetyDepth + 1, 0) {}
+          userDepthLimit_(options.maxDepth >= 0), maxLinks_(maxLinks) {}
 
-    void Project(uint32_t i, uint32_t j, int depthI, int depthJ) {
-        ++counters_.oracleCalls;
+    // Refines _start_ completely (below the frontier), appending links to _links_
+    // and frontier pairs to _tasks_.
+    void Project(Call start, uint32_t pair, std::vector<Link> &links, std::vector<Task> *tasks) {
+        links_ = &links;
+        tasks_ = tasks;
+        pair_ = pair;
+        Recurse(start.i, start.j, start.depthI, start.depthJ);
+    }
+
+    Tally tally;
+
+  private:
+    // One ProjectKernel call. Plain recursion with scalar arguments: measured with
+    // fewer instructions per call than an explicit stack, a packed argument struct,
+    // or a separate function for rejected pairs.
+    void Recurse(uint32_t i, uint32_t j, int depthI, int depthJ) {
+        if constexpr (kFrontier) {
+            if (depthI + depthJ >= kTaskDepth)
+                return tasks_->push_back({{i, j, depthI, depthJ}, pair_});
+        }
+        ++tally.oracleCalls;
         const auto &ei = forest_[i], &ej = forest_[j];
         if (oracle_.Acceptable(ei, ej))
             return AddLink(i, j, depthI + depthJ);
@@ -38,7 +92,7 @@ class ProjectKernel {
         if (preferredSize < minArea_ || preferredDepth >= depthLimit_) {
             if (!userDepthLimit_ && preferredDepth >= depthLimit_)
                 ThrowSafetyCap(i, j);
-            ++counters_.forcedLinks;
+            ++tally.forcedLinks;
             return AddLink(i, j, depthI + depthJ);
         }
 
@@ -46,39 +100,31 @@ class ProjectKernel {
         if (splitI) {
             uint32_t child = forest_.Children(i);
             for (int c = 0; c < Forest::kArity; ++c)
-                Project(child + c, j, depthI + 1, depthJ);
+                Recurse(child + c, j, depthI + 1, depthJ);
         } else {
             uint32_t child = forest_.Children(j);
             for (int c = 0; c < Forest::kArity; ++c)
-                Project(i, child + c, depthI, depthJ + 1);
+                Recurse(i, child + c, depthI, depthJ + 1);
         }
     }
 
-    // Moves the per-depth link histogram into the counters, trimmed.
-    void Finish() {
-        while (!linksPerDepth_.empty() && linksPerDepth_.back() == 0)
-            linksPerDepth_.pop_back();
-        counters_.linksPerDepth = std::move(linksPerDepth_);
-    }
-
-  private:
     void AddLink(uint32_t i, uint32_t j, int depth) {
-        ++counters_.links;
-        ++linksPerDepth_[depth];
+        ++tally.links;
+        ++tally.linksPerDepth[depth];
         if constexpr (kStoreLinks) {
-            if (links_.size() == links_.capacity() && 2 * links_.size() + 1 > maxLinks_)
+            // Buffers at most double, so twice the links stored bounds their memory.
+            if (links_->size() == links_->capacity() && 2 * tally.links > maxLinks_)
                 throw LimitError("stored links would exceed the memory budget (" +
-                                 std::to_string(links_.size()) +
+                                 std::to_string(tally.links) +
                                  " links); use --count-only, a larger eps or --max-memory");
-            links_.push_back({i, j});
+            links_->push_back({i, j});
         }
     }
 
     [[noreturn]] void ThrowSafetyCap(uint32_t i, uint32_t j) const {
-        throw LimitError("refinement of elements " + std::to_string(i) + " (patch " +
-                         std::to_string(forest_[i].root) + ") and " + std::to_string(j) +
-                         " (patch " + std::to_string(forest_[j].root) +
-                         ") reached the safety depth " + std::to_string(kSafetyDepth) +
+        throw LimitError("refinement of patches " + std::to_string(forest_[i].root) +
+                         " and " + std::to_string(forest_[j].root) +
+                         " reached the safety depth " + std::to_string(kSafetyDepth) +
                          " without an acceptable link; set a recursion limit with --min-area "
                          "or --max-depth");
     }
@@ -88,47 +134,181 @@ class ProjectKernel {
     const double minArea_;
     const int depthLimit_;
     const bool userDepthLimit_;
-    Counters &counters_;
-    std::vector<Link> &links_;
     const size_t maxLinks_;
-    std::vector<uint64_t> linksPerDepth_;
+    std::vector<Link> *links_ = nullptr;
+    std::vector<Task> *tasks_ = nullptr;
+    uint32_t pair_ = 0;
 };
 
-// Runs the kernel over all root pairs in scene order.
-template <typename Oracle, bool kStoreLinks>
+// Builds the canonical forest, the union of the workers' forests (DESIGN: children
+// are created once), and for each worker the map from its element ids to canonical ids.
+template <typename Forest>
+class ForestUnion {
+  public:
+    ForestUnion(const std::vector<Forest> &workers, Forest &canonical, bool buildMaps)
+        : workers_(workers), canonical_(canonical), scratch_(kSafetyDepth + 2) {
+        if (buildMaps)
+            for (const Forest &w : workers)
+                maps_.emplace_back(w.Size(), UINT32_MAX);
+        for (auto &level : scratch_)
+            level.resize(workers.size());
+        for (uint32_t root = 0; root < canonical.NumRoots(); ++root) {
+            std::fill(scratch_[0].begin(), scratch_[0].end(), root);
+            Visit(root, 0);
+        }
+    }
+
+    uint32_t Canonical(size_t worker, uint32_t local) const { return maps_[worker][local]; }
+
+  private:
+    static constexpr uint32_t kAbsent = UINT32_MAX;
+
+    // _scratch_[level] holds the element's id in each worker's forest, or kAbsent.
+    void Visit(uint32_t id, int level) {
+        const std::vector<uint32_t> &local = scratch_[level];
+        bool subdivided = false;
+        for (size_t w = 0; w < workers_.size(); ++w) {
+            if (local[w] == kAbsent)
+                continue;
+            if (!maps_.empty())
+                maps_[w][local[w]] = id;
+            subdivided |= workers_[w][local[w]].firstChild != kNoChildren;
+        }
+        if (!subdivided)
+            return;
+        uint32_t child = canonical_.Children(id);
+        for (int c = 0; c < Forest::kArity; ++c) {
+            for (size_t w = 0; w < workers_.size(); ++w) {
+                uint32_t first = local[w] == kAbsent ? kNoChildren : workers_[w][local[w]].firstChild;
+                scratch_[level + 1][w] = first == kNoChildren ? kAbsent : first + c;
+            }
+            Visit(child + c, level + 1);
+        }
+    }
+
+    const std::vector<Forest> &workers_;
+    Forest &canonical_;
+    std::vector<std::vector<uint32_t>> scratch_;
+    std::vector<std::vector<uint32_t>> maps_;
+};
+
+// Runs the kernel over all root pairs in scene order: a sequential pass down to the
+// task depth, then the tasks on worker threads, each with its own copy of the trees.
+template <typename Forest, typename Oracle, bool kStoreLinks>
 void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOptions &options,
-                    size_t maxLinks, Refinement &result) {
-    ProjectKernel<SegmentForest, Oracle, kStoreLinks> kernel(result.forest, oracle, options, result.counters,
-                                              result.links, maxLinks);
+                    size_t maxLinks, size_t maxElements, Refinement &result) {
+    Counters &counters = result.counters;
+    Forest top(scene, maxElements);
+    ProjectKernel<Forest, Oracle, kStoreLinks, true> topKernel(top, oracle, options, maxLinks);
+    std::vector<Link> topLinks;
+    std::vector<Task> tasks;
+
+    // Classify every root pair and refine it down to the task depth.
     const auto &patches = scene.segments;
     for (uint32_t p = 0; p < patches.size(); ++p) {
         for (uint32_t q = p + 1; q < patches.size(); ++q) {
-            ++result.counters.rootPairs;
+            ++counters.rootPairs;
             PairRelation relation = ClassifyPair(patches[p], patches[q]);
             if (relation == PairRelation::Culled) {
-                ++result.counters.culledPairs;
+                ++counters.culledPairs;
                 continue;
             }
             if (relation == PairRelation::Touching && !options.HasRecursionLimit())
                 throw InputError("patches " + std::to_string(p) + " and " + std::to_string(q) +
                                  " touch, so refinement cannot terminate; set a recursion "
                                  "limit with --min-area or --max-depth");
-            uint64_t links = result.counters.links, calls = result.counters.oracleCalls;
-            kernel.Project(p, q, 0, 0);
-            result.pairs.push_back(
-                {p, q, result.counters.links - links, result.counters.oracleCalls - calls});
+            Tally before = topKernel.tally;
+            topKernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), topLinks, &tasks);
+            result.pairs.push_back({p, q, topKernel.tally.links - before.links,
+                                    topKernel.tally.oracleCalls - before.oracleCalls});
         }
     }
-    kernel.Finish();
+
+    // Run the tasks: each worker takes the next task in order and refines it fully.
+    size_t numWorkers = std::max<size_t>(1, std::min<size_t>(options.threads, tasks.size()));
+    std::vector<Forest> forests(numWorkers, top);
+    std::vector<std::vector<Link>> taskLinks(kStoreLinks ? tasks.size() : 0);
+    std::vector<uint64_t> taskLinkCount(tasks.size()), taskCallCount(tasks.size());
+    std::vector<size_t> taskWorker(tasks.size());
+    std::vector<Tally> workerTally(numWorkers);
+    std::atomic<size_t> next{0};
+    std::atomic<bool> failed{false};
+    std::vector<std::pair<size_t, std::exception_ptr>> errors(numWorkers, {SIZE_MAX, nullptr});
+    auto work = [&](size_t w) {
+        ProjectKernel<Forest, Oracle, kStoreLinks, false> kernel(forests[w], oracle, options,
+                                                                 maxLinks / numWorkers);
+        std::vector<Link> unused;
+        for (size_t t; !failed && (t = next++) < tasks.size();) {
+            try {
+                uint64_t links = kernel.tally.links, calls = kernel.tally.oracleCalls;
+                kernel.Project(tasks[t].call, tasks[t].pair, kStoreLinks ? taskLinks[t] : unused,
+                               nullptr);
+                taskLinkCount[t] = kernel.tally.links - links;
+                taskCallCount[t] = kernel.tally.oracleCalls - calls;
+                taskWorker[t] = w;
+            } catch (...) {
+                errors[w] = {t, std::current_exception()};
+                failed = true;
+            }
+        }
+        workerTally[w] = kernel.tally;
+    };
+    std::vector<std::thread> threads;
+    for (size_t w = 1; w < numWorkers; ++w)
+        threads.emplace_back(work, w);
+    work(0);
+    for (std::thread &t : threads)
+        t.join();
+
+    // Report the error of the earliest failed task: every task before it has run,
+    // so which error surfaces does not depend on timing.
+    auto first = std::min_element(errors.begin(), errors.end(),
+                                  [](const auto &a, const auto &b) { return a.first < b.first; });
+    if (first->second)
+        std::rethrow_exception(first->second);
+
+    // Sum the counts: the sequential pass, then the workers.
+    Tally total = topKernel.tally;
+    for (const Tally &t : workerTally)
+        total.Add(t);
+    for (size_t t = 0; t < tasks.size(); ++t) {
+        result.pairs[tasks[t].pair].links += taskLinkCount[t];
+        result.pairs[tasks[t].pair].oracleCalls += taskCallCount[t];
+    }
+    counters.oracleCalls = total.oracleCalls;
+    counters.links = total.links;
+    counters.forcedLinks = total.forcedLinks;
+    counters.linksPerDepth.assign(total.linksPerDepth.begin(), total.linksPerDepth.end());
+    while (!counters.linksPerDepth.empty() && counters.linksPerDepth.back() == 0)
+        counters.linksPerDepth.pop_back();
+
+    // Merge the trees into canonical ids and translate the links to them.
+    ForestUnion<Forest> merged(forests, result.forest, kStoreLinks);
+    if constexpr (kStoreLinks) {
+        size_t total = topLinks.size();
+        for (const auto &links : taskLinks)
+            total += links.size();
+        result.links.reserve(total);
+        for (const Link &link : topLinks)  // ids of the sequential pass are the same in every worker
+            result.links.push_back({merged.Canonical(0, link.i), merged.Canonical(0, link.j)});
+        for (size_t t = 0; t < tasks.size(); ++t) {
+            for (const Link &link : taskLinks[t])
+                result.links.push_back({merged.Canonical(taskWorker[t], link.i),
+                                        merged.Canonical(taskWorker[t], link.j)});
+            std::vector<Link>().swap(taskLinks[t]);  // free as we go
+        }
+    }
 }
 
 template <typename Oracle>
 void RefineWith(const Scene &scene, const Oracle &oracle, const RefineOptions &options,
-                size_t maxLinks, Refinement &result) {
+                size_t maxLinks, size_t maxElements, Refinement &result) {
     if (options.storeLinks)
-        RefineAllPairs<Oracle, true>(scene, oracle, options, maxLinks, result);
+        RefineAllPairs<SegmentForest, Oracle, true>(scene, oracle, options, maxLinks, maxElements,
+                                                   result);
     else
-        RefineAllPairs<Oracle, false>(scene, oracle, options, maxLinks, result);
+        RefineAllPairs<SegmentForest, Oracle, false>(scene, oracle, options, maxLinks, maxElements,
+                                                    result);
 }
 
 size_t EffectiveBudget(const RefineOptions &options) {
@@ -144,6 +324,8 @@ void ValidateOptions(const RefineOptions &o) {
         throw InputError("--min-area must be a finite number >= 0");
     if (o.maxDepth < -1 || o.maxDepth > kSafetyDepth)
         throw InputError("--max-depth must be between 0 and " + std::to_string(kSafetyDepth));
+    if (o.threads < 1 || o.threads > 256)
+        throw InputError("--threads must be between 1 and 256");
 }
 
 size_t AvailableMemoryBytes() {
@@ -162,24 +344,27 @@ Refinement Refine(const Scene &scene, const RefineOptions &options) {
     ValidateOptions(options);
     ValidateScene(scene);
 
-    // Split the memory budget: elements cost about 100 bytes each, links 8.
+    // Split the memory budget: a quarter for the element trees (one copy per worker
+    // and the merged one), the rest for links. An element costs about 100 bytes.
     size_t budget = EffectiveBudget(options);
-    size_t elementBytes = sizeof(Element<2>) + 2 * sizeof(Vec2) + sizeof(uint8_t) + sizeof(uint32_t) + sizeof(uint64_t);
-    size_t maxElements = options.storeLinks ? budget / 4 / elementBytes : budget / elementBytes;
+    size_t elementBytes = sizeof(Element<2>) + 2 * sizeof(Vec2) + sizeof(uint8_t) +
+                          sizeof(uint32_t) + sizeof(uint64_t);
+    size_t forests = size_t(options.threads) + 1;
+    size_t maxElements = (options.storeLinks ? budget / 4 : budget) / elementBytes / forests;
     size_t maxLinks = budget / 4 * 3 / sizeof(Link);
 
-    Refinement result{SegmentForest(scene, maxElements), {}, {}, {}, 0};
+    Refinement result{SegmentForest(scene, SIZE_MAX), {}, {}, {}, 0};
     auto start = std::chrono::steady_clock::now();
     switch (options.oracle) {
     case OracleKind::Garmann:
-        RefineWith(scene, GarmannOracle(options.eps), options, maxLinks, result);
+        RefineWith(scene, GarmannOracle(options.eps), options, maxLinks, maxElements, result);
         break;
     case OracleKind::Hanrahan: {
         std::vector<Vec2> normals;
         for (const Segment &s : scene.segments)
             normals.push_back(s.Normal());
         RefineWith(scene, HanrahanOracle(options.eps, std::move(normals)), options, maxLinks,
-                   result);
+                   maxElements, result);
         break;
     }
     }

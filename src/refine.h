@@ -23,6 +23,7 @@ struct RefineOptions {
     int maxDepth = -1;       // link a pair whose preferred element has this depth; -1 = off
     bool storeLinks = false; // keep every link (store mode) or only count (count-only)
     size_t memoryBudget = 0; // bytes for elements and links; 0 = what the machine has free
+    int threads = 1;         // worker threads; counts never depend on it
 
     bool HasRecursionLimit() const { return minArea > 0 || maxDepth >= 0; }
 };
@@ -42,6 +43,10 @@ struct PairTally {
     uint64_t oracleCalls;  // oracle calls spent on the pair
 };
 
+// Element ids are canonical: roots first, then the union of all trees in preorder,
+// children allocated when their parent is first reached. So ids, like counts, do
+// not depend on the number of threads. Links are ordered by the refinement's task
+// order, which does not depend on it either.
 struct Refinement {
     SegmentForest forest;
     Counters counters;

@@ -48,6 +48,7 @@ json RunToJson(const Scene &scene, const RefineOptions &options, const Refinemen
     record["mode"] = options.storeLinks ? "store" : "count-only";
     record["min_area"] = options.minArea > 0 ? json(options.minArea) : json(nullptr);
     record["max_depth_limit"] = options.maxDepth >= 0 ? json(options.maxDepth) : json(nullptr);
+    record["threads"] = options.threads;
     AddCountersToJson(refinement.counters, record);
     record["seconds"] = refinement.seconds;
     return record;

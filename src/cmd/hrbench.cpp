@@ -30,6 +30,7 @@ Options of run and links:
   --min-area A       link a pair whose preferred element is shorter than A (forced link)
   --max-depth D      link a pair whose preferred element has depth D (0..48; forced link)
   --count-only       count links without storing them (run only; default: store)
+  --threads N        worker threads (default 1); counts and ids never depend on N
   --max-memory MIB   memory budget for elements and links in MiB (default: 90% of free)
   --json             print one JSON object instead of a table (run only)
   --scene-file F     load the scene from a JSON scene file instead of a family
@@ -80,6 +81,8 @@ Options ParseCommandLine(int argc, char **argv) {
             o.refine.maxDepth = int(std::min<int64_t>(ParseInt(value(a), "--max-depth"), 1 << 20));
         else if (a == "--max-memory")
             o.refine.memoryBudget = size_t(ParseInt(value(a), "--max-memory")) << 20;
+        else if (a == "--threads")
+            o.refine.threads = int(std::min<int64_t>(ParseInt(value(a), "--threads"), 1 << 20));
         else if (a == "--count-only")
             o.countOnly = true;
         else if (a == "--json")
