@@ -287,3 +287,34 @@ TEST_CASE("Invalid refinement options are rejected with the option's name", "[re
     o.maxDepth = kSafetyDepth + 1;
     CHECK_THROWS_WITH(Refine(scene, o), Catch::Contains("--max-depth"));
 }
+
+TEST_CASE("Counts, element ids and links do not depend on the number of threads", "[refine][threads]") {
+    auto [family, params, eps] = GENERATE(table<std::string, ParamMap, double>({
+        {"parallel", {{"l", 128}, {"d", 1}}, 0.05},
+        {"random", {{"n", 15}, {"seed", 4}, {"size", 6}}, 0.03},
+        {"array", {{"k", 4}}, 0.02},
+    }));
+    Scene scene = MakeScene(family, params);
+    RefineOptions o = Options(eps);
+    Refinement one = Refine(scene, o);
+    REQUIRE(one.counters.links > 10000);  // deep enough to hand tasks to the workers
+    for (int threads : {2, 3}) {
+        INFO(family << " threads=" << threads);
+        o.threads = threads;
+        Refinement many = Refine(scene, o);
+        CHECK(many.counters.nodes == one.counters.nodes);
+        CHECK(many.counters.leaves == one.counters.leaves);
+        CHECK(many.counters.links == one.counters.links);
+        CHECK(many.counters.oracleCalls == one.counters.oracleCalls);
+        CHECK(many.counters.nodesPerDepth == one.counters.nodesPerDepth);
+        CHECK(many.counters.linksPerDepth == one.counters.linksPerDepth);
+        REQUIRE(many.links.size() == one.links.size());
+        bool sameLinks = true;
+        for (size_t k = 0; k < one.links.size(); ++k)
+            sameLinks &= many.links[k].i == one.links[k].i && many.links[k].j == one.links[k].j;
+        CHECK(sameLinks);
+        for (size_t p = 0; p < one.pairs.size(); ++p)
+            CHECK(many.pairs[p].oracleCalls == one.pairs[p].oracleCalls);
+        CheckInvariants(scene, many, GarmannOracle(eps));
+    }
+}
