@@ -2,9 +2,11 @@
 #include <catch2/catch.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -17,6 +19,17 @@ struct CliResult {
     std::string out, err;
 };
 
+// A scratch file in a folder of this test process, so that runs never collide.
+std::string Scratch(const std::string &name) {
+    static const std::filesystem::path dir = [] {
+        auto d = std::filesystem::temp_directory_path() /
+                 ("hrbench_cli_test_" + std::to_string(getpid()));
+        std::filesystem::create_directories(d);
+        return d;
+    }();
+    return (dir / name).string();
+}
+
 std::string ReadFile(const std::string &path) {
     std::ifstream in(path);
     std::stringstream text;
@@ -26,7 +39,7 @@ std::string ReadFile(const std::string &path) {
 
 // Runs `hrbench ARGS` through the shell and captures both streams and the exit code.
 CliResult Cli(const std::string &args) {
-    std::string errPath = "cli_test_stderr.txt";
+    std::string errPath = Scratch("stderr.txt");
     std::string command = std::string(HRBENCH_CLI) + " " + args + " 2>" + errPath;
     FILE *pipe = popen(command.c_str(), "r");
     REQUIRE(pipe);
@@ -102,9 +115,10 @@ TEST_CASE("The human table, the scene list and the help print", "[cli]") {
 }
 
 TEST_CASE("links writes one CSV row per link that tiles the parameter square", "[cli]") {
-    REQUIRE(Cli("links parallel l=8 d=1 --eps 0.5 --out cli_test_links.csv").exitCode == 0);
+    std::string csvPath = Scratch("links.csv");
+    REQUIRE(Cli("links parallel l=8 d=1 --eps 0.5 --out " + csvPath).exitCode == 0);
     json j = json::parse(Cli("run parallel l=8 d=1 --eps 0.5 --json").out);
-    std::ifstream csv("cli_test_links.csv");
+    std::ifstream csv(csvPath);
     std::string header, line;
     std::getline(csv, header);
     CHECK(header == "root_i,elem_i,t0_i,t1_i,depth_i,root_j,elem_j,t0_j,t1_j,depth_j");
@@ -126,11 +140,12 @@ TEST_CASE("links writes one CSV row per link that tiles the parameter square", "
 }
 
 TEST_CASE("Saved scenes run the same as the family they came from", "[cli]") {
-    REQUIRE(Cli("save parallel l=16 d=2 offset=1 --out cli_test_scene.json").exitCode == 0);
-    json a = json::parse(Cli("run --scene-file cli_test_scene.json --eps 0.2 --json").out);
+    std::string scenePath = Scratch("scene.json");
+    REQUIRE(Cli("save parallel l=16 d=2 offset=1 --out " + scenePath).exitCode == 0);
+    json a = json::parse(Cli("run --scene-file " + scenePath + " --eps 0.2 --json").out);
     json b = json::parse(Cli("run parallel l=16 d=2 offset=1 --eps 0.2 --json").out);
     CHECK(a["scene"] == "file");
-    CHECK(a["scene_file"] == "cli_test_scene.json");
+    CHECK(a["scene_file"] == scenePath);
     for (const char *key : {"nodes", "leaves", "links", "oracle_calls"})
         CHECK(a[key] == b[key]);
 }
