@@ -80,11 +80,14 @@ class SweepRange:
             Rounded to 5 significant digits, so that they print and cache identically
             on every run.
         """
+        sign = 1.0 if self.stop > self.start else -1.0
         decades = abs(math.log10(self.stop / self.start))
-        n = max(2, int(round(decades * self.per_decade)) + 1)
+        n = int(math.floor(decades * self.per_decade + 1e-9)) + 1
+        raw = [self.start * 10 ** (sign * i / self.per_decade) for i in range(n)]
+        if abs(math.log10(raw[-1] / self.stop)) > 1e-9:
+            raw.append(self.stop)
         out = []
-        for i in range(n):
-            v = self.start * (self.stop / self.start) ** (i / (n - 1))
+        for v in raw:
             v = float(f"{v:.5g}")
             if not out or v != out[-1]:
                 out.append(v)
@@ -115,6 +118,8 @@ class Claim:
         Oracle name.
     sweep_param : str
         ``"eps"`` or the name of a scene parameter.
+    eps : float or None
+        Fixed oracle threshold when `sweep_param` is a scene parameter (dimensionless).
     ranges : dict of str to SweepRange
         Range of the swept parameter per mode (``"quick"``, ``"full"``).
     x, y : Expression
@@ -157,6 +162,7 @@ class Claim:
     oracle: str
     sweep_param: str
     ranges: dict
+    eps: object
     x: Expression
     y: Expression
     x_label: str
@@ -186,7 +192,7 @@ _CLAIM_KEYS = {
     "id", "statement", "source", "description", "scene", "params", "oracle", "sweep",
     "x", "y", "x_label", "y_label", "expected_exponent", "tolerance", "regime",
     "expected_to_hold", "min_points", "min_decades", "window_decades", "theta_band",
-    "min_area", "max_depth",
+    "min_area", "max_depth", "eps",
 }
 _REQUIRED = ("id", "statement", "scene", "params", "sweep", "x", "y",
              "expected_exponent", "tolerance")
@@ -341,6 +347,15 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
     if sweep_param != "eps" and sweep_param not in params:
         fail(f"sweep.param {sweep_param!r} must be 'eps' or one of the scene parameters "
              f"({', '.join(sorted(params))})", "sweep.param")
+    eps = None
+    if sweep_param == "eps":
+        if "eps" in raw:
+            fail("key 'eps' is fixed but sweep.param is 'eps'; drop one of them", "eps")
+    else:
+        if "eps" not in raw:
+            fail(f"missing key 'eps': the oracle threshold must be fixed when sweep.param is "
+                 f"{sweep_param!r}", None)
+        eps = float(want("eps", "pos"))
     ranges = {}
     for mode in (*MODES, "range"):
         if mode not in sweep:
@@ -414,7 +429,7 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
         id=raw["id"], statement=raw["statement"], source=raw.get("source", citation),
         source_key=source_key, description=raw.get("description", ""),
         scene=raw["scene"], params={k_: float(v) for k_, v in params.items()},
-        oracle=oracle, sweep_param=sweep_param, ranges=ranges,
+        oracle=oracle, sweep_param=sweep_param, ranges=ranges, eps=eps,
         x=exprs["x"], y=exprs["y"],
         x_label=raw.get("x_label", raw["x"]), y_label=raw.get("y_label", raw["y"]),
         expected_exponent=k, tolerance=tol,

@@ -455,7 +455,7 @@ def compare_models(x, y, models=DEFAULT_MODELS):
         power.append(a)
         log_power.append(b)
         rms.append(float(np.sqrt(np.mean(resid ** 2))))
-    rms_arr = np.maximum(np.array(rms), 1e-300)
+    rms_arr = np.maximum(np.array(rms), 1e-12)  # floor for exact fits (decades)
     rss = n * rms_arr ** 2
     aic = n * np.log(rss / n) + 2
     bic = n * np.log(rss / n) + math.log(n)

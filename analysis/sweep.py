@@ -26,6 +26,7 @@ __all__ = [
     "run_points",
     "get_claim_data",
     "format_number",
+    "run_links",
 ]
 
 
@@ -111,12 +112,11 @@ def expand_claim(claim, mode, hrbench, version):
     points = []
     for value in claim.range_for(mode).values():
         params = dict(claim.params)
-        eps = value if claim.sweep_param == "eps" else None
-        if eps is None:
+        if claim.sweep_param == "eps":
+            eps = value
+        else:
             params[claim.sweep_param] = value
-            eps = params.pop("eps", None)
-        if eps is None:
-            raise ValueError(f"claim {claim.id}: no eps (sweep eps or give params.eps)")
+            eps = claim.eps
         key = PointKey(version=version, scene=claim.scene,
                        params=tuple(sorted(params.items())), eps=float(eps),
                        oracle=claim.oracle, min_area=claim.min_area,
@@ -174,6 +174,8 @@ class _Progress:
         frac = self.done / self.total if self.total else 1.0
         if not (self.tty or final or frac - self.last_print >= 0.1):
             return
+        if final and not self.tty and self.last_print == frac:
+            return
         self.last_print = frac
         bar = "#" * int(round(frac * self.width))
         text = (f"[{bar:<{self.width}}] {self.done}/{self.total} points "
@@ -213,7 +215,8 @@ def run_points(points, store, jobs=None, progress=sys.stderr):
     if todo:
         # Start the most expensive runs first (sweeps are listed cheap to dear).
         todo.reverse()
-        with ThreadPoolExecutor(max_workers=jobs or os.cpu_count() or 1) as pool:
+        pool = ThreadPoolExecutor(max_workers=jobs or os.cpu_count() or 1)
+        try:
             futures = [pool.submit(_execute, p) for p in todo]
             for future in as_completed(futures):
                 result = future.result()
@@ -221,6 +224,11 @@ def run_points(points, store, jobs=None, progress=sys.stderr):
                 failed += not result.ok
                 bar.done += 1
                 bar.update(failed=not result.ok)
+        except BaseException:
+            # Interrupted: start no new run; the finished ones are already stored.
+            pool.shutdown(wait=True, cancel_futures=True)
+            raise
+        pool.shutdown()
     bar.update(final=True)
     return {"total": len(unique), "cached": cached, "ran": len(todo), "failed": failed}
 
@@ -291,3 +299,35 @@ def get_claim_data(claim, points, store):
     arr = np.array(rows, dtype=float).reshape(-1, 3)
     return ClaimData(value=arr[:, 2], x=arr[:, 0], y=arr[:, 1], failures=failures,
                      missing=missing, engine_seconds=seconds)
+
+
+def run_links(hrbench, scene, params, eps, out, oracle="garmann"):
+    """Write the link list of one refinement with ``hrbench links``.
+
+    Parameters
+    ----------
+    hrbench : str or path-like
+        Path of the engine.
+    scene : str
+        Scene family.
+    params : dict of str to float
+        Scene parameters (scene units).
+    eps : float
+        Oracle threshold (dimensionless).
+    out : str or path-like
+        CSV file to write.
+    oracle : str, optional
+
+    Raises
+    ------
+    SweepError
+        If the run fails; the message holds its exit code and last line of standard error.
+    """
+    argv = [os.fspath(hrbench), "links", scene]
+    argv += [f"{k}={format_number(v)}" for k, v in sorted(params.items())]
+    argv += ["--eps", format_number(eps), "--oracle", oracle, "--out", os.fspath(out)]
+    proc = subprocess.run(argv, capture_output=True, text=True)
+    if proc.returncode != 0:
+        lines = [line for line in proc.stderr.splitlines() if line.strip()]
+        raise SweepError(f"{' '.join(argv[1:])} failed with exit code {proc.returncode}: "
+                         f"{lines[-1] if lines else 'no message'}")

@@ -1,0 +1,17 @@
+"""hrbench analysis: sweeps of the hrbench engine, exponent fits and claim verdicts.
+
+Modules
+-------
+claimfile   read and check the claims files (``analysis/claims/*.toml``)
+expr        the safe formula evaluator used for a claim's x and y
+loader      read the engine's output (run JSON, link CSV)
+store       the SQLite results cache
+sweep       expand claims into runs and run them in parallel
+fit         power-law fits, bootstrap intervals, local slopes, Theta checks, models
+verdict     the verdict of a claim
+plots       plotting functions (each draws on a given Axes)
+report      the Markdown, HTML and JSON report
+reproduce   the command line: ``python -m analysis.reproduce``
+"""
+
+__version__ = "0.1.0"

@@ -1,0 +1,206 @@
+"""Plots of sweeps, fits and link tilings. Every function draws on an Axes it is given.
+
+None of these functions creates, shows or saves a figure; the caller owns it (and picks
+the backend; the report uses Agg).
+"""
+
+import numpy as np
+from matplotlib.collections import PatchCollection
+from matplotlib.patches import Rectangle
+
+__all__ = [
+    "plot_power_law",
+    "plot_reference_slopes",
+    "plot_slopes",
+    "plot_ratio",
+    "plot_link_tiling",
+]
+
+
+def plot_power_law(ax, x, y, *, in_regime=None, fit=None, label=None, color=None,
+                   marker="o"):
+    """Draw measured points on log-log axes, with the fitted power law over the regime.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    x, y : array_like
+        Measured points (positive).
+    in_regime : array_like of bool, optional
+        Points in the asymptotic regime are drawn filled, the others hollow.
+    fit : PowerLawFit, optional
+        Drawn as a line over the regime, labelled with the exponent and its interval.
+    label : str, optional
+        Legend label of the points.
+    color : color, optional
+    marker : str, optional
+
+    Returns
+    -------
+    line : matplotlib.lines.Line2D
+        The points (their colour is the series colour).
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    mask = np.ones(x.size, dtype=bool) if in_regime is None else np.asarray(in_regime, bool)
+    (points,) = ax.plot(x[mask], y[mask], marker, ms=4, ls="none", color=color, label=label)
+    color = points.get_color()
+    if (~mask).any():
+        ax.plot(x[~mask], y[~mask], marker, ms=4, ls="none", mfc="none", color=color,
+                label=None if label is None else "_outside")
+    if fit is not None and mask.any():
+        xs = np.geomspace(x[mask].min(), x[mask].max(), 50)
+        ax.plot(xs, fit.prefactor * xs ** fit.exponent, "-", lw=1.2, color=color, alpha=0.8,
+                label=(f"fit: exponent {fit.exponent:.3f} "
+                       f"[{fit.low:.3f}, {fit.high:.3f}]"))
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    return points
+
+
+def plot_reference_slopes(ax, slopes, x_anchor, y_anchor, *, x_max, symbol="x"):
+    """Draw dashed reference lines ``y = y_anchor (x / x_anchor)^s`` on log-log axes.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    slopes : sequence of float
+        Exponents to draw (dimensionless).
+    x_anchor, y_anchor : float
+        The point every line passes through.
+    x_max : float
+        Right end of the lines.
+    symbol : str, optional
+        Name of the x quantity in the legend labels, e.g. ``"N"``.
+    """
+    xs = np.geomspace(x_anchor, x_max, 20)
+    styles = ("--", ":", "-.")
+    for n, s in enumerate(slopes):
+        power = "" if s == 1 else f"^{s:g}"
+        ax.plot(xs, y_anchor * (xs / x_anchor) ** s, styles[n % len(styles)], color="0.4",
+                lw=1, label=f"reference slope {s:g} (proportional to {symbol}{power})")
+
+
+def plot_slopes(ax, local=None, windows=None, *, expected=None, tolerance=None,
+                x_label="x"):
+    """Draw local exponents: neighbour slopes and sliding-window fits.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    local : LocalSlopes, optional
+        Neighbour-to-neighbour slopes (small markers; they oscillate with binary steps).
+    windows : WindowSlopes, optional
+        Exponents fitted over sliding windows (a line; settles when the law holds).
+    expected : float, optional
+        The claimed exponent, drawn as a horizontal line.
+    tolerance : float, optional
+        Shades ``expected +/- tolerance``.
+    x_label : str, optional
+        Label of the x axis, with its unit.
+    """
+    if local is not None and local.x.size:
+        ax.plot(local.x, local.slope, ".", color="0.6", ms=4,
+                label="slope between neighbouring points")
+    if windows is not None and windows.x.size:
+        ax.plot(windows.x, windows.slope, "-o", ms=3, color="C0",
+                label=f"fit over a sliding window of {windows.width:g} decade(s)")
+    if expected is not None:
+        ax.axhline(expected, color="C3", lw=1, label=f"claimed exponent {expected:g}")
+        if tolerance:
+            ax.axhspan(expected - tolerance, expected + tolerance, color="C3", alpha=0.12,
+                       label=f"tolerance +/- {tolerance:g}")
+        lo, hi = expected - 4 * (tolerance or 0.25), expected + 4 * (tolerance or 0.25)
+        if windows is not None and windows.slope.size:
+            lo = min(lo, windows.slope.min() - 0.1)
+            hi = max(hi, windows.slope.max() + 0.1)
+        if local is not None and local.slope.size:
+            # Show the oscillation of neighbour slopes, but not single outliers.
+            lo = min(lo, max(np.min(local.slope) - 0.1, expected - 3))
+            hi = max(hi, min(np.max(local.slope) + 0.1, expected + 3))
+        ax.set_ylim(lo, hi)
+    ax.set_xscale("log")
+    ax.set_xlabel(x_label)
+    ax.set_ylabel("local exponent d log y / d log x (dimensionless)")
+
+
+def plot_ratio(ax, x, ratio, *, in_regime=None, band=None, x_label="x",
+               ratio_label="y / x^k"):
+    """Draw the Theta check: the ratio ``y / x^k`` against x.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    x, ratio : array_like
+        Positive values.
+    in_regime : array_like of bool, optional
+        Points in the regime are drawn filled, the others hollow.
+    band : float, optional
+        The band ``max/min`` over the regime, shown in the legend.
+    x_label : str, optional
+        Label of the x axis, with its unit.
+    ratio_label : str, optional
+        The ratio as a formula, e.g. ``"L / N^2"``, for the y axis label.
+
+    Notes
+    -----
+    The y axis is logarithmic when the ratio spans more than a factor 10, linear otherwise
+    (so that a narrow band reads with plain tick labels).
+    """
+    x = np.asarray(x, dtype=float)
+    ratio = np.asarray(ratio, dtype=float)
+    mask = np.ones(x.size, dtype=bool) if in_regime is None else np.asarray(in_regime, bool)
+    label = "ratio in the regime" + ("" if band is None else f" (max/min {band:.2f})")
+    ax.plot(x[mask], ratio[mask], "o", ms=4, color="C2", label=label)
+    if (~mask).any():
+        ax.plot(x[~mask], ratio[~mask], "o", ms=4, mfc="none", color="C2",
+                label="outside the regime")
+    if mask.any():
+        ax.axhline(ratio[mask].max(), color="0.5", lw=0.8, ls="--")
+        ax.axhline(ratio[mask].min(), color="0.5", lw=0.8, ls="--")
+    ax.set_xscale("log")
+    if ratio.max() > 10 * ratio.min():
+        ax.set_yscale("log")
+    ax.set_xlabel(x_label)
+    ax.set_ylabel(f"{ratio_label} (bounded if Theta holds)")
+
+
+def plot_link_tiling(ax, links, *, root_pair=(0, 1), cmap="viridis"):
+    """Draw the links of one root pair as rectangles tiling the parameter square.
+
+    Each link ``(i, j)`` is the rectangle ``[t0_i, t1_i] x [t0_j, t1_j]``, coloured by its
+    depth ``depth_i + depth_j``; the links of a root pair tile ``[0, A_P] x [0, A_Q]``.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    links : LinkTable
+    root_pair : (int, int), optional
+        Which pair of roots to draw (default the first two).
+    cmap : str or Colormap, optional
+
+    Returns
+    -------
+    collection : matplotlib.collections.PatchCollection
+        Pass it to ``Figure.colorbar`` for a depth scale.
+    """
+    p, q = root_pair
+    sel = (links.root_i == p) & (links.root_j == q)
+    swap = (links.root_i == q) & (links.root_j == p)
+    x0 = np.concatenate([links.t0_i[sel], links.t0_j[swap]])
+    x1 = np.concatenate([links.t1_i[sel], links.t1_j[swap]])
+    y0 = np.concatenate([links.t0_j[sel], links.t0_i[swap]])
+    y1 = np.concatenate([links.t1_j[sel], links.t1_i[swap]])
+    depth = np.concatenate([links.depth_i[sel] + links.depth_j[sel],
+                            links.depth_i[swap] + links.depth_j[swap]])
+    rects = [Rectangle((a, b), c - a, d - b) for a, b, c, d in zip(x0, y0, x1, y1)]
+    coll = PatchCollection(rects, cmap=cmap, edgecolor="k", linewidth=0.15)
+    coll.set_array(depth.astype(float))
+    ax.add_collection(coll)
+    if x0.size:
+        ax.set_xlim(x0.min(), x1.max())
+        ax.set_ylim(y0.min(), y1.max())
+    ax.set_aspect("equal")
+    ax.set_xlabel(f"position on patch {p}, arc length t_i (scene units)")
+    ax.set_ylabel(f"position on patch {q}, arc length t_j (scene units)")
+    return coll

@@ -1,0 +1,515 @@
+"""The report: claims table, per-claim details, figures, as Markdown, HTML and JSON."""
+
+import base64
+import html
+import io
+import json
+import math
+import sys
+from dataclasses import dataclass
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from .plots import (plot_link_tiling, plot_power_law, plot_ratio, plot_reference_slopes,
+                    plot_slopes)
+
+__all__ = [
+    "ClaimOutcome",
+    "ReportFigure",
+    "get_claims_table",
+    "print_claims_table",
+    "get_claims_json",
+    "get_figures",
+    "write_report",
+]
+
+
+@dataclass
+class ClaimOutcome:
+    """A claim together with its measured points and its assessment.
+
+    Attributes
+    ----------
+    claim : Claim
+    data : ClaimData
+    assessment : Assessment
+    """
+
+    claim: object
+    data: object
+    assessment: object
+
+    @property
+    def agrees(self):
+        """Whether the verdict is what the claims file expects.
+
+        ``True`` for a reproduced claim expected to hold and a refuted claim expected
+        not to hold, ``False`` for the opposite, ``None`` if inconclusive.
+        """
+        verdict = self.assessment.verdict
+        if verdict == "inconclusive":
+            return None
+        return (verdict == "reproduced") == self.claim.expected_to_hold
+
+
+@dataclass
+class ReportFigure:
+    """One figure of the report.
+
+    Attributes
+    ----------
+    name : str
+        File stem of the PNG (``results/plots/<name>.png``).
+    title : str
+        Heading of the figure in the report.
+    caption : str
+        What the figure shows, for a reader who has not seen the paper.
+    figure : matplotlib.figure.Figure
+    """
+
+    name: str
+    title: str
+    caption: str
+    figure: object
+
+    def png(self):
+        """The figure as PNG bytes (100 dpi)."""
+        buf = io.BytesIO()
+        FigureCanvasAgg(self.figure)
+        self.figure.savefig(buf, format="png", dpi=100)
+        return buf.getvalue()
+
+
+def _num(value, digits=3):
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "-"
+    return f"{value:.{digits}f}"
+
+
+def get_claims_table(outcomes):
+    """One row per claim, ready to print.
+
+    Parameters
+    ----------
+    outcomes : sequence of ClaimOutcome
+
+    Returns
+    -------
+    rows : list of dict
+        Keys ``id``, ``statement``, ``source``, ``expected``, ``measured``, ``interval``,
+        ``verdict``, ``expected_to_hold``, ``agrees``, ``reason`` (strings).
+    """
+    rows = []
+    for o in outcomes:
+        a, c = o.assessment, o.claim
+        fit = a.fit
+        rows.append({
+            "id": c.id,
+            "statement": c.statement,
+            "source": c.source_key,
+            "expected": f"{c.expected_exponent:g} +/- {c.tolerance:g}",
+            "measured": _num(fit.exponent) if fit else "-",
+            "interval": f"[{_num(fit.low)}, {_num(fit.high)}]" if fit else "-",
+            "verdict": a.verdict,
+            "expected_to_hold": "yes" if c.expected_to_hold else "no",
+            "agrees": {True: "yes", False: "NO", None: "-"}[o.agrees],
+            "reason": a.reason,
+        })
+    return rows
+
+
+_COLUMNS = (("id", "claim"), ("statement", "statement"), ("expected", "expected k"),
+            ("measured", "measured k"), ("interval", "95% interval"),
+            ("verdict", "verdict"), ("expected_to_hold", "should hold"),
+            ("agrees", "as expected"))
+
+
+def print_claims_table(rows, file=None):
+    """Print the claims table as aligned plain text, then one reason per claim.
+
+    Parameters
+    ----------
+    rows : list of dict
+        From :func:`get_claims_table`.
+    file : text stream, optional
+        Default standard output.
+    """
+    file = sys.stdout if file is None else file
+    widths = {k: max(len(h), *(len(r[k]) for r in rows)) if rows else len(h)
+              for k, h in _COLUMNS}
+    print("  ".join(h.ljust(widths[k]) for k, h in _COLUMNS).rstrip(), file=file)
+    print("  ".join("-" * widths[k] for k, _ in _COLUMNS), file=file)
+    for r in rows:
+        print("  ".join(r[k].ljust(widths[k]) for k, _ in _COLUMNS).rstrip(), file=file)
+    print(file=file)
+    for r in rows:
+        print(f"{r['id']}: {r['verdict']}: {r['reason']}", file=file)
+
+
+def get_claims_json(outcomes, mode="quick"):
+    """One JSON-ready object per claim.
+
+    Parameters
+    ----------
+    outcomes : sequence of ClaimOutcome
+    mode : {"quick", "full"}, optional
+        The sweep mode, to record each claim's swept range.
+
+    Returns
+    -------
+    objects : list of dict
+        ``id``, ``statement``, ``source``, ``expected_exponent``, ``tolerance``,
+        ``measured_exponent``, ``interval_low``, ``interval_high``, ``verdict``, ``reason``,
+        and the details of the measurement (``null`` where not computed).
+    """
+    out = []
+    for o in outcomes:
+        a, c, d = o.assessment, o.claim, o.data
+        fit, theta, models = a.fit, a.theta, a.models
+        obj = {
+            "id": c.id,
+            "statement": c.statement,
+            "source": c.source,
+            "source_key": c.source_key,
+            "description": c.description,
+            "expected_exponent": c.expected_exponent,
+            "tolerance": c.tolerance,
+            "measured_exponent": fit.exponent if fit else None,
+            "interval_low": fit.low if fit else None,
+            "interval_high": fit.high if fit else None,
+            "confidence": fit.confidence if fit else None,
+            "verdict": a.verdict,
+            "reason": a.reason,
+            "expected_to_hold": c.expected_to_hold,
+            "as_expected": o.agrees,
+            "scene": c.scene,
+            "params": c.params,
+            "oracle": c.oracle,
+            "eps": c.eps,
+            "sweep_param": c.sweep_param,
+            "sweep": {"param": c.sweep_param, "from": c.range_for(mode).start,
+                      "to": c.range_for(mode).stop,
+                      "per_decade": c.range_for(mode).per_decade},
+            "x": c.x.text,
+            "y": c.y.text,
+            "regime": {"x_min": c.x_min, "x_max": c.x_max},
+            "points": int(a.x.size),
+            "points_in_regime": a.n_regime,
+            "decades_in_regime": a.decades,
+            "failed_points": d.failures,
+            "missing_points": d.missing,
+            "prefactor": fit.prefactor if fit else None,
+            "rms_log10": fit.rms if fit else None,
+            "bootstrap": ({"method": "moving-block residual bootstrap", "block": fit.block,
+                           "resamples": fit.n_boot, "seed": fit.seed} if fit else None),
+            "settled": a.settled,
+            "settle_spread": None if math.isnan(a.settle_spread) else a.settle_spread,
+            "theta_band": theta.band if theta else None,
+            "theta_band_limit": theta.max_band if theta else None,
+            "theta_trend_per_decade": theta.trend if theta else None,
+            "theta_holds": theta.holds if theta else None,
+            "best_model": models.best if models else None,
+            "models": ([{"model": n, "delta_aic": float(da), "rms_log10": float(r)}
+                        for n, da, r in zip(models.names, models.delta_aic, models.rms)]
+                       if models else None),
+            "data": {"x": a.x.tolist(), "y": a.y.tolist()},
+        }
+        out.append(obj)
+    return out
+
+
+def _series_label(claim, ids, values):
+    fixed = ", ".join(f"{k}={v:g}" for k, v in claim.params.items() if k != claim.sweep_param)
+    if claim.eps is not None:
+        fixed += f", eps={claim.eps:g}"
+    swept = ""
+    if len(values):
+        swept = f", {claim.sweep_param} from {values.min():g} to {values.max():g}"
+        if claim.sweep_param == "eps":
+            swept = f", eps from {values.max():g} down to {values.min():g}"
+    return f"{', '.join(ids)}: {claim.scene} {fixed}{swept}"
+
+
+def _symbol(text):
+    return text.replace(" ", "")
+
+
+def _group(text):
+    # Parenthesise a formula with operators: "L/N" -> "(L/N)", "N" -> "N".
+    text = _symbol(text)
+    return f"({text})" if any(op in text for op in "+-*/") else text
+
+
+def _power(text, k):
+    return _group(text) if k == 1 else f"{_group(text)}^{k:g}"
+
+
+def get_figures(outcomes, links=None, links_title=""):
+    """Draw the report's figures.
+
+    Parameters
+    ----------
+    outcomes : sequence of ClaimOutcome
+    links : LinkTable, optional
+        Links of one refinement, drawn as a tiling of the parameter square.
+    links_title : str, optional
+        Description of that refinement (scene, parameters, eps).
+
+    Returns
+    -------
+    figures : list of ReportFigure
+        One figure per pair of measured quantities (claims measuring the same x and y
+        share a chart, with reference slopes for their exponents), one per claim (local
+        exponents and the Theta ratio), and the tiling if `links` is given.
+    """
+    figures = []
+    usable = [o for o in outcomes if o.assessment.x.size]
+
+    # Draw one chart per pair of measured quantities, all claims measuring it overlaid.
+    groups = {}
+    for o in usable:
+        groups.setdefault((_symbol(o.claim.x.text), _symbol(o.claim.y.text)), []).append(o)
+    for (xs, ys), members in groups.items():
+        fig = Figure(figsize=(8, 5.6), layout="constrained")
+        ax = fig.add_subplot()
+        series = {}
+        for o in members:
+            key = (o.assessment.x.tobytes(), o.assessment.y.tobytes())
+            series.setdefault(key, []).append(o)
+        markers = "os^Dv"
+        xmin, ymin_at_xmin, xmax = math.inf, None, 0.0
+        for n, same in enumerate(series.values()):
+            main = next((o for o in same if o.claim.expected_to_hold), same[0])
+            a = main.assessment
+            plot_power_law(ax, a.x, a.y, in_regime=a.in_regime, fit=a.fit,
+                           label=_series_label(main.claim, [o.claim.id for o in same],
+                                               main.data.value),
+                           marker=markers[n % len(markers)], color=f"C{n}")
+            if a.x[0] < xmin:
+                xmin, ymin_at_xmin = a.x[0], a.y[0]
+            xmax = max(xmax, a.x[-1])
+        slopes = sorted({o.claim.expected_exponent for o in members})
+        plot_reference_slopes(ax, slopes, xmin, ymin_at_xmin, x_max=xmax, symbol=xs)
+        first = members[0].claim
+        ax.set_xlabel(first.x_label)
+        ax.set_ylabel(first.y_label)
+        ids = ", ".join(o.claim.id for o in members)
+        title = f"{_label_name(first.y_label)} against {_label_name(first.x_label)} ({ids})"
+        title = title[0].upper() + title[1:]
+        ax.set_title(title)
+        ax.grid(True, which="major", alpha=0.3)
+        ax.legend(fontsize=8, loc="upper left")
+        caption = ("Log-log plot; filled markers lie in the asymptotic regime that is "
+                   "judged, hollow ones outside it; solid lines are least-squares fits over "
+                   "the regime, dashed/dotted lines reference slopes. "
+                   + " ".join(f"{o.claim.id}: {o.claim.description}" for o in members))
+        figures.append(ReportFigure(f"chart-{_slug(ids)}", title, caption, fig))
+
+    # Draw per claim: local exponents and the bounded-ratio check.
+    for o in usable:
+        a, c = o.assessment, o.claim
+        fig = Figure(figsize=(12, 4.4), layout="constrained")
+        ax1, ax2 = fig.subplots(1, 2)
+        plot_slopes(ax1, a.local, a.windows, expected=c.expected_exponent,
+                    tolerance=c.tolerance, x_label=c.x_label)
+        ax1.set_title(f"{c.id}: local exponent of {_symbol(c.y.text)} "
+                      f"against {_symbol(c.x.text)}")
+        ax1.grid(True, alpha=0.3)
+        ax1.legend(fontsize=8)
+        ratio = a.y / a.x ** c.expected_exponent
+        ratio_label = f"{_group(c.y.text)} / {_power(c.x.text, c.expected_exponent)}"
+        plot_ratio(ax2, a.x, ratio, in_regime=a.in_regime,
+                   band=a.theta.band if a.theta else None, x_label=c.x_label,
+                   ratio_label=ratio_label)
+        ax2.set_title(f"{c.id}: Theta check, {ratio_label}")
+        ax2.grid(True, alpha=0.3)
+        ax2.legend(fontsize=8)
+        caption = ("Left: exponent between neighbouring points (grey; binary subdivision "
+                   "makes counts step functions, so these oscillate) and exponent fitted "
+                   "over sliding one-decade windows (blue), against the claimed exponent "
+                   "and its tolerance (red). Right: the ratio y/x^k; the claim "
+                   "y = Theta(x^k) holds when it stays between two constants (dashed).")
+        figures.append(ReportFigure(f"slopes-{_slug(c.id)}",
+                                    f"{c.id}: local exponents and Theta check", caption, fig))
+
+    # Draw the tiling of the parameter square by the links of one root pair.
+    if links is not None and len(links):
+        fig = Figure(figsize=(7.5, 6.6), layout="constrained")
+        ax = fig.add_subplot()
+        coll = plot_link_tiling(ax, links)
+        bar = fig.colorbar(coll, ax=ax)
+        bar.set_label("link depth depth_i + depth_j (levels)")
+        ax.set_title(f"Links of one root pair tile the parameter square\n{links_title}")
+        caption = ("Every link (i, j) is drawn as the rectangle I_i x I_j of the two element "
+                   "intervals, coloured by depth; together they tile the square of positions "
+                   "on the two plates. Where the two positions face each other (here the "
+                   "anti-diagonal t_i + t_j = l, since the second plate runs opposite to "
+                   "the first) the distance is smallest and so are the rectangles. Halving "
+                   "eps halves the smallest elements (N doubles) and also widens the band "
+                   "of small rectangles around that line, so at fixed geometry the links "
+                   "grow like N^2; growing the plates at fixed eps only lengthens the band, "
+                   "so the links grow like N.")
+        figures.append(ReportFigure("tiling", "Link tiling of the parameter square",
+                                    caption, fig))
+    return figures
+
+
+def _label_name(label):
+    # "number of elements N (count)" -> "number of elements N"
+    return label.split(" (")[0]
+
+
+def _slug(text):
+    words = "".join(ch if ch.isalnum() else " " for ch in text).split()
+    return "-".join(words).lower()
+
+
+def _md_table(rows):
+    head = "| " + " | ".join(h for _, h in _COLUMNS) + " |"
+    rule = "|" + "|".join("---" for _ in _COLUMNS) + "|"
+    body = ["| " + " | ".join(r[k].replace("|", "\\|") for k, _ in _COLUMNS) + " |"
+            for r in rows]
+    return "\n".join([head, rule, *body])
+
+
+def _context_lines(context):
+    return [f"- {k}: {v}" for k, v in context.items()]
+
+
+def _details(o):
+    a, c = o.assessment, o.claim
+    lines = [f"- statement: `{c.statement}` ({c.source})",
+             f"- what is measured: y = `{c.y.text}` against x = `{c.x.text}`, "
+             f"{c.scene} {', '.join(f'{k}={v:g}' for k, v in c.params.items())}"
+             + (f", eps={c.eps:g}" if c.eps is not None else "")
+             + f", oracle {c.oracle}, {c.sweep_param} swept",
+             f"- regime: {_regime(c)}; {a.n_regime} of {a.x.size} points, "
+             f"{a.decades:.2f} decades",
+             f"- verdict: **{a.verdict}** ({a.reason})"]
+    if a.fit:
+        f = a.fit
+        lines.append(f"- fit: y = {f.prefactor:.4g} x^{f.exponent:.4f}, 95% interval "
+                     f"[{f.low:.4f}, {f.high:.4f}] (moving-block residual bootstrap, block "
+                     f"{f.block} points, {f.n_boot} resamples, seed {f.seed}), RMS "
+                     f"{f.rms:.4f} decades")
+    if a.windows is not None and a.windows.slope.size:
+        lines.append(f"- window exponents ({a.windows.width:g} decade): "
+                     f"{a.windows.slope.min():.3f} to {a.windows.slope.max():.3f}; their mean over "
+                     f"the upper half lies {a.settle_spread:.3f} from the fit (settled: "
+                     f"{'yes' if a.settled else 'no'})")
+    if a.theta:
+        t = a.theta
+        lines.append(f"- Theta check: y/x^{t.exponent:g} varies by a factor {t.band:.3f} "
+                     f"(bounded if at most {t.max_band:g}), trend {t.trend:+.4f} per decade "
+                     f"(flat if within {t.tolerance:g})")
+    if a.models:
+        m = a.models
+        order = np.argsort(m.delta_aic)[:4]
+        lines.append("- growth models by AIC: " + ", ".join(
+            f"{m.names[i]} (dAIC {m.delta_aic[i]:.1f})" for i in order))
+    for f in o.data.failures:
+        lines.append(f"- FAILED point {c.sweep_param}={f['value']:g}: exit code "
+                     f"{f['exit_code']}: {f['stderr']} (`hrbench {f['command']}`)")
+    return lines
+
+
+def _regime(c):
+    parts = []
+    if c.x_min is not None:
+        parts.append(f"x >= {c.x_min:g}")
+    if c.x_max is not None:
+        parts.append(f"x <= {c.x_max:g}")
+    return " and ".join(parts) if parts else "all points"
+
+
+def write_report(outdir, outcomes, context, figures):
+    """Write ``report.md``, ``report.html``, ``claims.json`` and ``plots/*.png``.
+
+    Parameters
+    ----------
+    outdir : pathlib.Path
+        Results directory (created if missing).
+    outcomes : sequence of ClaimOutcome
+    context : dict of str to str
+        Facts about the run (mode, engine, version, wall time, ...), shown at the top
+        and stored in ``claims.json``.
+    figures : sequence of ReportFigure
+
+    Returns
+    -------
+    paths : dict of str to pathlib.Path
+        ``{"markdown": ..., "html": ..., "json": ...}``.
+    """
+    outdir.mkdir(parents=True, exist_ok=True)
+    plots = outdir / "plots"
+    plots.mkdir(exist_ok=True)
+    rows = get_claims_table(outcomes)
+    pngs = {}
+    for f in figures:
+        pngs[f.name] = f.png()
+        (plots / f"{f.name}.png").write_bytes(pngs[f.name])
+
+    # Write the JSON summary.
+    json_path = outdir / "claims.json"
+    json_path.write_text(json.dumps({"context": context,
+                                               "claims": get_claims_json(
+                                                   outcomes, context.get("mode", "quick"))},
+                                    indent=2, default=_jsonable) + "\n")
+
+    # Write the Markdown report.
+    md = ["# hrbench: reproduction of published complexity claims", "",
+          *_context_lines(context), "", "## Claims", "", _md_table(rows), ""]
+    for o in outcomes:
+        md += [f"### {o.claim.id}: {o.claim.statement}", "", o.claim.description, "",
+               *_details(o), ""]
+    md += ["## Figures", ""]
+    for f in figures:
+        md += [f"### {f.title}", "", f"![{f.title}](plots/{f.name}.png)", "", f.caption, ""]
+    md_path = outdir / "report.md"
+    md_path.write_text("\n".join(md))
+
+    # Write the HTML report with the figures embedded.
+    esc = html.escape
+    parts = ["<!DOCTYPE html><html><head><meta charset='utf-8'>",
+             "<title>hrbench claims report</title><style>",
+             "body{font-family:sans-serif;max-width:1250px;margin:2em auto;padding:0 1em}",
+             "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 8px}",
+             "th{background:#eee}.reproduced{background:#d8f5d8}.refuted{background:#f8d8d8}",
+             ".inconclusive{background:#f5efc8}img{max-width:100%}code{background:#f4f4f4}",
+             "</style></head><body>",
+             "<h1>hrbench: reproduction of published complexity claims</h1><ul>"]
+    parts += [f"<li>{esc(k)}: {esc(str(v))}</li>" for k, v in context.items()]
+    parts += ["</ul><h2>Claims</h2><table><tr>"]
+    parts += [f"<th>{esc(h)}</th>" for _, h in _COLUMNS]
+    parts.append("</tr>")
+    for r in rows:
+        cells = "".join(f"<td class='{esc(r['verdict'])}'>{esc(r[k])}</td>" if k == "verdict"
+                        else f"<td>{esc(r[k])}</td>" for k, _ in _COLUMNS)
+        parts.append(f"<tr>{cells}</tr>")
+    parts.append("</table>")
+    for o in outcomes:
+        parts.append(f"<h3>{esc(o.claim.id)}: {esc(o.claim.statement)}</h3>")
+        parts.append(f"<p>{esc(o.claim.description)}</p><ul>")
+        for line in _details(o):
+            text = esc(line[2:]).replace("**", "")
+            parts.append(f"<li>{text.replace('`', '')}</li>")
+        parts.append("</ul>")
+    parts.append("<h2>Figures</h2>")
+    for f in figures:
+        data = base64.b64encode(pngs[f.name]).decode("ascii")
+        parts.append(f"<h3>{esc(f.title)}</h3><img alt='{esc(f.title)}' "
+                     f"src='data:image/png;base64,{data}'><p>{esc(f.caption)}</p>")
+    parts.append("</body></html>")
+    html_path = outdir / "report.html"
+    html_path.write_text("\n".join(parts))
+    return {"markdown": md_path, "html": html_path, "json": json_path}
+
+
+def _jsonable(value):
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    raise TypeError(f"not JSON serialisable: {type(value).__name__}")

@@ -1,0 +1,273 @@
+"""Verdicts: does a sweep reproduce, refute, or fail to decide a claimed power law?"""
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .fit import (compare_models, fit_power_law, local_slopes, steps_block_length,
+                  theta_check, window_slopes)
+
+__all__ = [
+    "VERDICTS",
+    "Assessment",
+    "get_verdict",
+    "assess_claim",
+]
+
+#: The three verdicts, in order of strength.
+VERDICTS = ("reproduced", "refuted", "inconclusive")
+
+
+@dataclass
+class Assessment:
+    """Everything measured about one claim, and the verdict drawn from it.
+
+    Attributes
+    ----------
+    verdict : str
+        ``"reproduced"``, ``"refuted"`` or ``"inconclusive"``.
+    reason : str
+        One sentence saying why.
+    expected_exponent, tolerance : float
+        The claim's k and tolerance (dimensionless).
+    x, y : ndarray
+        Every measured point, sorted by x.
+    in_regime : ndarray of bool
+        Which points lie in the asymptotic regime.
+    n_regime : int
+        Points in the regime.
+    decades : float
+        Decades of x spanned by the regime's points.
+    fit : PowerLawFit or None
+        Power-law fit over the regime (None if too few points).
+    local : LocalSlopes or None
+        Neighbour-to-neighbour slopes over all points.
+    windows : WindowSlopes or None
+        Sliding-window exponents over the regime.
+    settled : bool or None
+        Whether the mean exponent of the sliding windows in the upper half of the regime
+        lies within the tolerance of the exponent fitted over the whole regime (None if
+        no window fits).
+    settle_spread : float
+        Distance between that mean and the fitted exponent (dimensionless).
+    theta : ThetaCheck or None
+        The bounded-ratio check of ``y / x^k`` over the regime.
+    models : ModelComparison or None
+        Competing growth models over the regime.
+    """
+
+    verdict: str
+    reason: str
+    expected_exponent: float
+    tolerance: float
+    x: np.ndarray
+    y: np.ndarray
+    in_regime: np.ndarray
+    n_regime: int
+    decades: float
+    fit: object = None
+    local: object = None
+    windows: object = None
+    settled: object = None
+    settle_spread: float = math.nan
+    theta: object = None
+    models: object = None
+    notes: list = field(default_factory=list)
+
+
+def _verdict_iv(x, y, expected_exponent, tolerance, min_points, min_decades,
+                window_decades, theta_band):
+    x = np.asarray(x, dtype=float).ravel()
+    y = np.asarray(y, dtype=float).ravel()
+    if x.shape != y.shape:
+        raise ValueError(f"`x` and `y` must have the same length, got {x.size} and {y.size}")
+    if np.any(~np.isfinite(x)) or np.any(x <= 0) or np.any(~np.isfinite(y)) or np.any(y <= 0):
+        raise ValueError("`x` and `y` must be finite and positive")
+    if not math.isfinite(expected_exponent):
+        raise ValueError("`expected_exponent` must be finite")
+    for name, value in (("tolerance", tolerance), ("min_decades", min_decades),
+                        ("window_decades", window_decades)):
+        if not value > 0:
+            raise ValueError(f"`{name}` must be positive, got {value}")
+    if int(min_points) < 3:
+        raise ValueError(f"`min_points` must be at least 3, got {min_points}")
+    if not theta_band >= 1:
+        raise ValueError(f"`theta_band` must be at least 1, got {theta_band}")
+    order = np.argsort(x, kind="stable")
+    return x[order], y[order]
+
+
+def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
+                min_points=8, min_decades=1.5, window_decades=1.0, theta_band=10.0,
+                n_boot=2000, seed=None):
+    """Judge whether measured points follow ``y = Theta(x^k)``.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Measured points, positive (any units).
+    expected_exponent : float
+        The claimed exponent k (dimensionless).
+    tolerance : float
+        How far the exponent may lie from k (dimensionless).
+    x_min, x_max : float, optional
+        The asymptotic regime; points outside it are shown but not judged.
+    min_points : int, optional
+        Fewest points in the regime for a verdict (default 8).
+    min_decades : float, optional
+        Fewest decades of x in the regime for a verdict (default 1.5).
+    window_decades : float, optional
+        Width of the sliding windows that judge settling (decades, default 1).
+    theta_band : float, optional
+        Largest ``max/min`` of ``y / x^k`` over the regime that counts as bounded
+        (default 10).
+    n_boot : int, optional
+        Bootstrap resamples of the exponent's interval (default 2000).
+    seed : int, optional
+        Bootstrap seed (default :data:`analysis.fit.DEFAULT_SEED`).
+
+    Returns
+    -------
+    assessment : Assessment
+
+    Notes
+    -----
+    The verdict is decided in this order:
+
+    1. ``inconclusive`` if the regime holds fewer than `min_points` points, spans fewer
+       than `min_decades` decades, or is too short for one window of `window_decades`.
+    2. ``inconclusive`` if the exponent has not settled: the exponents fitted over sliding
+       windows of `window_decades` (shifted by 0.1 decade) in the upper half of the
+       regime average to a value farther than `tolerance` from the fit over the whole
+       regime. A window of a decade spans more than three binary steps, and averaging
+       windows shifted across a step cancels what is left of the step oscillation, so
+       the oscillation of neighbour-to-neighbour slopes does not count as unsettled,
+       while a crossover to another exponent does.
+    3. ``refuted`` if the 95% interval of the exponent lies wholly outside
+       ``[k - tolerance, k + tolerance]``.
+    4. ``reproduced`` if the interval lies wholly inside that band and ``y / x^k`` stays in
+       a bounded, flat band (:func:`analysis.fit.theta_check`).
+    5. ``inconclusive`` otherwise (the interval straddles the edge of the band, or the
+       ratio's band is too wide).
+    """
+    x, y = _verdict_iv(x, y, expected_exponent, tolerance, min_points, min_decades,
+                       window_decades, theta_band)
+    k, tol = float(expected_exponent), float(tolerance)
+    sel = np.ones(x.size, dtype=bool)
+    if x_min is not None:
+        sel &= x >= x_min
+    if x_max is not None:
+        sel &= x <= x_max
+    xr, yr = x[sel], y[sel]
+    n = int(sel.sum())
+    decades = float(math.log10(xr.max() / xr.min())) if n >= 2 else 0.0
+    result = Assessment(verdict="inconclusive", reason="", expected_exponent=k, tolerance=tol,
+                        x=x, y=y, in_regime=sel, n_regime=n, decades=decades)
+    if np.unique(x).size >= 2:
+        result.local = local_slopes(x, y)
+    regime = _regime_text(x_min, x_max)
+
+    # Check there is enough data for a verdict.
+    if n < int(min_points) or np.unique(xr).size < 3:
+        result.reason = (f"too few points: {n} in the regime{regime}, "
+                         f"need at least {int(min_points)} (with 3 distinct x)")
+        return result
+    if decades < min_decades:
+        result.reason = (f"too few decades: the regime{regime} spans {decades:.2f} decades "
+                         f"of x, need {min_decades:g}")
+        return result
+
+    # Fit, check the bounded ratio, compare models and slide windows.
+    kwargs = {} if seed is None else {"seed": seed}
+    fit = fit_power_law(xr, yr, block=steps_block_length(xr), n_boot=n_boot, **kwargs)
+    result.fit = fit
+    result.theta = theta_check(xr, yr, k, max_band=theta_band, tolerance=tol)
+    result.models = compare_models(xr, yr)
+    windows = window_slopes(xr, yr, width=window_decades)
+    result.windows = windows
+    if windows.slope.size == 0:
+        result.reason = (f"too few decades: no window of {window_decades:g} decades with "
+                         f"3 points fits in the regime{regime}")
+        return result
+    mid = 10 ** ((math.log10(xr.min()) + math.log10(xr.max())) / 2)
+    upper = windows.x >= mid
+    if not upper.any():
+        upper = windows.x >= windows.x.max()
+    spread = float(abs(np.mean(windows.slope[upper]) - fit.exponent))
+    result.settle_spread = spread
+    result.settled = spread <= tol
+    measured = (f"exponent {fit.exponent:.3f} "
+                f"[{fit.low:.3f}, {fit.high:.3f}] over {decades:.1f} decades ({n} points)")
+    if not result.settled:
+        result.reason = (f"slope not settled: {window_decades:g}-decade windows in the upper "
+                         f"half of the regime give an exponent {spread:.3f} away from the "
+                         f"fit over the whole regime, more than the tolerance {tol:g}; "
+                         f"{measured}")
+        return result
+    if fit.high < k - tol or fit.low > k + tol:
+        result.verdict = "refuted"
+        result.reason = (f"{measured}: the interval excludes {k:g} +/- {tol:g}; "
+                         f"best model {result.models.best}")
+        return result
+    inside = k - tol <= fit.low and fit.high <= k + tol
+    if inside and result.theta.holds:
+        result.verdict = "reproduced"
+        result.reason = (f"{measured} within {k:g} +/- {tol:g}; y/x^{k:g} stays within a "
+                         f"factor {result.theta.band:.2f}")
+        return result
+    if not inside:
+        result.reason = (f"{measured}: the interval straddles the edge of {k:g} +/- {tol:g}")
+    else:
+        result.reason = (f"{measured}, but y/x^{k:g} varies by a factor "
+                         f"{result.theta.band:.2f} (bounded: at most {theta_band:g}) with "
+                         f"trend {result.theta.trend:+.3f} per decade")
+    return result
+
+
+def _regime_text(x_min, x_max):
+    parts = []
+    if x_min is not None:
+        parts.append(f"x >= {x_min:g}")
+    if x_max is not None:
+        parts.append(f"x <= {x_max:g}")
+    return f" ({', '.join(parts)})" if parts else ""
+
+
+def assess_claim(claim, data, n_boot=2000):
+    """Judge one claim from its measured points.
+
+    Parameters
+    ----------
+    claim : Claim
+    data : ClaimData
+        The claim's points (see :func:`analysis.sweep.get_claim_data`).
+    n_boot : int, optional
+        Bootstrap resamples.
+
+    Returns
+    -------
+    assessment : Assessment
+        As from :func:`get_verdict`; failed points are named in ``notes`` and in the reason.
+    """
+    if data.x.size == 0:
+        result = Assessment(verdict="inconclusive", reason="no successful points",
+                            expected_exponent=claim.expected_exponent,
+                            tolerance=claim.tolerance, x=data.x, y=data.y,
+                            in_regime=np.zeros(0, dtype=bool), n_regime=0, decades=0.0)
+    else:
+        result = get_verdict(
+            data.x, data.y, claim.expected_exponent, claim.tolerance, x_min=claim.x_min,
+            x_max=claim.x_max, min_points=claim.min_points, min_decades=claim.min_decades,
+            window_decades=claim.window_decades, theta_band=claim.theta_band, n_boot=n_boot)
+    if data.failures:
+        codes = sorted({f["exit_code"] for f in data.failures})
+        note = (f"{len(data.failures)} point(s) failed (exit code "
+                f"{', '.join(map(str, codes))}) and are left out")
+        result.notes.append(note)
+        result.reason += f"; {note}"
+    if data.missing:
+        note = f"{data.missing} point(s) not run yet"
+        result.notes.append(note)
+        result.reason += f"; {note}"
+    return result

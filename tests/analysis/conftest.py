@@ -1,0 +1,27 @@
+import stat
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = Path(__file__).resolve().parent / "data"
+
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+
+@pytest.fixture
+def data_dir():
+    """The directory of small test inputs."""
+    return DATA
+
+
+@pytest.fixture
+def fake_hrbench(tmp_path):
+    """An executable copy of the fake engine, run by the current Python."""
+    script = tmp_path / "fake_hrbench"
+    body = (DATA / "fake_hrbench.py").read_text()
+    script.write_text(f"#!{sys.executable}\n" + body.split("\n", 1)[1])
+    script.chmod(script.stat().st_mode | stat.S_IXUSR | stat.S_IXGRP | stat.S_IXOTH)
+    return script

@@ -1,0 +1,146 @@
+#!/usr/bin/env python3
+"""A stand-in for the hrbench command line, for the analysis tests only.
+
+It implements just enough of ``hrbench run parallel ... --json``, ``hrbench links`` and
+``hrbench --version`` to exercise the sweep runner: the refinement of two parallel
+segments with the garmann oracle, counted exactly as DESIGN section 2 defines. Standard
+library only. Environment variables steer the tests:
+
+FAKE_HRBENCH_DELAY            seconds to sleep before each run
+FAKE_HRBENCH_LOG              file to which every run appends one line ("eps params")
+FAKE_HRBENCH_FAIL_BELOW_EPS   exit with code 3 (limit reached) when eps is below this
+"""
+
+import json
+import math
+import os
+import sys
+import time
+
+VERSION = "hrbench-fake 0.0.1"
+
+
+def refine(l, d, eps, offset=0.0, l2=None, links_out=None):
+    l2 = l if l2 is None else l2
+    sys.setrecursionlimit(100000)
+    children = {}
+    count = {"nodes": 2, "links": 0, "calls": 0, "max_depth": 0}
+    npd = {0: 2}
+    lpd = {}
+
+    def mid(e):
+        t = 0.5 * (e[1] + e[2])
+        return (t, 0.0) if e[0] == 0 else (offset + l2 - t, d)
+
+    def kids(e):
+        c = children.get(e)
+        if c is None:
+            m = 0.5 * (e[1] + e[2])
+            c = ((e[0], e[1], m, e[3] + 1), (e[0], m, e[2], e[3] + 1))
+            children[e] = c
+            count["nodes"] += 2
+            npd[e[3] + 1] = npd.get(e[3] + 1, 0) + 2
+            count["max_depth"] = max(count["max_depth"], e[3] + 1)
+        return c
+
+    def project(i, j):
+        count["calls"] += 1
+        ai, aj = i[2] - i[1], j[2] - j[1]
+        pi, pj = mid(i), mid(j)
+        r = math.hypot(pi[0] - pj[0], pi[1] - pj[1])
+        if max(ai, aj) <= eps * r:
+            count["links"] += 1
+            lpd[i[3] + j[3]] = lpd.get(i[3] + j[3], 0) + 1
+            if links_out is not None:
+                links_out.append((i, j))
+            return
+        if ai >= aj:
+            a, b = kids(i)
+            project(a, j)
+            project(b, j)
+        else:
+            a, b = kids(j)
+            project(i, a)
+            project(i, b)
+
+    start = time.perf_counter()
+    project((0, 0.0, float(l), 0), (1, 0.0, float(l2), 0))
+    seconds = time.perf_counter() - start
+    hist = lambda h: [h.get(k, 0) for k in range(max(h) + 1)] if h else []
+    return {
+        "nodes": count["nodes"], "leaves": count["nodes"] - len(children),
+        "links": count["links"], "oracle_calls": count["calls"],
+        "max_depth": count["max_depth"], "forced_links": 0, "culled_pairs": 0,
+        "root_pairs": 1, "nodes_per_depth": hist(npd), "links_per_depth": hist(lpd),
+        "seconds": seconds,
+    }
+
+
+def usage(message):
+    sys.stderr.write(f"hrbench: {message}\n")
+    sys.exit(2)
+
+
+def main(argv):
+    if argv[:1] == ["--version"]:
+        print(VERSION)
+        return 0
+    if len(argv) < 2 or argv[0] not in ("run", "links"):
+        usage("expected 'run SCENE' or 'links SCENE'")
+    command, scene, rest = argv[0], argv[1], argv[2:]
+    if scene != "parallel":
+        usage(f"unknown scene '{scene}'")
+    params = {"l": 1.0, "d": 1.0, "offset": 0.0}
+    opts = {"--eps": None, "--oracle": "garmann", "--out": None, "--min-area": None,
+            "--max-depth": None}
+    flags = set()
+    i = 0
+    while i < len(rest):
+        arg = rest[i]
+        if arg in opts:
+            if i + 1 >= len(rest):
+                usage(f"{arg} needs a value")
+            opts[arg] = rest[i + 1]
+            i += 2
+        elif arg in ("--json", "--count-only"):
+            flags.add(arg)
+            i += 1
+        elif "=" in arg:
+            k, v = arg.split("=", 1)
+            params[k] = float(v)
+            i += 1
+        else:
+            usage(f"unknown argument '{arg}'")
+    if opts["--eps"] is None:
+        usage("--eps is required")
+    eps = float(opts["--eps"])
+    params.setdefault("l2", params["l"])
+    if os.environ.get("FAKE_HRBENCH_DELAY"):
+        time.sleep(float(os.environ["FAKE_HRBENCH_DELAY"]))
+    if os.environ.get("FAKE_HRBENCH_LOG"):
+        with open(os.environ["FAKE_HRBENCH_LOG"], "a") as fh:
+            fh.write(f"{eps!r} {json.dumps(params, sort_keys=True)}\n")
+    below = os.environ.get("FAKE_HRBENCH_FAIL_BELOW_EPS")
+    if below and eps < float(below):
+        sys.stderr.write(f"hrbench: depth safety cap reached at eps={eps}; use --min-area\n")
+        return 3
+    links = [] if command == "links" else None
+    counters = refine(params["l"], params["d"], eps, params["offset"], params["l2"], links)
+    if command == "links":
+        with open(opts["--out"], "w") as fh:
+            fh.write("root_i,elem_i,t0_i,t1_i,depth_i,root_j,elem_j,t0_j,t1_j,depth_j\n")
+            for n, (a, b) in enumerate(links):
+                fh.write(f"{a[0]},{n},{a[1]!r},{a[2]!r},{a[3]},{b[0]},{n},{b[1]!r},{b[2]!r},"
+                         f"{b[3]}\n")
+        return 0
+    record = {"schema_version": 1, "version": VERSION, "scene": scene, "params": params,
+              "eps": eps, "oracle": opts["--oracle"],
+              "mode": "count-only" if "--count-only" in flags else "store",
+              "min_area": None, "max_depth_limit": None, "future_field": "ignored"}
+    record.update(counters)
+    print(json.dumps(record))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

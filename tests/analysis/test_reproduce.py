@@ -1,0 +1,91 @@
+import json
+
+import pytest
+
+from analysis.reproduce import main
+
+
+def run(argv, capsys):
+    code = main(argv)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_report_is_written_and_claim_reproduced(tmp_path, data_dir, fake_hrbench, capsys):
+    results = tmp_path / "results"
+    code, out, err = run(["--claims", str(data_dir / "small_claims.toml"), "--hrbench",
+                          str(fake_hrbench), "--results", str(results), "--jobs", "2"], capsys)
+    assert code == 0, err
+    assert "T-elements" in out and "reproduced" in out
+    for name in ("report.md", "report.html", "claims.json", "hrbench.sqlite",
+                 "plots/tiling.png"):
+        assert (results / name).exists(), name
+    claims = json.loads((results / "claims.json").read_text())["claims"]
+    (obj,) = claims
+    for key in ("id", "statement", "source", "expected_exponent", "measured_exponent",
+                "interval_low", "interval_high", "verdict", "reason"):
+        assert key in obj
+    assert obj["verdict"] == "reproduced"
+    assert obj["interval_low"] <= obj["measured_exponent"] <= obj["interval_high"]
+    html = (results / "report.html").read_text()
+    assert html.count("data:image/png;base64,") >= 3
+
+
+def test_refuted_claim_expected_to_hold_exits_1(tmp_path, data_dir, fake_hrbench, capsys):
+    code, out, err = run(["--claims", str(data_dir / "false_claim.toml"), "--hrbench",
+                          str(fake_hrbench), "--results", str(tmp_path), "--no-tiling"],
+                         capsys)
+    assert code == 1
+    assert "refuted" in out and "F-cubic" in err
+
+
+def test_refuted_claim_expected_not_to_hold_exits_0(tmp_path, data_dir, fake_hrbench,
+                                                     capsys):
+    claims = tmp_path / "c.toml"
+    claims.write_text((data_dir / "false_claim.toml").read_text()
+                      + "expected_to_hold = false\n")
+    code, out, _ = run(["--claims", str(claims), "--hrbench", str(fake_hrbench),
+                        "--results", str(tmp_path), "--no-tiling"], capsys)
+    assert code == 0 and "refuted" in out
+
+
+def test_short_sweep_is_inconclusive_and_exits_0(tmp_path, data_dir, fake_hrbench, capsys):
+    code, out, _ = run(["--claims", str(data_dir / "short_claim.toml"), "--hrbench",
+                        str(fake_hrbench), "--results", str(tmp_path), "--no-tiling"], capsys)
+    assert code == 0
+    assert "inconclusive" in out and "too few" in out
+
+
+def test_failed_points_show_in_the_report(tmp_path, data_dir, fake_hrbench, capsys,
+                                          monkeypatch):
+    monkeypatch.setenv("FAKE_HRBENCH_FAIL_BELOW_EPS", "0.05")
+    code, out, _ = run(["--claims", str(data_dir / "small_claims.toml"), "--hrbench",
+                        str(fake_hrbench), "--results", str(tmp_path), "--no-tiling"], capsys)
+    assert code == 0
+    md = (tmp_path / "report.md").read_text()
+    assert md.count("FAILED point") == 4 and "exit code 3" in md
+    obj = json.loads((tmp_path / "claims.json").read_text())["claims"][0]
+    assert len(obj["failed_points"]) == 4
+
+
+def test_malformed_claims_file_exits_2_naming_file_and_line(tmp_path, data_dir,
+                                                            fake_hrbench, capsys):
+    code, _, err = run(["--claims", str(data_dir / "bad_values.toml"), "--hrbench",
+                        str(fake_hrbench), "--results", str(tmp_path)], capsys)
+    assert code == 2
+    assert "bad_values.toml:25" in err and "V-bad" in err and "expected_exponent" in err
+
+
+def test_missing_engine_exits_2(tmp_path, data_dir, capsys):
+    code, _, err = run(["--claims", str(data_dir / "small_claims.toml"), "--hrbench",
+                        str(tmp_path / "nope"), "--results", str(tmp_path)], capsys)
+    assert code == 2 and "not found" in err
+
+
+def test_usage_errors_exit_2(capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["--quick", "--full"])
+    assert info.value.code == 2
+    with pytest.raises(SystemExit) as info:
+        main(["--jobs", "0"])
+    assert info.value.code == 2

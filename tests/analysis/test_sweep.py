@@ -1,0 +1,135 @@
+import json
+import os
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+
+from analysis.claimfile import load_claims
+from analysis.store import ResultStore
+from analysis.sweep import engine_version, expand_claim, get_claim_data, run_points
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def claim_points(data_dir, fake, name="small_claims.toml"):
+    (claim,) = load_claims(data_dir / name)
+    return claim, expand_claim(claim, "quick", fake, engine_version(fake))
+
+
+def test_expand_claim_builds_the_command_line(data_dir, fake_hrbench):
+    claim, points = claim_points(data_dir, fake_hrbench)
+    assert len(points) == 11
+    assert points[0].argv[1:] == ("run", "parallel", "d=1", "l=8", "--eps", "1",
+                                  "--oracle", "garmann", "--count-only", "--json")
+    assert points[-1].key.eps == 0.01
+    assert points[0].key.version == "hrbench-fake 0.0.1"
+    assert len({p.key.text() for p in points}) == len(points)
+
+
+def test_sweep_stores_points_and_rerun_reuses_them(tmp_path, data_dir, fake_hrbench,
+                                                   monkeypatch):
+    log = tmp_path / "runs.log"
+    monkeypatch.setenv("FAKE_HRBENCH_LOG", str(log))
+    claim, points = claim_points(data_dir, fake_hrbench)
+    with ResultStore(tmp_path / "cache.sqlite") as store:
+        first = run_points(points, store, jobs=2, progress=None)
+        assert first == {"total": 11, "cached": 0, "ran": 11, "failed": 0}
+        second = run_points(points, store, jobs=2, progress=None)
+        assert second == {"total": 11, "cached": 11, "ran": 0, "failed": 0}
+        data = get_claim_data(claim, points, store)
+    assert len(log.read_text().splitlines()) == 11
+    assert data.x.size == 11 and not data.failures
+    # The fake engine counts exactly: the reference value of DESIGN (l=64 is elsewhere).
+    assert data.y[0] == 30  # l=8, d=1, eps=1: two trees of depth 3
+
+
+def test_failed_points_are_recorded_with_exit_code_and_message(tmp_path, data_dir,
+                                                              fake_hrbench, monkeypatch):
+    monkeypatch.setenv("FAKE_HRBENCH_FAIL_BELOW_EPS", "0.05")
+    claim, points = claim_points(data_dir, fake_hrbench)
+    with ResultStore(tmp_path / "cache.sqlite") as store:
+        summary = run_points(points, store, jobs=2, progress=None)
+        assert summary["failed"] == 4
+        data = get_claim_data(claim, points, store)
+        # Exit code 3 is deterministic: a rerun keeps the failure instead of retrying.
+        assert run_points(points, store, jobs=2, progress=None)["ran"] == 0
+    assert data.x.size == 7
+    assert [f["exit_code"] for f in data.failures] == [3, 3, 3, 3]
+    assert all("depth safety cap" in f["stderr"] for f in data.failures)
+    assert all("--eps" in f["command"] for f in data.failures)
+
+
+def test_crash_without_message_is_recorded_and_retried(tmp_path, data_dir):
+    crash = tmp_path / "crash"
+    crash.write_text(f"#!{sys.executable}\nimport sys\n"
+                     "if sys.argv[1:] == ['--version']: print('crash 1'); sys.exit(0)\n"
+                     "sys.exit(139)\n")
+    crash.chmod(0o755)
+    claim, points = claim_points(data_dir, crash)
+    with ResultStore(tmp_path / "cache.sqlite") as store:
+        assert run_points(points[:2], store, jobs=1, progress=None)["failed"] == 2
+        stored = store.get(points[0].key)
+        assert stored.exit_code == 139 and "no message" in stored.stderr
+        assert run_points(points[:2], store, jobs=1, progress=None)["ran"] == 2
+
+
+def test_progress_bar_is_plain_text(tmp_path, data_dir, fake_hrbench):
+    import io
+    claim, points = claim_points(data_dir, fake_hrbench)
+    stream = io.StringIO()
+    with ResultStore(tmp_path / "cache.sqlite") as store:
+        run_points(points[:3], store, jobs=2, progress=stream)
+    last = stream.getvalue().strip().splitlines()[-1]
+    assert "3/3 points" in last and "0 failed" in last
+
+
+def test_killed_sweep_resumes_without_lost_or_duplicated_points(tmp_path, data_dir,
+                                                                fake_hrbench):
+    results = tmp_path / "results"
+    log = tmp_path / "runs.log"
+    env = dict(os.environ, FAKE_HRBENCH_DELAY="0.25", FAKE_HRBENCH_LOG=str(log),
+               PYTHONPATH=str(ROOT))
+    argv = [sys.executable, "-m", "analysis.reproduce", "--claims",
+            str(data_dir / "small_claims.toml"), "--hrbench", str(fake_hrbench),
+            "--results", str(results), "--jobs", "2", "--no-tiling"]
+    db = results / "hrbench.sqlite"
+
+    # Start the sweep, and kill it (with its engine runs) once a few points are stored.
+    proc = subprocess.Popen(argv, env=env, cwd=ROOT, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        deadline = time.time() + 30
+        stored = 0
+        while time.time() < deadline and stored < 4:
+            time.sleep(0.05)
+            if db.exists():
+                try:
+                    with sqlite3.connect(db) as con:
+                        stored = con.execute("SELECT COUNT(*) FROM points").fetchone()[0]
+                except sqlite3.OperationalError:
+                    pass
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+    assert proc.returncode == -signal.SIGKILL
+    with sqlite3.connect(db) as con:
+        before = con.execute("SELECT COUNT(*) FROM points").fetchone()[0]
+    assert 4 <= before < 11, "the kill must land in the middle of the sweep"
+
+    # Resume: only the missing points run, and each point is stored exactly once.
+    runs_before = len(log.read_text().splitlines())
+    resumed = subprocess.run(argv, env=dict(env, FAKE_HRBENCH_DELAY="0"), cwd=ROOT,
+                             capture_output=True, text=True, timeout=120)
+    assert resumed.returncode == 0, resumed.stderr
+    with sqlite3.connect(db) as con:
+        rows = con.execute("SELECT key, ok FROM points").fetchall()
+    assert len(rows) == 11 and len({k for k, _ in rows}) == 11
+    assert all(ok for _, ok in rows)
+    runs_after = len(log.read_text().splitlines())
+    assert runs_after - runs_before == 11 - before
+    context = json.loads((results / "claims.json").read_text())["context"]
+    assert context["points"].startswith(f"11 ({before} cached, {11 - before} run")
