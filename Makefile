@@ -2,7 +2,8 @@
 PYTHON := .venv/bin/python
 CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: setup build build-asan test test-cpp test-asan test-python reproduce reproduce-full bench clean
+.PHONY: setup build build-asan test test-cpp test-asan test-python reproduce reproduce-full bench \
+        baseline clean
 
 setup:
 	@bash scripts/setup.sh
@@ -24,7 +25,7 @@ test-asan: build-asan
 	ctest --test-dir build-asan --output-on-failure
 
 test-python: build
-	$(PYTHON) -m pytest tests/analysis -q
+	$(PYTHON) -m pytest tests/analysis tests/tools -q
 
 # Every test: the C++ tests in the release and the sanitizer build, then the analysis tests.
 test: test-cpp test-asan test-python
@@ -34,6 +35,23 @@ reproduce: build
 
 reproduce-full: build
 	$(PYTHON) -m analysis.reproduce --full
+
+# The Google Benchmark suites (about a minute and a half), merged into results/bench.json.
+# Extra flags, e.g. BENCH_FLAGS=--benchmark_repetitions=5 for tools/compare_bench.py.
+BENCH_FLAGS :=
+bench: build
+	@mkdir -p results
+	build/refine_bench --benchmark_out=results/bench-refine.json \
+	  --benchmark_out_format=json $(BENCH_FLAGS)
+	build/translation_count_bench --benchmark_out=results/bench-translation.json \
+	  --benchmark_out_format=json $(BENCH_FLAGS)
+	$(PYTHON) tools/merge_bench.py results/bench.json results/bench-refine.json \
+	  results/bench-translation.json
+
+# Rewrite tests/baseline/counts.json from the current engine, on purpose (`make test`
+# checks it, as the CTest test count_baseline).
+baseline: build
+	$(PYTHON) tools/check_baseline.py --update
 
 clean:
 	rm -rf build build-asan

@@ -38,6 +38,18 @@ std::vector<Segment> Parallel(const ParamMap &p) {
     return {Seg(0, 0, l, 0), Seg(offset + l2, d, offset, d)};
 }
 
+// Plates as in `parallel` (l2 = l, no offset) with a blocker of length _b_ at height _h_
+// between them, centred over x = l/2 + offset: two back-to-back patches, the first
+// facing P (down), the second facing Q (up).
+std::vector<Segment> Occluded(const ParamMap &p) {
+    double l = p.at("l"), d = p.at("d"), b = p.at("b"), h = p.at("h"), offset = p.at("offset");
+    if (!(h < d))
+        throw InputError("scene occluded: the blocker height h=" + FormatDouble(h) +
+                         " must lie between the plates (h < d=" + FormatDouble(d) + ")");
+    double x0 = 0.5 * l + offset - 0.5 * b, x1 = 0.5 * l + offset + 0.5 * b;
+    return {Seg(0, 0, l, 0), Seg(l, d, 0, d), Seg(x1, h, x0, h), Seg(x0, h, x1, h)};
+}
+
 // Two plates meeting at the origin with opening _angle_ degrees, each starting _gap_
 // from the corner: P along +x facing into the wedge, Q along the other arm.
 std::vector<Segment> Angled(double l, double l2, double angleDegrees, double gap) {
@@ -129,6 +141,15 @@ std::vector<Family> FlatlandFamilies() {
           {"offset", 0, "", -kInf, kInf, false, false, false, "lateral offset of plate Q along x"},
           LengthLike("l2", "l", "length of plate Q (default: l)")},
          Parallel},
+        {"occluded",
+         "parallel plates P (0,0)->(l,0), Q (l,d)->(0,d) with a blocker of length b at height h "
+         "between them, made of two back-to-back patches",
+         {Length("l", 1, "length of the plates"), Length("d", 1, "distance between the plates"),
+          Length("b", 0.5, "length of the blocker"),
+          Length("h", 0.5, "height of the blocker above P (< d)"),
+          {"offset", 0, "", -kInf, kInf, false, false, false,
+           "offset of the blocker's centre from x = l/2"}},
+         Occluded},
         {"perpendicular",
          "two plates at a right angle, P on the x axis and Q on the y axis, both facing the "
          "quadrant between them",

@@ -3,12 +3,18 @@
 #include <cmath>
 
 #include "flatland.h"
+#include "space.h"
 #include "util/error.h"
 
 namespace hrbench {
 
 const std::vector<Family> &Families() {
-    static const std::vector<Family> families = FlatlandFamilies();
+    static const std::vector<Family> families = [] {
+        std::vector<Family> all = FlatlandFamilies();
+        for (Family &f : SpaceFamilies())
+            all.push_back(std::move(f));
+        return all;
+    }();
     return families;
 }
 
@@ -70,10 +76,13 @@ Scene MakeScene(const std::string &familyName, const ParamMap &given) {
     }
 
     Scene scene;
-    scene.dimension = 2;
+    scene.dimension = family.dimension;
     scene.family = family.name;
     scene.params = params;
-    scene.segments = family.build(params);
+    if (family.dimension == 3)
+        scene.faces = family.build3d(params);
+    else
+        scene.segments = family.build(params);
     ValidateScene(scene);
     return scene;
 }

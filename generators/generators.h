@@ -26,7 +26,9 @@ struct Family {
     std::string name;
     std::string help;
     std::vector<ParamSpec> params;
-    std::function<std::vector<Segment>(const ParamMap &)> build;
+    std::function<std::vector<Segment>(const ParamMap &)> build;  // 2D families
+    int dimension = 2;                                              // 2 or 3
+    std::function<std::vector<Face>(const ParamMap &)> build3d = nullptr;  // 3D families
 };
 
 // Every family, in the order `hrbench scenes` lists them.

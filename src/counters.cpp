@@ -13,6 +13,9 @@ void AddCountersToJson(const Counters &c, nlohmann::json &out) {
     out["forced_links"] = c.forcedLinks;
     out["culled_pairs"] = c.culledPairs;
     out["root_pairs"] = c.rootPairs;
+    out["rays"] = c.rays;
+    out["visibility_queries"] = c.visibilityQueries;
+    out["occluded_pairs"] = c.occludedPairs;
     out["nodes_per_depth"] = c.nodesPerDepth;
     out["links_per_depth"] = c.linksPerDepth;
 }

@@ -17,6 +17,9 @@ struct Counters {
     uint64_t forcedLinks = 0;   // links made by the recursion limit, not the oracle
     uint64_t culledPairs = 0;   // root pairs that cannot exchange light, never refined
     uint64_t rootPairs = 0;     // unordered root pairs considered, culled ones included
+    uint64_t rays = 0;               // visibility segments cast (0 with --visibility none)
+    uint64_t visibilityQueries = 0;  // element pairs whose visible fraction was estimated
+    uint64_t occludedPairs = 0;      // element pairs found fully occluded, never linked
     std::vector<uint64_t> nodesPerDepth;  // elements per element depth
     std::vector<uint64_t> linksPerDepth;  // links per link depth depth_i + depth_j
 };

@@ -22,4 +22,44 @@ PairRelation ClassifyPair(const Segment &p, const Segment &q) {
     return CGAL::do_intersect(sp, sq) ? PairRelation::Touching : PairRelation::Interacting;
 }
 
+static Kernel::Point_3 ToPoint(const Vec3 &v) { return {v.x(), v.y(), v.z()}; }
+
+// True when no corner of _other_ lies strictly in front of the plane of _patch_:
+// orientation(v0, v1, v2, c) is POSITIVE exactly when c is on the side of the front
+// normal (v1 - v0) x (v2 - v0).
+static bool WhollyBehindOrIn(const Polygon &patch, const Polygon &other) {
+    auto a = ToPoint(patch.v[0]), b = ToPoint(patch.v[1]), c = ToPoint(patch.v[2]);
+    for (int k = 0; k < other.n; ++k)
+        if (CGAL::orientation(a, b, c, ToPoint(other.v[k])) == CGAL::POSITIVE)
+            return false;
+    return true;
+}
+
+// A polygon as one or two triangles (a quad split along v0 v2).
+static int Triangles(const Polygon &p, Kernel::Triangle_3 out[2]) {
+    out[0] = {ToPoint(p.v[0]), ToPoint(p.v[1]), ToPoint(p.v[2])};
+    if (p.n == 3)
+        return 1;
+    out[1] = {ToPoint(p.v[0]), ToPoint(p.v[2]), ToPoint(p.v[3])};
+    return 2;
+}
+
+PairRelation ClassifyPair(const Polygon &p, const Polygon &q) {
+    if (WhollyBehindOrIn(p, q) || WhollyBehindOrIn(q, p))
+        return PairRelation::Culled;
+    Kernel::Triangle_3 tp[2], tq[2];
+    int np = Triangles(p, tp), nq = Triangles(q, tq);
+    for (int a = 0; a < np; ++a)
+        for (int b = 0; b < nq; ++b)
+            if (CGAL::do_intersect(tp[a], tq[b]))
+                return PairRelation::Touching;
+    return PairRelation::Interacting;
+}
+
+PairRelation ClassifyRootPair(const Scene &scene, uint32_t p, uint32_t q) {
+    if (scene.dimension == 3)
+        return ClassifyPair(scene.faces[p].polygon, scene.faces[q].polygon);
+    return ClassifyPair(scene.segments[p], scene.segments[q]);
+}
+
 }  // namespace hrbench

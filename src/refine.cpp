@@ -12,6 +12,7 @@
 
 #include "culling.h"
 #include "oracles.h"
+#include "oracles3d.h"
 #include "util/error.h"
 
 namespace hrbench {
@@ -38,10 +39,12 @@ struct Task {
 // What one kernel instance counted.
 struct Tally {
     uint64_t oracleCalls = 0, links = 0, forcedLinks = 0;
+    VisibilityTally visibility;
     std::array<uint64_t, 2 * kSafetyDepth + 1> linksPerDepth{};
 
     void Add(const Tally &other) {
         oracleCalls += other.oracleCalls, links += other.links, forcedLinks += other.forcedLinks;
+        visibility.Add(other.visibility);
         for (size_t d = 0; d < linksPerDepth.size(); ++d)
             linksPerDepth[d] += other.linksPerDepth[d];
     }
@@ -50,13 +53,15 @@ struct Tally {
 // The recursion of DESIGN section 2 for one element kind, one oracle type and one
 // storage mode, so that subdivision, the oracle and the link sink are inlined. It
 // runs depth-first, first child first. With _kFrontier_ it stops at kTaskDepth and
-// records the pairs there as tasks instead.
-template <typename Forest, typename Oracle, bool kStoreLinks, bool kFrontier>
+// records the pairs there as tasks instead. _Visibility_ is NoVisibility (occlusion
+// ignored, compiled out) or SampledVisibility (docs/3d.md).
+template <typename Forest, typename Oracle, bool kStoreLinks, bool kFrontier,
+          typename Visibility = NoVisibility>
 class ProjectKernel {
   public:
     ProjectKernel(Forest &forest, const Oracle &oracle, const RefineOptions &options,
-                  size_t maxLinks)
-        : forest_(forest), oracle_(oracle), minArea_(options.minArea),
+                  size_t maxLinks, const Visibility &visibility = Visibility())
+        : forest_(forest), oracle_(oracle), visibility_(visibility), minArea_(options.minArea),
           depthLimit_(options.maxDepth >= 0 ? options.maxDepth : kSafetyDepth),
           userDepthLimit_(options.maxDepth >= 0), maxLinks_(maxLinks) {}
 
@@ -82,8 +87,23 @@ class ProjectKernel {
         }
         ++tally.oracleCalls;
         const auto &ei = forest_[i], &ej = forest_[j];
-        if (oracle_.Acceptable(ei, ej))
-            return AddLink(i, j, depthI + depthJ);
+        if constexpr (Visibility::kEnabled) {
+            // Estimate the visible fraction: drop occluded pairs, weight or refine partial ones.
+            double visible = visibility_.Fraction(forest_, i, j, tally.visibility);
+            if (visible == 0) {
+                ++tally.visibility.occludedPairs;
+                return;
+            }
+            bool acceptable = visible == 1 ? oracle_.Acceptable(ei, ej)
+                              : visibility_.Mode() == VisibilityMode::Fraction
+                                  ? oracle_.AcceptableVisible(ei, ej, visible)
+                                  : false;  // refine: partially visible pairs go to the limit
+            if (acceptable)
+                return AddLink(i, j, depthI + depthJ);
+        } else {
+            if (oracle_.Acceptable(ei, ej))
+                return AddLink(i, j, depthI + depthJ);
+        }
 
         // Pick the larger element (ties: the first) and apply the recursion limit to it.
         bool splitI = ei.size >= ej.size;
@@ -131,6 +151,7 @@ class ProjectKernel {
 
     Forest &forest_;
     const Oracle oracle_;
+    Visibility visibility_;
     const double minArea_;
     const int depthLimit_;
     const bool userDepthLimit_;
@@ -142,10 +163,10 @@ class ProjectKernel {
 
 // Builds the canonical forest, the union of the workers' forests (DESIGN: children
 // are created once), and for each worker the map from its element ids to canonical ids.
-template <typename Forest>
+template <typename Forest, typename Merged = Forest>
 class ForestUnion {
   public:
-    ForestUnion(const std::vector<Forest> &workers, Forest &canonical, bool buildMaps)
+    ForestUnion(const std::vector<Forest> &workers, Merged &canonical, bool buildMaps)
         : workers_(workers), canonical_(canonical), scratch_(kSafetyDepth + 2) {
         if (buildMaps)
             for (const Forest &w : workers)
@@ -187,28 +208,34 @@ class ForestUnion {
     }
 
     const std::vector<Forest> &workers_;
-    Forest &canonical_;
+    Merged &canonical_;
     std::vector<std::vector<uint32_t>> scratch_;
     std::vector<std::vector<uint32_t>> maps_;
 };
 
+// The forest a refinement returns: _forest_ in 2D, _forest3d_ in 3D.
+SegmentForest &MergedForest(Refinement &r, const SegmentForest &) { return r.forest; }
+PolygonForest &MergedForest(Refinement &r, const PolygonForest &) { return r.forest3d; }
+
 // Runs the kernel over all root pairs in scene order: a sequential pass down to the
 // task depth, then the tasks on worker threads, each with its own copy of the trees.
-template <typename Forest, typename Oracle, bool kStoreLinks>
+template <typename Forest, typename Oracle, bool kStoreLinks, typename Visibility>
 void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOptions &options,
-                    size_t maxLinks, size_t maxElements, Refinement &result) {
+                    size_t maxLinks, size_t maxElements, const Visibility &visibility,
+                    Refinement &result) {
     Counters &counters = result.counters;
     Forest top(scene, maxElements);
-    ProjectKernel<Forest, Oracle, kStoreLinks, true> topKernel(top, oracle, options, maxLinks);
+    ProjectKernel<Forest, Oracle, kStoreLinks, true, Visibility> topKernel(top, oracle, options,
+                                                                           maxLinks, visibility);
     std::vector<Link> topLinks;
     std::vector<Task> tasks;
 
     // Classify every root pair and refine it down to the task depth.
-    const auto &patches = scene.segments;
-    for (uint32_t p = 0; p < patches.size(); ++p) {
-        for (uint32_t q = p + 1; q < patches.size(); ++q) {
+    const uint32_t numPatches = uint32_t(scene.NumPatches());
+    for (uint32_t p = 0; p < numPatches; ++p) {
+        for (uint32_t q = p + 1; q < numPatches; ++q) {
             ++counters.rootPairs;
-            PairRelation relation = ClassifyPair(patches[p], patches[q]);
+            PairRelation relation = ClassifyRootPair(scene, p, q);
             if (relation == PairRelation::Culled) {
                 ++counters.culledPairs;
                 continue;
@@ -235,8 +262,8 @@ void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOption
     std::atomic<bool> failed{false};
     std::vector<std::pair<size_t, std::exception_ptr>> errors(numWorkers, {SIZE_MAX, nullptr});
     auto work = [&](size_t w) {
-        ProjectKernel<Forest, Oracle, kStoreLinks, false> kernel(forests[w], oracle, options,
-                                                                 maxLinks / numWorkers);
+        ProjectKernel<Forest, Oracle, kStoreLinks, false, Visibility> kernel(
+            forests[w], oracle, options, maxLinks / numWorkers, visibility);
         std::vector<Link> unused;
         for (size_t t; !failed && (t = next++) < tasks.size();) {
             try {
@@ -278,12 +305,17 @@ void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOption
     counters.oracleCalls = total.oracleCalls;
     counters.links = total.links;
     counters.forcedLinks = total.forcedLinks;
+    counters.rays = total.visibility.rays;
+    counters.visibilityQueries = total.visibility.queries;
+    counters.occludedPairs = total.visibility.occludedPairs;
     counters.linksPerDepth.assign(total.linksPerDepth.begin(), total.linksPerDepth.end());
     while (!counters.linksPerDepth.empty() && counters.linksPerDepth.back() == 0)
         counters.linksPerDepth.pop_back();
 
     // Merge the trees into canonical ids and translate the links to them.
-    ForestUnion<Forest> merged(forests, result.forest, kStoreLinks);
+    auto &canonical = MergedForest(result, top);
+    ForestUnion<Forest, std::remove_reference_t<decltype(canonical)>> merged(forests, canonical,
+                                                                             kStoreLinks);
     if constexpr (kStoreLinks) {
         size_t total = topLinks.size();
         for (const auto &links : taskLinks)
@@ -300,15 +332,61 @@ void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOption
     }
 }
 
-template <typename Oracle>
+template <typename Oracle, typename Forest = SegmentForest, typename Visibility = NoVisibility>
 void RefineWith(const Scene &scene, const Oracle &oracle, const RefineOptions &options,
-                size_t maxLinks, size_t maxElements, Refinement &result) {
+                size_t maxLinks, size_t maxElements, Refinement &result,
+                const Visibility &visibility = Visibility()) {
     if (options.storeLinks)
-        RefineAllPairs<SegmentForest, Oracle, true>(scene, oracle, options, maxLinks, maxElements,
-                                                   result);
+        RefineAllPairs<Forest, Oracle, true>(scene, oracle, options, maxLinks, maxElements,
+                                             visibility, result);
     else
-        RefineAllPairs<SegmentForest, Oracle, false>(scene, oracle, options, maxLinks, maxElements,
-                                                    result);
+        RefineAllPairs<Forest, Oracle, false>(scene, oracle, options, maxLinks, maxElements,
+                                              visibility, result);
+}
+
+// Chooses the visibility policy: compiled out for `none`, sampled otherwise.
+template <int D, typename Forest, typename Oracle>
+void RefineVisible(const Scene &scene, const Oracle &oracle, const RefineOptions &options,
+                   size_t maxLinks, size_t maxElements, Refinement &result) {
+    if (options.visibility == VisibilityMode::None)
+        return RefineWith<Oracle, Forest>(scene, oracle, options, maxLinks, maxElements, result);
+    Occluders occluders(scene);
+    SampledVisibility<D> visibility(occluders, options.raysPerSide, options.visibility);
+    RefineWith<Oracle, Forest>(scene, oracle, options, maxLinks, maxElements, result, visibility);
+}
+
+// Chooses the oracle of dimension _D_ (the weighted forms of oracles3d.h).
+template <int D, typename Forest>
+void RefineDimension(const Scene &scene, const RefineOptions &options, size_t maxLinks,
+                     size_t maxElements, Refinement &result) {
+    switch (options.oracle) {
+    case OracleKind::Garmann:
+        return RefineVisible<D, Forest>(scene, GarmannOracleND<D>(options.eps), options, maxLinks,
+                                        maxElements, result);
+    case OracleKind::Hanrahan: {
+        std::vector<Eigen::Matrix<double, D, 1>> normals;
+        for (uint32_t p = 0; p < scene.NumPatches(); ++p) {
+            if constexpr (D == 3)
+                normals.push_back(scene.faces[p].polygon.Normal());
+            else
+                normals.push_back(scene.segments[p].Normal());
+        }
+        return RefineVisible<D, Forest>(scene, HanrahanOracleND<D>(options.eps, std::move(normals)),
+                                        options, maxLinks, maxElements, result);
+    }
+    }
+}
+
+// 3D scenes, and 2D scenes with visibility: the forest by dimension and subdivision,
+// then the oracle and the visibility policy.
+void RefineGeneral(const Scene &scene, const RefineOptions &options, size_t maxLinks,
+                   size_t maxElements, Refinement &result) {
+    if (scene.dimension == 2)
+        return RefineDimension<2, SegmentForest>(scene, options, maxLinks, maxElements, result);
+    if (options.subdivision == Subdivision::Binary)
+        return RefineDimension<3, BinaryPolygonForest>(scene, options, maxLinks, maxElements,
+                                                       result);
+    RefineDimension<3, QuadtreePolygonForest>(scene, options, maxLinks, maxElements, result);
 }
 
 size_t EffectiveBudget(const RefineOptions &options) {
@@ -326,6 +404,11 @@ void ValidateOptions(const RefineOptions &o) {
         throw InputError("--max-depth must be between 0 and " + std::to_string(kSafetyDepth));
     if (o.threads < 1 || o.threads > 256)
         throw InputError("--threads must be between 1 and 256");
+    if (o.raysPerSide < 1 || o.raysPerSide > 16)
+        throw InputError("--rays-per-side must be between 1 and 16");
+    if (o.visibility == VisibilityMode::Refine && !o.HasRecursionLimit())
+        throw InputError("--visibility refine splits partially visible pairs down to the "
+                         "recursion limit; set one with --min-area or --max-depth");
 }
 
 size_t AvailableMemoryBytes() {
@@ -349,32 +432,44 @@ Refinement Refine(const Scene &scene, const RefineOptions &options) {
     size_t budget = EffectiveBudget(options);
     size_t elementBytes = sizeof(Element<2>) + 2 * sizeof(Vec2) + sizeof(uint8_t) +
                           sizeof(uint32_t) + sizeof(uint64_t);
+    if (scene.dimension == 3)
+        elementBytes = PolygonForest::kBytesPerElement;
     size_t forests = size_t(options.threads) + 1;
     size_t maxElements = (options.storeLinks ? budget / 4 : budget) / elementBytes / forests;
     size_t maxLinks = budget / 4 * 3 / sizeof(Link);
 
     Refinement result{SegmentForest(scene, SIZE_MAX), {}, {}, {}, 0};
+    if (scene.dimension == 3)
+        result.forest3d = PolygonForest(scene, SIZE_MAX, options.subdivision);
+    else if (options.subdivision != Subdivision::Binary)
+        throw InputError("--subdivision quadtree applies to 3D scenes only (segments are halved)");
     auto start = std::chrono::steady_clock::now();
-    switch (options.oracle) {
-    case OracleKind::Garmann:
-        RefineWith(scene, GarmannOracle(options.eps), options, maxLinks, maxElements, result);
-        break;
-    case OracleKind::Hanrahan: {
-        std::vector<Vec2> normals;
-        for (const Segment &s : scene.segments)
-            normals.push_back(s.Normal());
-        RefineWith(scene, HanrahanOracle(options.eps, std::move(normals)), options, maxLinks,
-                   maxElements, result);
-        break;
-    }
+    if (scene.dimension == 3 || options.visibility != VisibilityMode::None) {
+        RefineGeneral(scene, options, maxLinks, maxElements, result);
+    } else {
+        // Flatland with occlusion ignored: the plain oracles of oracles.h.
+        switch (options.oracle) {
+        case OracleKind::Garmann:
+            RefineWith(scene, GarmannOracle(options.eps), options, maxLinks, maxElements, result);
+            break;
+        case OracleKind::Hanrahan: {
+            std::vector<Vec2> normals;
+            for (const Segment &s : scene.segments)
+                normals.push_back(s.Normal());
+            RefineWith(scene, HanrahanOracle(options.eps, std::move(normals)), options, maxLinks,
+                       maxElements, result);
+            break;
+        }
+        }
     }
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     // Summarise the trees.
     Counters &c = result.counters;
-    c.nodes = result.forest.Size();
-    c.leaves = result.forest.NumLeaves();
-    c.nodesPerDepth = result.forest.NodesPerDepth();
+    bool is3d = scene.dimension == 3;
+    c.nodes = is3d ? result.forest3d.Size() : result.forest.Size();
+    c.leaves = is3d ? result.forest3d.NumLeaves() : result.forest.NumLeaves();
+    c.nodesPerDepth = is3d ? result.forest3d.NodesPerDepth() : result.forest.NodesPerDepth();
     c.maxDepth = int(c.nodesPerDepth.size()) - 1;
     return result;
 }

@@ -7,7 +7,10 @@
 #include "counters.h"
 #include "element_tree.h"
 #include "oracle.h"
+#include "polygon.h"
+#include "polygon_forest.h"
 #include "scene.h"
+#include "visibility.h"
 
 namespace hrbench {
 
@@ -24,6 +27,9 @@ struct RefineOptions {
     bool storeLinks = false; // keep every link (store mode) or only count (count-only)
     size_t memoryBudget = 0; // bytes for elements and links; 0 = what the machine has free
     int threads = 1;         // worker threads; counts never depend on it
+    Subdivision subdivision = Subdivision::Binary;  // 3D: two halves or four quarters
+    VisibilityMode visibility = VisibilityMode::None;  // how occlusion counts (docs/3d.md)
+    int raysPerSide = 3;     // k: sample points per element side for visibility, 1..16
 
     bool HasRecursionLimit() const { return minArea > 0 || maxDepth >= 0; }
 };
@@ -53,11 +59,12 @@ struct Refinement {
     std::vector<Link> links;       // empty in count-only mode
     std::vector<PairTally> pairs;  // refined (non-culled) root pairs in order
     double seconds = 0;            // wall time of the refinement
+    PolygonForest forest3d = PolygonForest();  // the trees of a 3D scene; empty in 2D
 };
 
-// Refines every root pair of _scene_. Throws InputError for invalid options or
-// touching patches without a recursion limit, LimitError when the safety depth or
-// the memory budget is reached.
+// Refines every root pair of _scene_ (its trees go to _forest_ in 2D, _forest3d_ in 3D).
+// Throws InputError for invalid options or touching patches without a recursion limit,
+// LimitError when the safety depth or the memory budget is reached.
 Refinement Refine(const Scene &scene, const RefineOptions &options);
 
 // Free memory reported by the operating system (MemAvailable), in bytes.

@@ -21,7 +21,8 @@ nlohmann::json RunToJson(const Scene &scene, const RefineOptions &options,
 void PrintRunTable(const nlohmann::json &record, std::ostream &out);
 
 // Writes every stored link as a CSV row: roots, element ids, their intervals in
-// arc length along their roots, and depths.
+// arc length along their roots, and depths; in 3D, areas and centroids instead of
+// intervals.
 void WriteLinksCsv(const Refinement &refinement, std::ostream &out);
 
 // Version of the engine; results of different versions are never mixed.

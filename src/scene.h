@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "polygon.h"
 #include "util/args.h"
 
 namespace hrbench {
@@ -33,18 +34,27 @@ struct Segment {
     }
 };
 
+// A 3D patch: a planar convex triangle or quad, counter-clockwise seen from its
+// front (DESIGN section 2), with its surface properties.
+struct Face {
+    Polygon polygon;
+    Material material;
+};
+
 // Scene with its provenance (family and parameters) so that results explain themselves.
 struct Scene {
     int dimension = 2;
     std::string family;       // generator family, or "file" for a loaded scene
     ParamMap params;          // parameters after defaults
     std::vector<Segment> segments;  // 2D root patches in scene order
+    std::vector<Face> faces;        // 3D root patches in scene order
 
-    size_t NumPatches() const { return segments.size(); }
+    size_t NumPatches() const { return dimension == 3 ? faces.size() : segments.size(); }
 };
 
 // Checks what refinement relies on: at least one patch, finite coordinates,
-// non-degenerate segments, materials in range. Throws InputError naming the patch.
+// non-degenerate segments, planar convex non-degenerate polygons, materials in range.
+// Throws InputError naming the patch.
 void ValidateScene(const Scene &scene);
 
 }  // namespace hrbench

@@ -24,6 +24,14 @@ std::string SceneToJson(const Scene &scene) {
                            {"b", {s.b.x(), s.b.y()}},
                            {"reflectance", s.material.reflectance},
                            {"emission", s.material.emission}});
+    for (const Face &f : scene.faces) {
+        json vertices = json::array();
+        for (int k = 0; k < f.polygon.n; ++k)
+            vertices.push_back({f.polygon.v[k].x(), f.polygon.v[k].y(), f.polygon.v[k].z()});
+        patches.push_back({{"vertices", vertices},
+                           {"reflectance", f.material.reflectance},
+                           {"emission", f.material.emission}});
+    }
     doc["patches"] = patches;
     return doc.dump(2) + "\n";
 }
@@ -43,6 +51,27 @@ Vec2 Point(const json &patch, const char *key, const std::string &where) {
     if (!p.is_array() || p.size() != 2)
         throw InputError(where + "." + key + " must be an array of 2 numbers");
     return Vec2(Number(p[0], where + "." + key + "[0]"), Number(p[1], where + "." + key + "[1]"));
+}
+
+// The corners of a 3D patch: "vertices", an array of 3 or 4 points [x, y, z].
+Polygon Corners(const json &patch, const std::string &where) {
+    if (!patch.contains("vertices"))
+        throw InputError(where + " has no \"vertices\"");
+    const json &v = patch["vertices"];
+    if (!v.is_array() || (v.size() != 3 && v.size() != 4))
+        throw InputError(where + ".vertices must be an array of 3 or 4 points");
+    Polygon polygon;
+    polygon.n = int(v.size());
+    for (size_t k = 0; k < v.size(); ++k) {
+        std::string at = where + ".vertices[" + std::to_string(k) + "]";
+        if (!v[k].is_array() || v[k].size() != 3)
+            throw InputError(at + " must be an array of 3 numbers");
+        polygon.v[k] = Vec3(Number(v[k][0], at + "[0]"), Number(v[k][1], at + "[1]"),
+                            Number(v[k][2], at + "[2]"));
+    }
+    if (polygon.n == 3)
+        polygon.v[3] = polygon.v[2];
+    return polygon;
 }
 
 }  // namespace
@@ -66,7 +95,12 @@ Scene SceneFromJson(const std::string &text, const std::string &source) {
 
     Scene scene;
     scene.family = "file";
-    scene.dimension = doc.value("dimension", 2);
+    if (doc.contains("dimension")) {
+        const json &dimension = doc["dimension"];
+        if (!dimension.is_number_integer() || (dimension != 2 && dimension != 3))
+            throw InputError(source + ": \"dimension\" must be 2 or 3");
+        scene.dimension = dimension.get<int>();
+    }
     if (doc.contains("params") && doc["params"].is_object())
         for (const auto &[key, value] : doc["params"].items())
             scene.params[key] = Number(value, source + ": params." + key);
@@ -78,12 +112,15 @@ Scene SceneFromJson(const std::string &text, const std::string &source) {
         const json &p = patches[k];
         if (!p.is_object())
             throw InputError(where + " must be an object");
-        Segment s{Point(p, "a", where), Point(p, "b", where), {}};
+        Material material;
         if (p.contains("reflectance"))
-            s.material.reflectance = Number(p["reflectance"], where + ".reflectance");
+            material.reflectance = Number(p["reflectance"], where + ".reflectance");
         if (p.contains("emission"))
-            s.material.emission = Number(p["emission"], where + ".emission");
-        scene.segments.push_back(s);
+            material.emission = Number(p["emission"], where + ".emission");
+        if (scene.dimension == 3)
+            scene.faces.push_back({Corners(p, where), material});
+        else
+            scene.segments.push_back({Point(p, "a", where), Point(p, "b", where), material});
     }
     try {
         ValidateScene(scene);

@@ -10,6 +10,7 @@
 
 #include "generators.h"
 #include "hrbench.h"
+#include "translation_count.h"
 
 namespace hrbench {
 namespace {
@@ -19,21 +20,37 @@ const char *kUsage = R"(usage: hrbench <command> [arguments]
 Commands:
   run SCENE [key=value ...] --eps E [options]     refine a scene, print its counters
   run --scene-file F.json --eps E [options]       refine a saved scene
+  run --mesh F.obj --eps E [options]              refine a mesh (OFF or OBJ, 3D)
   links SCENE [key=value ...] --eps E --out F.csv write every link (store mode)
   save SCENE [key=value ...] --out F.json         write a scene file
   scenes                                          list scene families and parameters
 
 Options of run and links:
   --eps E            oracle threshold, a finite number > 0 (required)
-  --oracle NAME      garmann (default): max(A_i,A_j)/r <= eps
+  --oracle NAME      garmann (default): max(A_i,A_j)/r <= eps (3D: /r^2)
                      hanrahan: form-factor estimates F(i<-j), F(j<-i) <= eps
-  --min-area A       link a pair whose preferred element is shorter than A (forced link)
+  --min-area A       link a pair whose preferred element is smaller than A (length in
+                     2D, area in 3D; forced link)
   --max-depth D      link a pair whose preferred element has depth D (0..48; forced link)
   --count-only       count links without storing them (run only; default: store)
+  --method M         enumerate (default): run ProjectKernel pair by pair
+                     translation: exact counts of `parallel` with l2 = l, garmann,
+                     --count-only, no recursion limit, from translation invariance
+                     (run only; any number of links in milliseconds)
   --threads N        worker threads (default 1); counts and ids never depend on N
   --max-memory MIB   memory budget for elements and links in MiB (default: 90% of free)
   --json             print one JSON object instead of a table (run only)
   --scene-file F     load the scene from a JSON scene file instead of a family
+  --mesh F           load a 3D scene from an OFF or OBJ file (triangles, planar
+                     convex quads; default reflectance 0.5, emission 0)
+  --subdivision S    3D: binary (default, two halves across the longer edges) or
+                     quadtree (four children)
+  --visibility V     none (default): ignore occlusion, as the papers do;
+                     fraction: accept when the oracle's error times the visible
+                     fraction is within eps; refine: split partially visible pairs
+                     down to the recursion limit (needs --min-area or --max-depth)
+  --rays-per-side K  visibility samples per element side, 1..16 (default 3): K x K
+                     rays per pair in 2D, K^2 x K^2 in 3D
   --out F            output file (links: CSV; save: JSON, default standard output)
 
 General:
@@ -51,11 +68,13 @@ struct Options {
     std::string scene;
     std::vector<std::string> params;
     std::string sceneFile;
+    std::string mesh;
     std::string out;
     std::optional<double> eps;
     RefineOptions refine;
     bool json = false;
     bool countOnly = false;
+    std::string method = "enumerate";
 };
 
 Options ParseCommandLine(int argc, char **argv) {
@@ -85,10 +104,21 @@ Options ParseCommandLine(int argc, char **argv) {
             o.refine.threads = int(std::min<int64_t>(ParseInt(value(a), "--threads"), 1 << 20));
         else if (a == "--count-only")
             o.countOnly = true;
+        else if (a == "--method")
+            o.method = value(a);
         else if (a == "--json")
             o.json = true;
         else if (a == "--scene-file")
             o.sceneFile = value(a);
+        else if (a == "--mesh")
+            o.mesh = value(a);
+        else if (a == "--subdivision")
+            o.refine.subdivision = ParseSubdivision(value(a));
+        else if (a == "--visibility")
+            o.refine.visibility = ParseVisibility(value(a));
+        else if (a == "--rays-per-side")
+            o.refine.raysPerSide =
+                int(std::min<int64_t>(ParseInt(value(a), "--rays-per-side"), 1 << 20));
         else if (a == "--out")
             o.out = value(a);
         else if (a.rfind("--", 0) == 0)
@@ -104,10 +134,11 @@ Options ParseCommandLine(int argc, char **argv) {
     // Reject combinations that make no sense, naming the flags.
     bool refines = o.command == "run" || o.command == "links";
     if (refines || o.command == "save") {
-        if (o.scene.empty() == o.sceneFile.empty())
-            throw InputError(o.command + " needs either a SCENE family or --scene-file");
-        if (!o.sceneFile.empty() && !o.params.empty())
-            throw InputError("key=value parameters apply to a family, not to --scene-file");
+        int sources = !o.scene.empty() + !o.sceneFile.empty() + !o.mesh.empty();
+        if (sources != 1)
+            throw InputError(o.command + " needs either a SCENE family, --scene-file or --mesh");
+        if (o.scene.empty() && !o.params.empty())
+            throw InputError("key=value parameters apply to a family, not to --scene-file or --mesh");
     }
     if (refines && !o.eps)
         throw InputError(o.command + " needs --eps");
@@ -115,6 +146,10 @@ Options ParseCommandLine(int argc, char **argv) {
         throw InputError("links needs --out F.csv");
     if (o.command == "links" && o.countOnly)
         throw InputError("links stores links; --count-only does not apply");
+    if (o.method != "enumerate" && o.method != "translation")
+        throw InputError("--method must be enumerate or translation, not '" + o.method + "'");
+    if (o.method != "enumerate" && o.command != "run")
+        throw InputError("--method applies to run only");
     if (o.command != "run" && o.json)
         throw InputError("--json applies to run only");
     o.refine.eps = o.eps.value_or(0);
@@ -123,12 +158,14 @@ Options ParseCommandLine(int argc, char **argv) {
 }
 
 Scene SceneOf(const Options &o) {
+    if (!o.mesh.empty())
+        return LoadMesh(o.mesh);
     return o.sceneFile.empty() ? MakeScene(o.scene, ParseParams(o.params)) : LoadScene(o.sceneFile);
 }
 
 void ListScenes() {
     for (const Family &f : Families()) {
-        std::cout << f.name << ": " << f.help << "\n";
+        std::cout << f.name << ": [" << f.dimension << "D] " << f.help << "\n";
         for (const ParamSpec &p : f.params) {
             std::string def = p.defaultFrom.empty() ? FormatDouble(p.defaultValue) : p.defaultFrom;
             std::printf("  %-8s default %-8s %-28s %s\n", p.name.c_str(), def.c_str(),
@@ -166,7 +203,9 @@ int Main(int argc, char **argv) {
         throw InputError("unknown command '" + o.command + "'; see hrbench --help");
 
     Scene scene = SceneOf(o);
-    Refinement refinement = Refine(scene, o.refine);
+    Refinement refinement = o.method == "translation"
+                                ? AsRefinement(CountByTranslation(scene, o.refine), scene)
+                                : Refine(scene, o.refine);
     if (o.command == "links") {
         std::ofstream out(o.out, std::ios::binary);
         WriteLinksCsv(refinement, out);
@@ -177,6 +216,9 @@ int Main(int argc, char **argv) {
     nlohmann::json record = RunToJson(scene, o.refine, refinement);
     if (!o.sceneFile.empty())
         record["scene_file"] = o.sceneFile;
+    if (!o.mesh.empty())
+        record["mesh_file"] = o.mesh;
+    record["method"] = o.method;
     if (o.json)
         std::cout << record.dump() << "\n";
     else

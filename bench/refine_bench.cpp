@@ -1,0 +1,138 @@
+// Google Benchmark suite of the enumerating engine: Refine() on the 2D `parallel`
+// family for each oracle, in count-only and store mode, swept over eps at a fixed
+// geometry and over the geometry ratio g = l / d at a fixed eps, plus the headline
+// configuration of docs/benchmarks.md. The engine's exact counters are attached to
+// every row as user counters, and the complexity fit is reported per sweep.
+//
+// Run everything:       build/refine_bench --benchmark_out=F.json --benchmark_out_format=json
+// Only the headline:    build/refine_bench --benchmark_filter=BM_Headline
+#include <malloc.h>
+
+#include <cstdint>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "generators.h"
+#include "hrbench.h"
+
+namespace hrbench {
+namespace {
+
+// Bytes of heap in use, from the allocator (mmapped blocks included).
+size_t HeapBytes() {
+    struct mallinfo2 info = mallinfo2();
+    return info.uordblks + info.hblkhd;
+}
+
+// Runs Refine() on _scene_ once per iteration and attaches its counters to the row:
+// exact counts, rates (per second of wall time), and the bytes the result holds per
+// stored link and per element, measured on the first iteration.
+void RunRefine(benchmark::State &state, const Scene &scene, const RefineOptions &options) {
+    Counters counters;
+    size_t linkBytes = 0, otherBytes = 0;
+    bool measured = false;
+    for (auto _ : state) {
+        size_t before = measured ? 0 : HeapBytes();
+        Refinement r = Refine(scene, options);
+        if (!measured) {
+            // Count what the result keeps: the link array, then the trees and the rest.
+            linkBytes = r.links.capacity() * sizeof(Link);
+            otherBytes = HeapBytes() - before - linkBytes;
+            measured = true;
+        }
+        benchmark::DoNotOptimize(r.counters.links);
+        counters = r.counters;
+    }
+
+    // Attach the counts of one refinement (identical on every iteration).
+    double iterations = double(state.iterations());
+    state.counters["links"] = double(counters.links);
+    state.counters["nodes"] = double(counters.nodes);
+    state.counters["oracle_calls"] = double(counters.oracleCalls);
+    state.counters["oracle_calls_per_second"] =
+        benchmark::Counter(double(counters.oracleCalls) * iterations, benchmark::Counter::kIsRate);
+    state.counters["links_per_second"] =
+        benchmark::Counter(double(counters.links) * iterations, benchmark::Counter::kIsRate);
+    state.counters["bytes_per_link"] = double(linkBytes) / double(counters.links);
+    state.counters["bytes_per_node"] = double(otherBytes) / double(counters.nodes);
+    state.SetLabel(OracleName(options.oracle) + (options.storeLinks ? " store" : " count-only"));
+}
+
+RefineOptions Options(OracleKind oracle, bool store, double eps, int threads = 1) {
+    RefineOptions o;
+    o.oracle = oracle;
+    o.storeLinks = store;
+    o.eps = eps;
+    o.threads = threads;
+    return o;
+}
+
+Scene Parallel(double l, double d) { return MakeScene("parallel", {{"l", l}, {"d", d}}); }
+
+// Fixed geometry g = l / d, eps = 1 / inv_eps shrinking: N = Theta(1/eps) elements and
+// L = Theta(N^2) links (claim C4), so the time grows as N^2.
+void BM_EpsSweep(benchmark::State &state, OracleKind oracle, bool store, double g) {
+    double eps = 1.0 / double(state.range(0));
+    RunRefine(state, Parallel(g, 1), Options(oracle, store, eps));
+    state.SetComplexityN(int64_t(state.counters["nodes"].value));
+}
+
+// Fixed eps, geometry g = l / d growing: N and L both Theta(g) (claim C3), so the time
+// grows linearly in the links.
+void BM_GeometrySweep(benchmark::State &state, OracleKind oracle, bool store, double eps) {
+    double g = double(state.range(0));
+    RunRefine(state, Parallel(g, 1), Options(oracle, store, eps));
+    state.SetComplexityN(int64_t(state.counters["links"].value));
+}
+
+// The headline configuration: 2D garmann, parallel l = 1024, d = 1, eps = 0.01
+// (135,566,575 oracle calls, 67,783,288 links), count-only or store, on _threads_ threads.
+void BM_Headline(benchmark::State &state, bool store) {
+    int threads = int(state.range(0));
+    RunRefine(state, Parallel(1024, 1), Options(OracleKind::Garmann, store, 0.01, threads));
+}
+
+void EpsArgs(benchmark::internal::Benchmark *b, int64_t lowest, int64_t highest) {
+    b->ArgNames({"inv_eps"})->RangeMultiplier(2)->Range(lowest, highest);
+    b->Complexity(benchmark::oNSquared)->UseRealTime()->Unit(benchmark::kMillisecond);
+}
+
+void GeometryArgs(benchmark::internal::Benchmark *b, int64_t lowest, int64_t highest) {
+    b->ArgNames({"g"})->RangeMultiplier(4)->Range(lowest, highest);
+    b->Complexity(benchmark::oN)->UseRealTime()->Unit(benchmark::kMillisecond);
+}
+
+// One thread, and two: the engine's --threads (counts never depend on it).
+void HeadlineArgs(benchmark::internal::Benchmark *b) {
+    b->ArgNames({"threads"})->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+}
+
+// garmann: g = 64 for the eps sweep, eps = 0.05 for the geometry sweep.
+void GarmannEps(benchmark::internal::Benchmark *b) { EpsArgs(b, 8, 128); }
+void GarmannGeometry(benchmark::internal::Benchmark *b) { GeometryArgs(b, 16, 4096); }
+// hanrahan: its cosines, taken at the midpoints, make two plates with g >> 1 look far
+// apart (g = 64 at eps = 0.01 is 2 links), so smaller g and eps: g = 4 for the eps
+// sweep, eps = 0.002 for the geometry sweep.
+void HanrahanEps(benchmark::internal::Benchmark *b) { EpsArgs(b, 32, 1024); }
+void HanrahanGeometry(benchmark::internal::Benchmark *b) { GeometryArgs(b, 1, 16); }
+
+BENCHMARK_CAPTURE(BM_EpsSweep, garmann_count, OracleKind::Garmann, false, 64)->Apply(GarmannEps);
+BENCHMARK_CAPTURE(BM_EpsSweep, garmann_store, OracleKind::Garmann, true, 64)->Apply(GarmannEps);
+BENCHMARK_CAPTURE(BM_EpsSweep, hanrahan_count, OracleKind::Hanrahan, false, 4)
+    ->Apply(HanrahanEps);
+BENCHMARK_CAPTURE(BM_EpsSweep, hanrahan_store, OracleKind::Hanrahan, true, 4)
+    ->Apply(HanrahanEps);
+BENCHMARK_CAPTURE(BM_GeometrySweep, garmann_count, OracleKind::Garmann, false, 0.05)
+    ->Apply(GarmannGeometry);
+BENCHMARK_CAPTURE(BM_GeometrySweep, garmann_store, OracleKind::Garmann, true, 0.05)
+    ->Apply(GarmannGeometry);
+BENCHMARK_CAPTURE(BM_GeometrySweep, hanrahan_count, OracleKind::Hanrahan, false, 0.002)
+    ->Apply(HanrahanGeometry);
+BENCHMARK_CAPTURE(BM_GeometrySweep, hanrahan_store, OracleKind::Hanrahan, true, 0.002)
+    ->Apply(HanrahanGeometry);
+BENCHMARK_CAPTURE(BM_Headline, garmann_count, false)->Apply(HeadlineArgs);
+BENCHMARK_CAPTURE(BM_Headline, garmann_store, true)->Apply(HeadlineArgs);
+
+}  // namespace
+}  // namespace hrbench

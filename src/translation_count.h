@@ -1,0 +1,57 @@
+// Exact counters of the parallel-plate family far beyond enumeration, from the
+// translation invariance of ProjectKernel (the `--method translation` of `hrbench run`).
+//
+// For two facing plates of equal length (`parallel`, l2 = l) every element pair
+// that the recursion reaches at level n = depth_i + depth_j has the same two sizes
+// (l / 2^ceil(n/2), l / 2^floor(n/2)), and its oracle outcome and its whole subtree
+// depend only on the vector between the two midpoints. The method therefore counts
+// pairs by *state* (n, c), with c the exact integer offset of the midpoints in units
+// of l / 2^(ceil(n/2)+1), level by level, carrying for each state the number of
+// pairs in it. The elements are counted the same way: the pairs visited in one
+// element's column (or row) form a contiguous run of states, so an element is
+// described by the interval of states it meets, and equal intervals are merged.
+// The cost grows with the number of distinct states per level (about 4 / eps), not
+// with the number of links.
+//
+// The oracle is evaluated with the engine's own code on a representative pair with
+// the engine's midpoint coordinates, and the method only accepts plates whose
+// midpoints, down to the deepest level reached, are exact in double precision
+// (dyadic lengths and offset), so that every pair in a state rounds the same way
+// and the counts equal direct enumeration, ties included.
+#pragma once
+
+#include <cstdint>
+
+#include "counters.h"
+#include "refine.h"
+#include "scene.h"
+
+namespace hrbench {
+
+// What the translation method computed, and how much work it took.
+struct TranslationCount {
+    Counters counters;            // the counters Refine() reports in count-only mode
+    uint64_t pairStates = 0;      // distinct (level, offset) states: oracle evaluations made
+    uint64_t elementStates = 0;   // distinct (level, interval) element states processed
+    double seconds = 0;           // wall time of the count, in seconds
+};
+
+// Throws InputError, with a message naming what is wrong, unless _scene_ and _options_
+// are in the method's scope: two facing parallel plates of equal length, P from (0,0)
+// to (l,0) and Q from (offset+l,d) to (offset,d) with d > 0 (the `parallel` family with
+// l2 = l); oracle garmann; count-only; no recursion limit (no --min-area, --max-depth);
+// no visibility mode, binary subdivision; and l, offset with exact midpoints in double
+// precision (checked again, level by level, during the count).
+void CheckTranslationScope(const Scene &scene, const RefineOptions &options);
+
+// Counts exactly what Refine(scene, options) counts in count-only mode, without
+// enumerating the pairs. Throws InputError outside the method's scope (see
+// CheckTranslationScope), LimitError where Refine() would reach the safety depth or
+// a counter would exceed 64 bits.
+TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &options);
+
+// The count as a Refinement, for RunToJson: the counters and the time, no links,
+// and of the element trees only the roots.
+Refinement AsRefinement(const TranslationCount &count, const Scene &scene);
+
+}  // namespace hrbench

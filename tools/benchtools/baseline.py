@@ -1,0 +1,313 @@
+"""The deterministic count baseline: exact counters of a canonical set of runs.
+
+The baseline file (``tests/baseline/counts.json``) lists runs of ``hrbench run``
+by their arguments, each with the exact counters it produced. Checking runs
+every entry again (always ``--json --count-only``) and reports each counter that
+changed; updating rewrites the counters on purpose.
+"""
+
+import json
+import subprocess
+from dataclasses import dataclass, field
+
+__all__ = ["BASELINE_SCHEMA_VERSION", "COUNTERS", "HISTOGRAMS", "DEFAULT_RUNS", "RunError",
+           "CounterChange", "RunDiff", "load_baseline", "make_baseline", "run_counts",
+           "get_counter_changes", "print_baseline_report"]
+
+BASELINE_SCHEMA_VERSION = 1
+
+# Scalar counters compared exactly (DESIGN section 2 names).
+COUNTERS = ("nodes", "leaves", "links", "oracle_calls", "max_depth", "forced_links",
+            "culled_pairs", "root_pairs")
+# Per-depth histograms compared entry by entry.
+HISTOGRAMS = ("nodes_per_depth", "links_per_depth")
+
+
+def _runs(oracle, eps_scale):
+    """The canonical scenes for one oracle; eps multiplied by _eps_scale_."""
+    def eps(value):
+        return ["--eps", f"{value * eps_scale:.6g}", "--oracle", oracle]
+    return [
+        ["perpendicular"] + eps(0.1),
+        ["perpendicular"] + eps(0.02),
+        ["perpendicular", "l=2", "l2=1", "gap=0.05"] + eps(0.05),
+        ["angled", "angle=60"] + eps(0.1),
+        ["angled", "angle=135", "gap=0.2"] + eps(0.05),
+        ["angled", "angle=30", "l=3"] + eps(0.02),
+        ["enclosure", "n=6", "--min-area", "0.01"] + eps(0.1),
+        ["enclosure", "n=12", "--min-area", "0.005"] + eps(0.05),
+        ["room", "--min-area", "0.01"] + eps(0.1),
+        ["room", "w=3", "h=1", "--max-depth", "8"] + eps(0.05),
+        ["array", "k=4"] + eps(0.1),
+        ["array", "k=8", "d=0.5", "spacing=0.5"] + eps(0.2),
+        ["random", "n=10", "seed=1"] + eps(0.1),
+        ["random", "n=30", "seed=7", "size=8"] + eps(0.2),
+    ]
+
+
+# The runs a new baseline file starts with: every oracle on every 2D scene family
+# (hanrahan at smaller eps and g = l / d, where its refinement is not trivial), one
+# run on two threads, and the translation method on the parallel family (once on the
+# configuration the two-thread run enumerates, and up to 1.4e14 links).
+DEFAULT_RUNS = ([
+    ["parallel", "l=64", "d=1", "--eps", "0.25"],
+    ["parallel", "l=64", "d=1", "--eps", "0.1"],
+    ["parallel", "l=256", "d=1", "--eps", "0.05"],
+    ["parallel", "l=16", "d=2", "offset=5", "--eps", "0.1"],
+    ["parallel", "l=32", "d=1", "offset=-7.5", "l2=20", "--eps", "0.2"],
+    ["parallel", "l=4", "d=1", "--eps", "0.02"],
+] + _runs("garmann", 1.0) + [
+    ["parallel", "l=16", "d=1", "--eps", "0.01", "--oracle", "hanrahan"],
+    ["parallel", "l=4", "d=1", "--eps", "0.004", "--oracle", "hanrahan"],
+    ["parallel", "l=16", "d=2", "offset=5", "--eps", "0.01", "--oracle", "hanrahan"],
+    ["parallel", "l=8", "d=1", "offset=-2.5", "l2=5", "--eps", "0.01", "--oracle", "hanrahan"],
+] + _runs("hanrahan", 0.2) + [
+    ["random", "n=100", "seed=3", "size=20", "--eps", "0.05"],
+    ["random", "n=100", "seed=3", "size=20", "--eps", "0.01", "--oracle", "hanrahan"],
+    ["parallel", "l=64", "d=0.25", "offset=3.5", "--eps", "0.04", "--threads", "2"],
+    ["parallel", "l=64", "d=0.25", "offset=3.5", "--eps", "0.04", "--method", "translation"],
+    ["parallel", "l=64", "d=1", "--eps", "0.25", "--method", "translation"],
+    ["parallel", "l=1024", "d=0.25", "offset=3.5", "--eps", "0.02", "--method", "translation"],
+    ["parallel", "l=2147483648", "d=1", "--eps", "0.01", "--method", "translation"],
+])
+
+
+class RunError(Exception):
+    """The engine failed on a run, or its output was not the expected JSON."""
+
+
+@dataclass(frozen=True)
+class CounterChange:
+    """One counter of one run that differs from the baseline.
+
+    Attributes
+    ----------
+    counter : str
+        Counter name, e.g. ``links`` or ``links_per_depth[12]``.
+    baseline, current : int or None
+        Value in the baseline and now (None where absent).
+    """
+
+    counter: str
+    baseline: object
+    current: object
+
+    @property
+    def change(self):
+        """Absolute change ``current - baseline`` (None unless both are numbers)."""
+        if isinstance(self.baseline, int) and isinstance(self.current, int):
+            return self.current - self.baseline
+        return None
+
+    @property
+    def relative(self):
+        """Relative change ``current / baseline - 1`` (None if undefined)."""
+        if self.change is None or self.baseline == 0:
+            return None
+        return self.change / self.baseline
+
+
+@dataclass
+class RunDiff:
+    """The outcome of checking one baseline entry.
+
+    Attributes
+    ----------
+    args : list of str
+        Arguments of ``hrbench run`` (without ``--json --count-only``).
+    changes : list of CounterChange
+        Counters that differ; empty if the run matches.
+    error : str or None
+        Why the run could not be checked (engine error, missing baseline).
+    """
+
+    args: list
+    changes: list = field(default_factory=list)
+    error: str = None
+
+    @property
+    def ok(self):
+        return self.error is None and not self.changes
+
+
+def command_of(args):
+    """The command line of a baseline run, as a user would type it."""
+    return "hrbench run " + " ".join(args) + " --json --count-only"
+
+
+def load_baseline(path):
+    """Read a baseline file.
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    dict
+        With ``schema_version`` and ``runs``, a list of dicts with ``args`` (list
+        of str) and ``counts`` (dict, missing for an entry not yet recorded).
+
+    Raises
+    ------
+    RunError
+        If the file cannot be read, is not JSON or has an unknown schema version.
+    """
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+    except OSError as e:
+        raise RunError(f"cannot read baseline {path}: {e.strerror}") from None
+    except json.JSONDecodeError as e:
+        raise RunError(f"baseline {path} is not valid JSON: {e}") from None
+    if not isinstance(data, dict) or data.get("schema_version") != BASELINE_SCHEMA_VERSION:
+        raise RunError(f"baseline {path}: schema_version must be {BASELINE_SCHEMA_VERSION}")
+    runs = data.get("runs")
+    if not isinstance(runs, list) or not all(
+            isinstance(r, dict) and isinstance(r.get("args"), list) for r in runs):
+        raise RunError(f"baseline {path}: 'runs' must be a list of objects with 'args'")
+    return data
+
+
+def make_baseline(runs, counts, engine_version):
+    """Build the content of a baseline file.
+
+    Parameters
+    ----------
+    runs : list of list of str
+        Arguments of each run.
+    counts : list of dict
+        Counters of each run, as from `run_counts`.
+    engine_version : str
+        Engine version that produced them.
+    """
+    return {
+        "schema_version": BASELINE_SCHEMA_VERSION,
+        "engine_version": engine_version,
+        "note": "exact counters of `hrbench run ARGS --json --count-only`; checked by "
+                "tools/check_baseline.py, rewritten on purpose by `make baseline`",
+        "runs": [{"args": list(a), "counts": c} for a, c in zip(runs, counts)],
+    }
+
+
+def run_counts(hrbench, args, timeout=120):
+    """Run the engine once and return its counters.
+
+    Parameters
+    ----------
+    hrbench : str
+        Path of the ``hrbench`` executable.
+    args : list of str
+        Arguments of ``hrbench run``; ``--json --count-only`` are added.
+    timeout : float, optional
+        Seconds before the run is abandoned.
+
+    Returns
+    -------
+    counts : dict
+        The scalar counters and histograms named in `COUNTERS` and `HISTOGRAMS`.
+    version : str
+        The engine version it reported.
+
+    Raises
+    ------
+    RunError
+        If the engine exits with an error or prints something else than JSON.
+    """
+    cmd = [hrbench, "run", *args, "--json", "--count-only"]
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    except (OSError, subprocess.TimeoutExpired) as e:
+        raise RunError(f"cannot run {' '.join(cmd)}: {e}") from None
+    if proc.returncode != 0:
+        raise RunError(f"exit code {proc.returncode}: {proc.stderr.strip()}")
+    try:
+        record = json.loads(proc.stdout)
+        counts = {k: record[k] for k in COUNTERS + HISTOGRAMS}
+    except (json.JSONDecodeError, KeyError, TypeError) as e:
+        raise RunError(f"unexpected output ({e.__class__.__name__}: {e})") from None
+    return counts, str(record.get("version", "unknown"))
+
+
+def get_counter_changes(baseline, current):
+    """List the counters that differ between two sets of counts.
+
+    Parameters
+    ----------
+    baseline, current : dict
+        Counters as stored in the baseline file and as from `run_counts`.
+        Scalars are compared exactly; histograms entry by entry (a missing
+        entry counts as 0). Counters absent from the baseline are not compared.
+
+    Returns
+    -------
+    list of CounterChange
+        In the order of `COUNTERS`, then `HISTOGRAMS` by depth.
+    """
+    changes = []
+    for name in COUNTERS:
+        if name in baseline and baseline[name] != current.get(name):
+            changes.append(CounterChange(name, baseline[name], current.get(name)))
+    for name in HISTOGRAMS:
+        if name not in baseline:
+            continue
+        old, new = list(baseline[name]), list(current.get(name) or [])
+        for depth in range(max(len(old), len(new))):
+            a = old[depth] if depth < len(old) else 0
+            b = new[depth] if depth < len(new) else 0
+            if a != b:
+                changes.append(CounterChange(f"{name}[{depth}]", a, b))
+    return changes
+
+
+def _format_change(c):
+    if c.change is None:
+        return ""
+    text = f"{c.change:+,}"
+    if c.relative is not None:
+        # Tiny relative changes of huge counters in scientific notation, not +0.000%.
+        percent = 100 * c.relative
+        text += f" ({percent:+.3f}%)" if abs(percent) >= 1e-3 else f" ({percent:+.2e}%)"
+    return text
+
+
+def print_baseline_report(diffs, baseline_path, file=None, max_histogram_lines=6):
+    """Print which runs changed, in which counter and by how much.
+
+    Parameters
+    ----------
+    diffs : list of RunDiff
+        One per baseline entry.
+    baseline_path : str
+        Shown in the summary.
+    file : file-like, optional
+        Where to print (default: standard output).
+    max_histogram_lines : int, optional
+        Histogram entries shown per run before the rest are summarised.
+    """
+    def out(line=""):
+        print(line, file=file)
+
+    bad = [d for d in diffs if not d.ok]
+    for d in bad:
+        out(f"CHANGED  {command_of(d.args)}")
+        if d.error:
+            out(f"    error: {d.error}")
+            continue
+        scalars = [c for c in d.changes if "[" not in c.counter]
+        histogram = [c for c in d.changes if "[" in c.counter]
+        if scalars:
+            out(f"    {'counter':<16}{'baseline':>20}{'now':>20}  change")
+            for c in scalars:
+                out(f"    {c.counter:<16}{c.baseline!s:>20}{c.current!s:>20}  {_format_change(c)}")
+        for c in histogram[:max_histogram_lines]:
+            out(f"    {c.counter}: {c.baseline} -> {c.current}  {_format_change(c)}")
+        if len(histogram) > max_histogram_lines:
+            out(f"    ... and {len(histogram) - max_histogram_lines} more histogram entries")
+    if bad:
+        out()
+        out(f"count baseline: {len(bad)} of {len(diffs)} runs differ from {baseline_path}")
+        out("If the change is intended, rewrite the baseline with `make baseline` "
+            "(tools/check_baseline.py --update) and commit it with the change.")
+    else:
+        out(f"count baseline: all {len(diffs)} runs match {baseline_path}")

@@ -1,0 +1,114 @@
+"""Reading Google Benchmark JSON output.
+
+The reader is tolerant: unknown fields are ignored, optional fields may be
+missing, and the schema version is checked when the file states one
+(``context.json_schema_version``; Google Benchmark 1.7 does not write it).
+"""
+
+import json
+
+__all__ = ["InputError", "load_benchmark_file", "get_repetition_times",
+           "merge_benchmark_files"]
+
+# Schema versions of the Google Benchmark JSON format this reader understands.
+_SUPPORTED_SCHEMA_VERSIONS = (1,)
+
+# Nanoseconds per unit of Google Benchmark's `time_unit`.
+_NS_PER_UNIT = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}
+
+
+class InputError(Exception):
+    """An input file is missing, unreadable or not what the tool expects."""
+
+
+def load_benchmark_file(path):
+    """Read a Google Benchmark JSON file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        File written with ``--benchmark_out=F.json --benchmark_out_format=json``.
+
+    Returns
+    -------
+    dict
+        The parsed file, with a ``benchmarks`` list and a ``context`` dict
+        (empty if the file has none).
+
+    Raises
+    ------
+    InputError
+        If the file cannot be read, is not JSON, has no ``benchmarks`` list or
+        states an unsupported schema version.
+    """
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+    except OSError as e:
+        raise InputError(f"cannot read {path}: {e.strerror}") from None
+    except json.JSONDecodeError as e:
+        raise InputError(f"{path} is not valid JSON: {e}") from None
+    if not isinstance(data, dict) or not isinstance(data.get("benchmarks"), list):
+        raise InputError(f"{path} is not Google Benchmark JSON: no 'benchmarks' list")
+    context = data.setdefault("context", {})
+    version = context.get("json_schema_version")
+    if version is not None and version not in _SUPPORTED_SCHEMA_VERSIONS:
+        raise InputError(f"{path}: json_schema_version {version} is not supported "
+                         f"(supported: {', '.join(map(str, _SUPPORTED_SCHEMA_VERSIONS))})")
+    return data
+
+
+def get_repetition_times(data, metric="real_time"):
+    """Collect the per-repetition times of every benchmark.
+
+    Parameters
+    ----------
+    data : dict
+        A file as returned by `load_benchmark_file`.
+    metric : {'real_time', 'cpu_time'}
+        Which time to collect.
+
+    Returns
+    -------
+    dict of str to list of float
+        For each benchmark (its ``run_name``, or ``name``), the times of its
+        iteration rows in file order, in nanoseconds per iteration. Aggregate
+        rows (mean, median, stddev, BigO, RMS, ...) are skipped.
+    """
+    if metric not in ("real_time", "cpu_time"):
+        raise ValueError(f"metric must be 'real_time' or 'cpu_time', not {metric!r}")
+    times = {}
+    for row in data["benchmarks"]:
+        if not isinstance(row, dict) or row.get("run_type", "iteration") != "iteration":
+            continue
+        if row.get("error_occurred"):
+            continue
+        name = row.get("run_name", row.get("name"))
+        value = row.get(metric)
+        unit = _NS_PER_UNIT.get(row.get("time_unit", "ns"))
+        if name is None or not isinstance(value, (int, float)) or unit is None:
+            continue
+        times.setdefault(name, []).append(float(value) * unit)
+    return times
+
+
+def merge_benchmark_files(files):
+    """Merge several Google Benchmark JSON files into one.
+
+    Parameters
+    ----------
+    files : sequence of dict
+        Files as returned by `load_benchmark_file`, e.g. one per suite.
+
+    Returns
+    -------
+    dict
+        The context of the first file, with the executables of all of them under
+        ``executables``, and the concatenated ``benchmarks``.
+    """
+    if not files:
+        raise ValueError("files must not be empty")
+    context = dict(files[0]["context"])
+    context["executables"] = [f["context"].get("executable") for f in files]
+    benchmarks = [row for f in files for row in f["benchmarks"]]
+    return {"context": context, "benchmarks": benchmarks}

@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""Check the exact counters of the engine against tests/baseline/counts.json.
+
+usage: check_baseline.py [--hrbench PATH] [--baseline PATH] [--jobs N] [--update]
+
+Runs every entry of the baseline file as `hrbench run ARGS --json --count-only`
+and compares nodes, leaves, links, oracle_calls, max_depth, forced_links,
+culled_pairs, root_pairs and the per-depth histograms exactly. On a difference it
+prints, for each run that changed, the counters, their old and new values and
+the change. With --update it rewrites the file from the current engine instead
+(to add a run, append {"args": [...]} to the file and update); a missing file is
+created with the default runs.
+
+Exit codes: 0 every run matches (or the file was written); 1 a run differs or
+failed; 2 usage or input error (no engine, unreadable baseline).
+See docs/ci.md.
+"""
+
+import argparse
+import concurrent.futures
+import json
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from benchtools.baseline import (DEFAULT_RUNS, RunDiff, RunError, get_counter_changes,  # noqa: E402
+                                 load_baseline, make_baseline, print_baseline_report,
+                                 run_counts)
+
+_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def _parse_args(argv):
+    parser = argparse.ArgumentParser(
+        prog="check_baseline.py",
+        description="Check (or --update) the exact count baseline of the hrbench engine.")
+    parser.add_argument("--hrbench", default=os.path.join(_ROOT, "build", "hrbench"),
+                        help="engine executable (default build/hrbench)")
+    parser.add_argument("--baseline",
+                        default=os.path.join(_ROOT, "tests", "baseline", "counts.json"),
+                        help="baseline file (default tests/baseline/counts.json)")
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                        help="engine runs in parallel (default: number of cores)")
+    parser.add_argument("--update", action="store_true",
+                        help="rewrite the baseline from the current engine")
+    args = parser.parse_args(argv)
+    if args.jobs < 1:
+        parser.error("--jobs must be at least 1")
+    return args
+
+
+def _run_all(hrbench, runs, jobs):
+    """Counters (or the RunError) of every run, in order."""
+    def one(args):
+        try:
+            return run_counts(hrbench, args)
+        except RunError as e:
+            return e
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        return list(pool.map(one, runs))
+
+
+def main(argv=None):
+    args = _parse_args(argv)
+    if not os.access(args.hrbench, os.X_OK):
+        print(f"check_baseline.py: error: engine {args.hrbench} not found or not executable; "
+              "build it first (make build) or pass --hrbench", file=sys.stderr)
+        return 2
+
+    # Read the runs of the baseline (or the default runs for a new file).
+    if args.update and not os.path.exists(args.baseline):
+        entries = [{"args": a} for a in DEFAULT_RUNS]
+    else:
+        try:
+            entries = load_baseline(args.baseline)["runs"]
+        except RunError as e:
+            print(f"check_baseline.py: error: {e}", file=sys.stderr)
+            return 2
+    results = _run_all(args.hrbench, [e["args"] for e in entries], args.jobs)
+
+    if args.update:
+        failed = [(e, r) for e, r in zip(entries, results) if isinstance(r, RunError)]
+        for e, r in failed:
+            print(f"check_baseline.py: error: hrbench run {' '.join(e['args'])}: {r}",
+                  file=sys.stderr)
+        if failed:
+            return 1
+        version = results[0][1] if results else "unknown"
+        data = make_baseline([e["args"] for e in entries], [r[0] for r in results], version)
+        os.makedirs(os.path.dirname(os.path.abspath(args.baseline)), exist_ok=True)
+        with open(args.baseline, "w", encoding="utf-8") as f:
+            json.dump(data, f, indent=1)
+            f.write("\n")
+        print(f"count baseline: wrote {len(entries)} runs to {args.baseline}")
+        return 0
+
+    diffs = []
+    for entry, result in zip(entries, results):
+        if isinstance(result, RunError):
+            diffs.append(RunDiff(entry["args"], error=str(result)))
+        elif not isinstance(entry.get("counts"), dict):
+            diffs.append(RunDiff(entry["args"], error="no baseline counts recorded; run "
+                                                      "tools/check_baseline.py --update"))
+        else:
+            diffs.append(RunDiff(entry["args"], get_counter_changes(entry["counts"], result[0])))
+    print_baseline_report(diffs, os.path.relpath(args.baseline))
+    return 0 if all(d.ok for d in diffs) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
