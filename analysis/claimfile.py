@@ -9,7 +9,7 @@ Adding a claim needs no code: see ``docs/analysis.md`` for the format.
 import math
 import re
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from .expr import Expression, ExpressionError
@@ -22,12 +22,21 @@ __all__ = [
     "load_claims",
     "load_claims_dir",
     "MODES",
+    "RESERVED_OPTIONS",
 ]
 
 #: Sweep modes a claim may give ranges for.
 MODES = ("quick", "full")
 
 _ORACLES = ("garmann", "hanrahan", "bf")
+
+#: Engine options a claim may not set through ``options``: they have claim keys of their
+#: own (``eps``, ``oracle``, ``min_area``, ``max_depth``) or are set by the sweep itself.
+RESERVED_OPTIONS = ("eps", "oracle", "min_area", "max_depth", "count_only", "json", "out",
+                    "scene_file", "help", "version")
+
+_OPTION_NAME = re.compile(r"[a-z][a-z0-9_]*\Z")
+_OPTION_TEXT = re.compile(r"[A-Za-z0-9_.:/+][A-Za-z0-9_.:/+=-]*\Z")
 
 
 class ClaimsFileError(ValueError):
@@ -65,11 +74,16 @@ class SweepRange:
         First and last value (in the parameter's unit; either may be the larger).
     per_decade : float
         Points per decade (factor 10) of the parameter.
+    binary_digits : int or None
+        If given, round every value to this many significant binary digits instead of
+        5 decimal ones, so that it and its halves are exact in double precision (what
+        ``--method translation`` needs of a plate length).
     """
 
     start: float
     stop: float
     per_decade: float
+    binary_digits: object = None
 
     def values(self):
         """The swept values, log-spaced from `start` to `stop` inclusive.
@@ -77,8 +91,8 @@ class SweepRange:
         Returns
         -------
         values : list of float
-            Rounded to 5 significant digits, so that they print and cache identically
-            on every run.
+            Rounded to 5 significant digits (or `binary_digits` significant bits), so
+            that they print and cache identically on every run.
         """
         sign = 1.0 if self.stop > self.start else -1.0
         decades = abs(math.log10(self.stop / self.start))
@@ -88,7 +102,12 @@ class SweepRange:
             raw.append(self.stop)
         out = []
         for v in raw:
-            v = float(f"{v:.5g}")
+            if self.binary_digits is None:
+                v = float(f"{v:.5g}")
+            else:
+                mantissa, exponent = math.frexp(v)
+                scale = 2 ** int(self.binary_digits)
+                v = math.ldexp(round(mantissa * scale) / scale, exponent)
             if not out or v != out[-1]:
                 out.append(v)
         return out
@@ -146,6 +165,14 @@ class Claim:
         ``--min-area`` passed to every run (scene units).
     max_depth : int or None
         ``--max-depth`` passed to every run (levels).
+    options : dict of str to (str, int or float)
+        Further engine options passed to every run, e.g. ``{"visibility": "fraction"}``
+        for ``--visibility fraction`` (a ``_`` in a name becomes ``-``).
+    mode_options : dict of str to dict
+        Options per mode (``"quick"``, ``"full"``) that add to or override `options`.
+    chart : str or None
+        Name of the report chart the claim is drawn in; claims with the same name share
+        one chart. By default claims share a chart when they measure the same x and y.
     path : str
         The claims file.
     line : int
@@ -178,6 +205,9 @@ class Claim:
     theta_band: float = 10.0
     min_area: object = None
     max_depth: object = None
+    options: dict = field(default_factory=dict)
+    mode_options: dict = field(default_factory=dict)
+    chart: object = None
     path: str = ""
     line: int = 0
 
@@ -187,18 +217,36 @@ class Claim:
             return self.ranges[mode]
         return next(iter(self.ranges.values()))
 
+    def options_for(self, mode):
+        """The engine options of `mode`: `options` updated by ``mode_options[mode]``.
+
+        Parameters
+        ----------
+        mode : {"quick", "full"}
+
+        Returns
+        -------
+        options : dict of str to (str, int or float)
+            Sorted by name.
+        """
+        merged = dict(self.options)
+        merged.update(self.mode_options.get(mode, {}))
+        return dict(sorted(merged.items()))
+
 
 _CLAIM_KEYS = {
     "id", "statement", "source", "description", "scene", "params", "oracle", "sweep",
     "x", "y", "x_label", "y_label", "expected_exponent", "tolerance", "regime",
     "expected_to_hold", "min_points", "min_decades", "window_decades", "theta_band",
-    "min_area", "max_depth", "eps",
+    "min_area", "max_depth", "eps", "options", "chart", *MODES,
 }
 _REQUIRED = ("id", "statement", "scene", "params", "sweep", "x", "y",
              "expected_exponent", "tolerance")
 _SWEEP_KEYS = {"param", "quick", "full", "range"}
 _RANGE_KEYS = {"from", "to", "per_decade"}
+_RANGE_OPTIONAL = {"binary_digits"}
 _REGIME_KEYS = {"x_min", "x_max"}
+_MODE_KEYS = {"options"}
 
 
 class _Locator:
@@ -219,8 +267,10 @@ class _Locator:
         stop = self.headers[index + 1] - 1 if index + 1 < len(self.headers) else len(self.lines)
         parts = key.split(".")
         last = re.escape(parts[-1])
+        parent = re.escape(".".join(parts[:-1])) if len(parts) > 1 else None
         patterns = [
             rf"\s*{re.escape(key)}\s*=",                      # dotted key: sweep.param =
+            *([rf"\s*{parent}\s*=.*\b{last}\s*="] if parent else []),  # full.options = { k =
             rf"\s*\[\s*claim\.{re.escape(key)}\s*\]",          # table header: [claim.sweep]
             rf"\s*{last}\s*=",                                 # key inside a sub-table
             rf".*\b{last}\s*=",                                # key inside an inline table
@@ -365,15 +415,21 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
         if not isinstance(spec, dict):
             fail(f"key {key!r} must be a table {{ from = ..., to = ..., per_decade = ... }}", key)
         missing = _RANGE_KEYS - set(spec)
-        extra = set(spec) - _RANGE_KEYS
+        extra = set(spec) - _RANGE_KEYS - _RANGE_OPTIONAL
         if missing or extra:
-            fail(f"key {key!r} needs exactly the keys from, to, per_decade", key)
+            fail(f"key {key!r} needs the keys from, to, per_decade (and optionally "
+                 "binary_digits)", key)
         for sub in _RANGE_KEYS:
             want(f"{key}.{sub}", "pos", spec[sub])
         if spec["from"] == spec["to"]:
             fail(f"key {key!r}: 'from' and 'to' must differ", key)
+        digits = spec.get("binary_digits")
+        if digits is not None and not (isinstance(digits, int) and not isinstance(digits, bool)
+                                       and 1 <= digits <= 52):
+            fail(f"key '{key}.binary_digits' must be an integer from 1 to 52, got {digits!r}",
+                 f"{key}.binary_digits")
         ranges[mode] = SweepRange(float(spec["from"]), float(spec["to"]),
-                                  float(spec["per_decade"]))
+                                  float(spec["per_decade"]), digits)
     if "range" in ranges:
         common = ranges.pop("range")
         for mode in MODES:
@@ -420,8 +476,22 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
     for key in ("min_area", "max_depth"):
         if key in raw:
             want(key, "pos")
+    base_options = _options_iv(raw.get("options", {}), "options", fail)
+    mode_options = {}
+    for mode in MODES:
+        if mode not in raw:
+            continue
+        table = raw[mode]
+        if not isinstance(table, dict):
+            fail(f"key {mode!r} must be a table with the key 'options', got {table!r}", mode)
+        unknown = set(table) - _MODE_KEYS
+        if unknown:
+            key = sorted(unknown)[0]
+            fail(f"unknown key '{mode}.{key}'; allowed: {', '.join(sorted(_MODE_KEYS))}",
+                 f"{mode}.{key}")
+        mode_options[mode] = _options_iv(table.get("options", {}), f"{mode}.options", fail)
     expected = want("expected_to_hold", "bool", raw.get("expected_to_hold", True))
-    for key in ("source", "description", "x_label", "y_label"):
+    for key in ("source", "description", "x_label", "y_label", "chart"):
         if key in raw:
             want(key, "str")
 
@@ -436,7 +506,38 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
         x_min=regime.get("x_min"), x_max=regime.get("x_max"),
         expected_to_hold=expected, min_area=raw.get("min_area"),
         max_depth=int(raw["max_depth"]) if "max_depth" in raw else None,
+        options=base_options, mode_options=mode_options, chart=raw.get("chart"),
         path=str(path), line=loc.claim_line(index) or 0, **options)
+
+
+def _options_iv(options, where, fail):
+    # Check a table of engine options; `where` is its key ("options", "full.options").
+    if not isinstance(options, dict):
+        fail(f"key {where!r} must be a table of engine options, e.g. "
+             "{ visibility = \"fraction\" }, "
+             f"got {options!r}", where)
+    out = {}
+    for name, value in options.items():
+        key = f"{where}.{name}"
+        if not _OPTION_NAME.match(name):
+            fail(f"option {name!r} in {where!r}: names are lower-case letters, digits and "
+                 "'_' (a '_' becomes '-' on the command line)", key)
+        if name in RESERVED_OPTIONS:
+            fail(f"option {name!r} in {where!r} is not allowed there: "
+                 + (f"use the claim key {name!r}" if name in _CLAIM_KEYS
+                    else "the sweep sets it itself"), key)
+        if isinstance(value, str):
+            if not _OPTION_TEXT.match(value):
+                fail(f"option {name!r} in {where!r} must be a plain word such as "
+                     f"\"fraction\" (letters, digits, '_', '.', ':', '/', '+', '=', '-', "
+                     f"not starting with '-'), got {value!r}", key)
+        elif isinstance(value, bool) or not isinstance(value, (int, float)):
+            fail(f"option {name!r} in {where!r} must be a string, an integer or a number, "
+                 f"got {value!r}", key)
+        elif not math.isfinite(value):
+            fail(f"option {name!r} in {where!r} must be finite, got {value!r}", key)
+        out[name] = value
+    return out
 
 
 def load_claims_dir(directory):

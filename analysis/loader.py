@@ -36,6 +36,10 @@ COUNTERS = (
     "forced_links",   # links made by a recursion limit, not by the oracle (count)
     "culled_pairs",   # root pairs that cannot exchange light (count)
     "root_pairs",     # root pairs refined (count)
+    "patches",        # root patches of the scene (count)
+    "occluded_pairs", # element pairs found wholly occluded by the visibility test (count)
+    "visibility_queries",  # visibility tests of element pairs (count)
+    "rays",           # rays cast by the visibility tests (count)
     "seconds",        # refinement wall time (s)
 )
 
@@ -107,7 +111,8 @@ def parse_run_json(text):
 
     Unknown fields are kept in ``extra`` and otherwise ignored; optional fields
     (``min_area``, ``max_depth_limit``, ``forced_links``, ``culled_pairs``, ``root_pairs``,
-    ``seconds``, the per-depth histograms) may be missing.
+    ``patches``, ``occluded_pairs``, ``visibility_queries``, ``rays``, ``seconds``, the
+    per-depth histograms) may be missing.
 
     Parameters
     ----------

@@ -4,12 +4,16 @@ None of these functions creates, shows or saves a figure; the caller owns it (an
 the backend; the report uses Agg).
 """
 
+from dataclasses import dataclass
+
 import numpy as np
 from matplotlib.collections import PatchCollection
 from matplotlib.patches import Rectangle
 
 __all__ = [
+    "PowerLawSeries",
     "plot_power_law",
+    "plot_power_law_comparison",
     "plot_reference_slopes",
     "plot_slopes",
     "plot_ratio",
@@ -53,6 +57,79 @@ def plot_power_law(ax, x, y, *, in_regime=None, fit=None, label=None, color=None
         ax.plot(xs, fit.prefactor * xs ** fit.exponent, "-", lw=1.2, color=color, alpha=0.8,
                 label=(f"fit: exponent {fit.exponent:.3f} "
                        f"[{fit.low:.3f}, {fit.high:.3f}]"))
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    return points
+
+
+@dataclass
+class PowerLawSeries:
+    """One measured series for :func:`plot_power_law_comparison`.
+
+    Attributes
+    ----------
+    x, y : array_like
+        Measured points (positive), e.g. elements N and links L (counts).
+    label : str
+        Legend label.
+    in_regime : array_like of bool, optional
+        Points in the asymptotic regime (drawn filled; the others hollow).
+    fit : PowerLawFit, optional
+        Fit over the regime, drawn as a line.
+    """
+
+    x: object
+    y: object
+    label: str
+    in_regime: object = None
+    fit: object = None
+
+
+def plot_power_law_comparison(ax, series, *, slopes=(), symbol="x", markers="os^Dv"):
+    """Draw several measured series on one log-log chart, with reference slopes.
+
+    Used to set measurements side by side, e.g. the links against the elements of a
+    refinement with and without an occluder, or of two regimes of the same scene.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    series : sequence of PowerLawSeries
+        Drawn in order, each in its own colour and marker.
+    slopes : sequence of float, optional
+        Exponents of dashed reference lines, anchored at the leftmost point of all series
+        and drawn to the rightmost (dimensionless). The y axis keeps to the measured
+        points (with a margin of a factor 3), so a steep line does not squash them.
+    symbol : str, optional
+        Name of the x quantity in the reference lines' labels, e.g. ``"N"``.
+    markers : str, optional
+        Marker codes, cycled over the series.
+
+    Returns
+    -------
+    points : list of matplotlib.lines.Line2D
+        The points of each series, in order.
+    """
+    points = []
+    x_left, y_left, x_right = np.inf, None, 0.0
+    y_low, y_high = np.inf, 0.0
+    for n, s in enumerate(series):
+        x = np.asarray(s.x, dtype=float)
+        y = np.asarray(s.y, dtype=float)
+        if x.size == 0:
+            continue
+        points.append(plot_power_law(ax, x, y, in_regime=s.in_regime, fit=s.fit,
+                                     label=s.label, marker=markers[n % len(markers)],
+                                     color=f"C{n}"))
+        first = int(np.argmin(x))
+        if x[first] < x_left:
+            x_left, y_left = x[first], y[first]
+        x_right = max(x_right, float(x.max()))
+        y_low, y_high = min(y_low, float(y.min())), max(y_high, float(y.max()))
+    if slopes and y_left is not None and x_right > x_left:
+        plot_reference_slopes(ax, sorted(slopes), x_left, y_left, x_max=x_right,
+                              symbol=symbol)
+        ax.set_ylim(y_low / 3, y_high * 3)
     ax.set_xscale("log")
     ax.set_yscale("log")
     return points

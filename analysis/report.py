@@ -12,8 +12,10 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from .plots import (plot_link_tiling, plot_power_law, plot_ratio, plot_reference_slopes,
-                    plot_slopes)
+from .plots import (PowerLawSeries, plot_link_tiling, plot_power_law_comparison,
+                    plot_ratio, plot_slopes)
+from .sweep import option_argv
+from .verdict import SKIPPED
 
 __all__ = [
     "ClaimOutcome",
@@ -35,21 +37,24 @@ class ClaimOutcome:
     claim : Claim
     data : ClaimData
     assessment : Assessment
+    mode : str
+        The sweep mode (``"quick"`` or ``"full"``): which range and options were used.
     """
 
     claim: object
     data: object
     assessment: object
+    mode: str = "quick"
 
     @property
     def agrees(self):
         """Whether the verdict is what the claims file expects.
 
         ``True`` for a reproduced claim expected to hold and a refuted claim expected
-        not to hold, ``False`` for the opposite, ``None`` if inconclusive.
+        not to hold, ``False`` for the opposite, ``None`` if inconclusive or skipped.
         """
         verdict = self.assessment.verdict
-        if verdict == "inconclusive":
+        if verdict in ("inconclusive", SKIPPED):
             return None
         return (verdict == "reproduced") == self.claim.expected_to_hold
 
@@ -187,6 +192,7 @@ def get_claims_json(outcomes, mode="quick"):
             "scene": c.scene,
             "params": c.params,
             "oracle": c.oracle,
+            "options": c.options_for(o.mode),
             "eps": c.eps,
             "sweep_param": c.sweep_param,
             "sweep": {"param": c.sweep_param, "from": c.range_for(mode).start,
@@ -220,10 +226,19 @@ def get_claims_json(outcomes, mode="quick"):
     return out
 
 
-def _series_label(claim, ids, values):
+def _options_text(claim, mode):
+    # "visibility fraction, rays-per-side 2" (as on the command line, without dashes).
+    argv = option_argv(claim.options_for(mode))
+    return ", ".join(f"{argv[n][2:]} {argv[n + 1]}" for n in range(0, len(argv), 2))
+
+
+def _series_label(claim, ids, values, mode="quick"):
     fixed = ", ".join(f"{k}={v:g}" for k, v in claim.params.items() if k != claim.sweep_param)
     if claim.eps is not None:
         fixed += f", eps={claim.eps:g}"
+    options = _options_text(claim, mode)
+    if options:
+        fixed += f", {options}"
     swept = ""
     if len(values):
         swept = f", {claim.sweep_param} from {values.min():g} to {values.max():g}"
@@ -261,38 +276,38 @@ def get_figures(outcomes, links=None, links_title=""):
     -------
     figures : list of ReportFigure
         One figure per pair of measured quantities (claims measuring the same x and y
-        share a chart, with reference slopes for their exponents), one per claim (local
-        exponents and the Theta ratio), and the tiling if `links` is given.
+        share a chart, with reference slopes for their exponents; a claim's ``chart``
+        name overrides the grouping), one per claim (local exponents and the Theta
+        ratio), and the tiling if `links` is given.
     """
     figures = []
     usable = [o for o in outcomes if o.assessment.x.size]
 
-    # Draw one chart per pair of measured quantities, all claims measuring it overlaid.
+    # Draw one chart per pair of measured quantities (or per chart name), claims overlaid.
     groups = {}
     for o in usable:
-        groups.setdefault((_symbol(o.claim.x.text), _symbol(o.claim.y.text)), []).append(o)
-    for (xs, ys), members in groups.items():
+        key = (o.claim.chart if o.claim.chart is not None
+               else (_symbol(o.claim.x.text), _symbol(o.claim.y.text)))
+        groups.setdefault(key, []).append(o)
+    for members in groups.values():
         fig = Figure(figsize=(8, 5.6), layout="constrained")
         ax = fig.add_subplot()
-        series = {}
+        same_points = {}
         for o in members:
             key = (o.assessment.x.tobytes(), o.assessment.y.tobytes())
-            series.setdefault(key, []).append(o)
-        markers = "os^Dv"
-        xmin, ymin_at_xmin, xmax = math.inf, None, 0.0
-        for n, same in enumerate(series.values()):
+            same_points.setdefault(key, []).append(o)
+        series = []
+        for same in same_points.values():
             main = next((o for o in same if o.claim.expected_to_hold), same[0])
             a = main.assessment
-            plot_power_law(ax, a.x, a.y, in_regime=a.in_regime, fit=a.fit,
-                           label=_series_label(main.claim, [o.claim.id for o in same],
-                                               main.data.value),
-                           marker=markers[n % len(markers)], color=f"C{n}")
-            if a.x[0] < xmin:
-                xmin, ymin_at_xmin = a.x[0], a.y[0]
-            xmax = max(xmax, a.x[-1])
-        slopes = sorted({o.claim.expected_exponent for o in members})
-        plot_reference_slopes(ax, slopes, xmin, ymin_at_xmin, x_max=xmax, symbol=xs)
+            series.append(PowerLawSeries(
+                a.x, a.y, in_regime=a.in_regime, fit=a.fit,
+                label=_series_label(main.claim, [o.claim.id for o in same], main.data.value,
+                                    main.mode)))
         first = members[0].claim
+        plot_power_law_comparison(ax, series,
+                                  slopes={o.claim.expected_exponent for o in members},
+                                  symbol=_symbol(first.x.text))
         ax.set_xlabel(first.x_label)
         ax.set_ylabel(first.y_label)
         ids = ", ".join(o.claim.id for o in members)
@@ -380,11 +395,17 @@ def _context_lines(context):
 
 def _details(o):
     a, c = o.assessment, o.claim
-    lines = [f"- statement: `{c.statement}` ({c.source})",
-             f"- what is measured: y = `{c.y.text}` against x = `{c.x.text}`, "
-             f"{c.scene} {', '.join(f'{k}={v:g}' for k, v in c.params.items())}"
-             + (f", eps={c.eps:g}" if c.eps is not None else "")
-             + f", oracle {c.oracle}, {c.sweep_param} swept",
+    options = option_argv(c.options_for(o.mode))
+    measured = (f"- what is measured: y = `{c.y.text}` against x = `{c.x.text}`, "
+                f"{c.scene} {', '.join(f'{k}={v:g}' for k, v in c.params.items())}"
+                + (f", eps={c.eps:g}" if c.eps is not None else "")
+                + f", oracle {c.oracle}"
+                + (f", options `{' '.join(options)}`" if options else "")
+                + f", {c.sweep_param} swept")
+    if a.verdict == SKIPPED:
+        return [f"- statement: `{c.statement}` ({c.source})", measured,
+                f"- **skipped**: {a.reason}; no point was run"]
+    lines = [f"- statement: `{c.statement}` ({c.source})", measured,
              f"- regime: {_regime(c)}; {a.n_regime} of {a.x.size} points, "
              f"{a.decades:.2f} decades",
              f"- verdict: **{a.verdict}** ({a.reason})"]
@@ -445,6 +466,10 @@ def write_report(outdir, outcomes, context, figures):
     outdir.mkdir(parents=True, exist_ok=True)
     plots = outdir / "plots"
     plots.mkdir(exist_ok=True)
+    names = {f"{f.name}.png" for f in figures}
+    for stale in [*plots.glob("chart-*.png"), *plots.glob("slopes-*.png")]:
+        if stale.name not in names:
+            stale.unlink()  # a figure of an earlier run whose claims have changed
     rows = get_claims_table(outcomes)
     pngs = {}
     for f in figures:
@@ -477,7 +502,7 @@ def write_report(outdir, outcomes, context, figures):
              "body{font-family:sans-serif;max-width:1250px;margin:2em auto;padding:0 1em}",
              "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 8px}",
              "th{background:#eee}.reproduced{background:#d8f5d8}.refuted{background:#f8d8d8}",
-             ".inconclusive{background:#f5efc8}img{max-width:100%}code{background:#f4f4f4}",
+             ".inconclusive{background:#f5efc8}.skipped{background:#e4e4e4}img{max-width:100%}code{background:#f4f4f4}",
              "</style></head><body>",
              "<h1>hrbench: reproduction of published complexity claims</h1><ul>"]
     parts += [f"<li>{esc(k)}: {esc(str(v))}</li>" for k, v in context.items()]

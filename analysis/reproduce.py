@@ -2,7 +2,8 @@
 
 Runs the sweeps of every claim (reusing cached points), fits the exponents, draws the
 figures, and writes ``report.md``, ``report.html`` and ``claims.json`` to the results
-directory. Exit code 0 when no claim that is expected to hold is refuted, 1 when one is,
+directory. Claims whose scene family or engine options the engine does not list are
+skipped (reported, not failed). Exit code 0 when no claim that is expected to hold is refuted, 1 when one is,
 2 for usage errors, malformed claims files or an engine that cannot be run, 130 when
 interrupted (finished points stay cached). See ``docs/analysis.md``.
 """
@@ -22,8 +23,9 @@ from .claimfile import ClaimsFileError, load_claims, load_claims_dir
 from .loader import ResultFormatError, read_links_csv
 from .report import ClaimOutcome, get_claims_table, get_figures, print_claims_table, write_report
 from .store import ResultStore
-from .sweep import SweepError, engine_version, expand_claim, get_claim_data, run_links, run_points
-from .verdict import assess_claim
+from .sweep import (ClaimData, SweepError, engine_capabilities, engine_version, expand_claim,
+                    get_claim_data, missing_capability, run_links, run_points)
+from .verdict import assess_claim, skipped_assessment
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -88,10 +90,20 @@ def main(argv=None):
         print(f"error: {exc}", file=sys.stderr)
         return USAGE_ERROR
 
+    # Skip the claims that need a scene family or an option the engine does not offer.
+    capabilities = engine_capabilities(args.hrbench)
+    skipped = {}
+    for c in claims:
+        reason = missing_capability(c, args.mode, capabilities)
+        if reason is not None:
+            skipped[c.id] = reason
+            print(f"warning: claim {c.id} skipped: {reason}", file=sys.stderr)
+
     # Run the sweeps, reusing the cache.
     args.results.mkdir(parents=True, exist_ok=True)
     with ResultStore(args.results / "hrbench.sqlite") as store:
-        points = {c.id: expand_claim(c, args.mode, args.hrbench, version) for c in claims}
+        points = {c.id: expand_claim(c, args.mode, args.hrbench, version) for c in claims
+                  if c.id not in skipped}
         try:
             summary = run_points([p for ps in points.values() for p in ps], store,
                                  jobs=args.jobs)
@@ -101,8 +113,14 @@ def main(argv=None):
             return 130
         outcomes = []
         for c in claims:
+            if c.id in skipped:
+                empty = np.zeros(0)
+                data = ClaimData(value=empty, x=empty, y=empty)
+                outcomes.append(ClaimOutcome(c, data, skipped_assessment(c, skipped[c.id]),
+                                             args.mode))
+                continue
             data = get_claim_data(c, points[c.id], store)
-            outcomes.append(ClaimOutcome(c, data, assess_claim(c, data)))
+            outcomes.append(ClaimOutcome(c, data, assess_claim(c, data), args.mode))
 
     # Draw the link tiling of one small refinement.
     links, links_title = None, ""
@@ -128,6 +146,8 @@ def main(argv=None):
         "host": f"{platform.node()} ({os.cpu_count()} cores, {args.jobs} jobs)",
         "points": (f"{summary['total']} ({summary['cached']} cached, {summary['ran']} run, "
                    f"{summary['failed']} failed)"),
+        "claims skipped": (", ".join(f"{k} ({v})" for k, v in skipped.items())
+                           if skipped else "none"),
         "sweep and fit wall time": f"{wall:.1f} s",
         "python": (f"{platform.python_version()}, numpy {np.__version__}, "
                    f"matplotlib {matplotlib.__version__}"),

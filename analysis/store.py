@@ -1,7 +1,8 @@
 """The results cache: every run of a sweep, kept in an embedded SQLite database.
 
 Each point is keyed by everything that determines its counts: the engine's version,
-the scene, its parameters, ``eps``, the oracle, the recursion limits and the mode. A
+the scene, its parameters, ``eps``, the oracle, the recursion limits, further engine
+options (``--visibility``, ``--method``, ...) and the mode. A
 finished point is committed the moment it finishes (WAL journal), so a rerun reuses it
 and an interrupted sweep resumes without losing any point. A failed point is stored
 too, with its exit code and the last line of its standard error.
@@ -42,6 +43,9 @@ class PointKey:
         ``--max-depth`` (levels), if given.
     mode : str
         ``"count-only"`` or ``"store"``.
+    options : tuple of (str, str)
+        Further engine options as passed on the command line, sorted by name, e.g.
+        ``(("method", "translation"),)`` for ``--method translation``.
     """
 
     version: str
@@ -52,15 +56,23 @@ class PointKey:
     min_area: object = None
     max_depth: object = None
     mode: str = "count-only"
+    options: tuple = ()
 
     def text(self):
-        """A canonical string form of the key, used as the database's primary key."""
-        return json.dumps({
+        """A canonical string form of the key, used as the database's primary key.
+
+        A key without options has the same text as before options existed, so points
+        cached then stay valid.
+        """
+        obj = {
             "version": self.version, "scene": self.scene,
             "params": {k: repr(float(v)) for k, v in self.params},
             "eps": repr(float(self.eps)), "oracle": self.oracle,
             "min_area": None if self.min_area is None else repr(float(self.min_area)),
-            "max_depth": self.max_depth, "mode": self.mode}, sort_keys=True)
+            "max_depth": self.max_depth, "mode": self.mode}
+        if self.options:
+            obj["options"] = {k: str(v) for k, v in self.options}
+        return json.dumps(obj, sort_keys=True)
 
 
 @dataclass
@@ -106,9 +118,13 @@ CREATE TABLE IF NOT EXISTS points (
     stderr TEXT NOT NULL,
     output TEXT NOT NULL,
     wall_seconds REAL NOT NULL,
-    finished_at REAL NOT NULL
+    finished_at REAL NOT NULL,
+    options TEXT NOT NULL DEFAULT '{}'
 )
 """
+_COLUMNS = ("key", "version", "scene", "params", "eps", "oracle", "min_area", "max_depth",
+            "mode", "ok", "exit_code", "stderr", "output", "wall_seconds", "finished_at",
+            "options")
 
 
 class ResultStore:
@@ -132,6 +148,10 @@ class ResultStore:
         self._db.execute("PRAGMA journal_mode=WAL")
         self._db.execute("PRAGMA synchronous=NORMAL")
         self._db.execute(_SCHEMA)
+        columns = {row[1] for row in self._db.execute("PRAGMA table_info(points)")}
+        if "options" not in columns:
+            # A cache written before engine options existed: add the column, keep the rows.
+            self._db.execute("ALTER TABLE points ADD COLUMN options TEXT NOT NULL DEFAULT '{}'")
         self._db.commit()
 
     def close(self):
@@ -176,11 +196,12 @@ class ResultStore:
         """
         k = point.key
         self._db.execute(
-            "INSERT OR REPLACE INTO points VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)",
+            f"INSERT OR REPLACE INTO points ({', '.join(_COLUMNS)}) "
+            f"VALUES ({', '.join('?' * len(_COLUMNS))})",
             (k.text(), k.version, k.scene, json.dumps(dict(k.params), sort_keys=True),
              float(k.eps), k.oracle, k.min_area, k.max_depth, k.mode, int(point.ok),
              int(point.exit_code), point.stderr, point.output, float(point.wall_seconds),
-             time.time()))
+             time.time(), json.dumps(dict(k.options), sort_keys=True)))
         self._db.commit()
 
     def count(self):

@@ -6,6 +6,7 @@ each finished point is committed to the store as soon as it finishes.
 """
 
 import os
+import re
 import subprocess
 import sys
 import time
@@ -21,7 +22,11 @@ __all__ = [
     "SweepError",
     "SweepPoint",
     "ClaimData",
+    "EngineCapabilities",
     "engine_version",
+    "engine_capabilities",
+    "missing_capability",
+    "option_argv",
     "expand_claim",
     "run_points",
     "get_claim_data",
@@ -35,8 +40,11 @@ class SweepError(RuntimeError):
 
 
 def format_number(value):
-    """Format a parameter value for the command line and the cache key (up to 10 digits)."""
-    return f"{float(value):.10g}"
+    """Format a parameter value for the command line: up to 10 significant digits, or
+    as many as it takes to give back exactly the same double."""
+    value = float(value)
+    text = f"{value:.10g}"
+    return text if float(text) == value else repr(value)
 
 
 @dataclass(frozen=True)
@@ -91,6 +99,112 @@ def engine_version(hrbench):
     return lines[0].strip()
 
 
+@dataclass(frozen=True)
+class EngineCapabilities:
+    """What an engine offers, as listed by ``hrbench scenes`` and ``hrbench --help``.
+
+    Attributes
+    ----------
+    scenes : frozenset of str or None
+        Scene families (``None`` if the engine does not list them).
+    options : frozenset of str or None
+        Command-line options without the leading ``--``, e.g. ``"visibility"`` (``None``
+        if the engine has no readable ``--help``).
+    """
+
+    scenes: object = None
+    options: object = None
+
+
+def _listing(argv):
+    # Standard output of a listing command, or None when it fails.
+    try:
+        proc = subprocess.run(argv, capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return None
+    return proc.stdout if proc.returncode == 0 and proc.stdout.strip() else None
+
+
+def engine_capabilities(hrbench):
+    """The scene families and options an ``hrbench`` executable offers.
+
+    Parameters
+    ----------
+    hrbench : str or path-like
+        Path of the executable.
+
+    Returns
+    -------
+    capabilities : EngineCapabilities
+        A field is ``None`` when the engine cannot list it; claims are then not skipped
+        for it.
+    """
+    hrbench = os.fspath(hrbench)
+    scenes = options = None
+    text = _listing([hrbench, "scenes"])
+    if text is not None:
+        # One family per unindented line, "name: description"; parameters are indented.
+        scenes = frozenset(m.group(1) for m in
+                           re.finditer(r"^([A-Za-z_][\w-]*):", text, flags=re.MULTILINE))
+    text = _listing([hrbench, "--help"])
+    if text is not None:
+        options = frozenset(re.findall(r"(?<![\w-])--([a-z][a-z0-9-]*)", text))
+    return EngineCapabilities(scenes=scenes or None, options=options or None)
+
+
+def missing_capability(claim, mode, capabilities):
+    """Why the engine cannot run a claim, or ``None`` if it can.
+
+    Parameters
+    ----------
+    claim : Claim
+    mode : {"quick", "full"}
+    capabilities : EngineCapabilities
+
+    Returns
+    -------
+    reason : str or None
+        E.g. ``"engine lacks scene 'parallel3d'"`` or ``"engine lacks option
+        --visibility"``.
+    """
+    if capabilities.scenes is not None and claim.scene not in capabilities.scenes:
+        return f"engine lacks scene {claim.scene!r}"
+    if capabilities.options is not None:
+        lacking = [f"--{name.replace('_', '-')}" for name in claim.options_for(mode)
+                   if name.replace("_", "-") not in capabilities.options]
+        if lacking:
+            return f"engine lacks option{'s' if len(lacking) > 1 else ''} {', '.join(lacking)}"
+    return None
+
+
+def _option_text(value):
+    if isinstance(value, str):
+        return value
+    if isinstance(value, int):
+        return str(value)
+    return format_number(value)
+
+
+def option_argv(options):
+    """The command-line form of engine options.
+
+    Parameters
+    ----------
+    options : dict of str to (str, int or float)
+        E.g. ``{"rays_per_side": 4, "visibility": "fraction"}``.
+
+    Returns
+    -------
+    argv : list of str
+        ``["--rays-per-side", "4", "--visibility", "fraction"]``: sorted by name, ``_``
+        in a name becomes ``-``, numbers as in :func:`format_number` (integers exactly).
+    """
+    argv = []
+    for name, value in sorted(options.items()):
+        argv += [f"--{name.replace('_', '-')}", _option_text(value)]
+    return argv
+
+
 def expand_claim(claim, mode, hrbench, version):
     """The runs a claim needs.
 
@@ -110,6 +224,8 @@ def expand_claim(claim, mode, hrbench, version):
         One per value of the swept parameter, in sweep order.
     """
     points = []
+    options = claim.options_for(mode)
+    key_options = tuple((name, _option_text(v)) for name, v in sorted(options.items()))
     for value in claim.range_for(mode).values():
         params = dict(claim.params)
         if claim.sweep_param == "eps":
@@ -120,7 +236,7 @@ def expand_claim(claim, mode, hrbench, version):
         key = PointKey(version=version, scene=claim.scene,
                        params=tuple(sorted(params.items())), eps=float(eps),
                        oracle=claim.oracle, min_area=claim.min_area,
-                       max_depth=claim.max_depth, mode="count-only")
+                       max_depth=claim.max_depth, mode="count-only", options=key_options)
         argv = [os.fspath(hrbench), "run", claim.scene]
         argv += [f"{k}={format_number(v)}" for k, v in sorted(params.items())]
         argv += ["--eps", format_number(eps), "--oracle", claim.oracle]
@@ -128,6 +244,7 @@ def expand_claim(claim, mode, hrbench, version):
             argv += ["--min-area", format_number(claim.min_area)]
         if claim.max_depth is not None:
             argv += ["--max-depth", str(int(claim.max_depth))]
+        argv += option_argv(options)
         argv += ["--count-only", "--json"]
         points.append(SweepPoint(key=key, value=value, argv=tuple(argv)))
     return points
@@ -147,12 +264,38 @@ def _execute(point):
     ok = code == 0
     if ok:
         try:
-            parse_run_json(out)
+            result = parse_run_json(out)
         except ResultFormatError as exc:
             ok, last = False, f"unreadable output: {exc}"
+        else:
+            last = _options_mismatch(result, point.key.options)
+            ok = not last
     elif not last:
         last = f"exited with code {code} and no message"
     return StoredPoint(point.key, ok, code, "" if ok else last, out, wall)
+
+
+def _options_mismatch(result, options):
+    # An engine that reports a field named like an option (e.g. "method") must report
+    # the value asked for; a mismatch means the option was not applied.
+    for name, text in options:
+        for field_name in (name, name.replace("_", "-")):
+            if field_name not in result.extra:
+                continue
+            got = result.extra[field_name]
+            if got is None:
+                continue  # the engine says the option does not apply to this run
+            if isinstance(got, (int, float)) and not isinstance(got, bool):
+                try:
+                    same = float(text) == float(got)
+                except ValueError:
+                    same = False
+            else:
+                same = str(got) == text
+            if not same:
+                return (f"the run reports {field_name}={got!r}, but "
+                        f"--{name.replace('_', '-')} {text} was asked for")
+    return ""
 
 
 class _Progress:

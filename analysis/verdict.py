@@ -10,13 +10,18 @@ from .fit import (compare_models, fit_power_law, local_slopes, steps_block_lengt
 
 __all__ = [
     "VERDICTS",
+    "SKIPPED",
     "Assessment",
     "get_verdict",
     "assess_claim",
+    "skipped_assessment",
 ]
 
 #: The three verdicts, in order of strength.
 VERDICTS = ("reproduced", "refuted", "inconclusive")
+
+#: The mark of a claim that was not measured (the engine cannot run it); not a verdict.
+SKIPPED = "skipped"
 
 
 @dataclass
@@ -26,7 +31,8 @@ class Assessment:
     Attributes
     ----------
     verdict : str
-        ``"reproduced"``, ``"refuted"`` or ``"inconclusive"``.
+        ``"reproduced"``, ``"refuted"`` or ``"inconclusive"``, or :data:`SKIPPED` for a
+        claim that was not measured.
     reason : str
         One sentence saying why.
     expected_exponent, tolerance : float
@@ -271,3 +277,24 @@ def assess_claim(claim, data, n_boot=2000):
         result.notes.append(note)
         result.reason += f"; {note}"
     return result
+
+
+def skipped_assessment(claim, reason):
+    """The assessment of a claim that was not measured.
+
+    Parameters
+    ----------
+    claim : Claim
+    reason : str
+        Why, e.g. ``"engine lacks scene 'parallel3d'"``.
+
+    Returns
+    -------
+    assessment : Assessment
+        Verdict :data:`SKIPPED`, no points.
+    """
+    empty = np.zeros(0, dtype=float)
+    return Assessment(verdict=SKIPPED, reason=reason,
+                      expected_exponent=claim.expected_exponent, tolerance=claim.tolerance,
+                      x=empty, y=empty.copy(), in_regime=np.zeros(0, dtype=bool),
+                      n_regime=0, decades=0.0)

@@ -1,14 +1,17 @@
 #!/usr/bin/env python3
 """A stand-in for the hrbench command line, for the analysis tests only.
 
-It implements just enough of ``hrbench run parallel ... --json``, ``hrbench links`` and
-``hrbench --version`` to exercise the sweep runner: the refinement of two parallel
-segments with the garmann oracle, counted exactly as DESIGN section 2 defines. Standard
-library only. Environment variables steer the tests:
+It implements just enough of ``hrbench run parallel ... --json``, ``hrbench links``,
+``hrbench scenes``, ``hrbench --help`` and ``hrbench --version`` to exercise the sweep
+runner: the refinement of two parallel segments with the garmann oracle, counted exactly
+as DESIGN section 2 defines. Of the further engine options it knows ``--method``
+(reported back, counts unchanged) and ``--threads`` (ignored). Standard library only.
+Environment variables steer the tests:
 
 FAKE_HRBENCH_DELAY            seconds to sleep before each run
 FAKE_HRBENCH_LOG              file to which every run appends one line ("eps params")
 FAKE_HRBENCH_FAIL_BELOW_EPS   exit with code 3 (limit reached) when eps is below this
+FAKE_HRBENCH_REPORT_METHOD    report this method instead of the one asked for
 """
 
 import json
@@ -85,6 +88,15 @@ def main(argv):
     if argv[:1] == ["--version"]:
         print(VERSION)
         return 0
+    if argv[:1] == ["--help"]:
+        print("usage: hrbench <command> [arguments]\n  --eps E\n  --oracle NAME\n"
+              "  --min-area A\n  --max-depth D\n  --count-only\n  --method M\n"
+              "  --threads N\n  --json\n  --out F")
+        return 0
+    if argv[:1] == ["scenes"]:
+        print("parallel: two facing parallel plates\n  l        default 1\n"
+              "  d        default 1")
+        return 0
     if len(argv) < 2 or argv[0] not in ("run", "links"):
         usage("expected 'run SCENE' or 'links SCENE'")
     command, scene, rest = argv[0], argv[1], argv[2:]
@@ -92,7 +104,7 @@ def main(argv):
         usage(f"unknown scene '{scene}'")
     params = {"l": 1.0, "d": 1.0, "offset": 0.0}
     opts = {"--eps": None, "--oracle": "garmann", "--out": None, "--min-area": None,
-            "--max-depth": None}
+            "--max-depth": None, "--method": "enumerate", "--threads": "1"}
     flags = set()
     i = 0
     while i < len(rest):
@@ -136,7 +148,8 @@ def main(argv):
     record = {"schema_version": 1, "version": VERSION, "scene": scene, "params": params,
               "eps": eps, "oracle": opts["--oracle"],
               "mode": "count-only" if "--count-only" in flags else "store",
-              "min_area": None, "max_depth_limit": None, "future_field": "ignored"}
+              "min_area": None, "max_depth_limit": None, "future_field": "ignored",
+              "method": os.environ.get("FAKE_HRBENCH_REPORT_METHOD", opts["--method"])}
     record.update(counters)
     print(json.dumps(record))
     return 0
