@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <numeric>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -67,7 +68,7 @@ class ProjectKernel {
 
     // Refines _start_ completely (below the frontier), appending links to _links_
     // and frontier pairs to _tasks_.
-    void Project(Call start, uint32_t pair, std::vector<Link> &links, std::vector<Task> *tasks) {
+    void Project(Call start, uint32_t pair, LinkBuffer &links, std::vector<Task> *tasks) {
         links_ = &links;
         tasks_ = tasks;
         pair_ = pair;
@@ -132,13 +133,20 @@ class ProjectKernel {
         ++tally.links;
         ++tally.linksPerDepth[depth];
         if constexpr (kStoreLinks) {
-            // Buffers at most double, so twice the links stored bounds their memory.
-            if (links_->size() == links_->capacity() && 2 * tally.links > maxLinks_)
-                throw LimitError("stored links would exceed the memory budget (" +
-                                 std::to_string(tally.links) +
-                                 " links); use --count-only, a larger eps or --max-memory");
-            links_->push_back({i, j});
+            if (links_->size() == links_->capacity())
+                GrowLinks();
+            links_->Append({i, j});
         }
+    }
+
+    // Doubles the link buffer, within the budget. Out of line: it runs log(L) times.
+    [[gnu::noinline]] void GrowLinks() {
+        size_t capacity = std::max<size_t>(2 * links_->capacity(), 1 << 16);
+        if (capacity > maxLinks_)
+            throw LimitError("stored links would exceed the memory budget (" +
+                             std::to_string(links_->size()) +
+                             " links); use --count-only, a larger eps or --max-memory");
+        links_->Reserve(capacity);
     }
 
     [[noreturn]] void ThrowSafetyCap(uint32_t i, uint32_t j) const {
@@ -156,7 +164,7 @@ class ProjectKernel {
     const int depthLimit_;
     const bool userDepthLimit_;
     const size_t maxLinks_;
-    std::vector<Link> *links_ = nullptr;
+    LinkBuffer *links_ = nullptr;
     std::vector<Task> *tasks_ = nullptr;
     uint32_t pair_ = 0;
 };
@@ -227,7 +235,7 @@ void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOption
     Forest top(scene, maxElements);
     ProjectKernel<Forest, Oracle, kStoreLinks, true, Visibility> topKernel(top, oracle, options,
                                                                            maxLinks, visibility);
-    std::vector<Link> topLinks;
+    LinkBuffer topLinks;
     std::vector<Task> tasks;
 
     // Classify every root pair and refine it down to the task depth.
@@ -254,7 +262,13 @@ void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOption
     // Run the tasks: each worker takes the next task in order and refines it fully.
     size_t numWorkers = std::max<size_t>(1, std::min<size_t>(options.threads, tasks.size()));
     std::vector<Forest> forests(numWorkers, top);
-    std::vector<std::vector<Link>> taskLinks(kStoreLinks ? tasks.size() : 0);
+    // Each worker appends its links to one buffer; a task's links are a range of it.
+    // The first worker's buffer starts with the sequential pass's links, whose ids are
+    // the same in every worker's forest.
+    std::vector<LinkBuffer> workerLinks(kStoreLinks ? numWorkers : 0);
+    if constexpr (kStoreLinks)
+        workerLinks[0] = std::move(topLinks);
+    std::vector<size_t> taskLinksEnd(tasks.size());
     std::vector<uint64_t> taskLinkCount(tasks.size()), taskCallCount(tasks.size());
     std::vector<size_t> taskWorker(tasks.size());
     std::vector<Tally> workerTally(numWorkers);
@@ -264,14 +278,15 @@ void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOption
     auto work = [&](size_t w) {
         ProjectKernel<Forest, Oracle, kStoreLinks, false, Visibility> kernel(
             forests[w], oracle, options, maxLinks / numWorkers, visibility);
-        std::vector<Link> unused;
+        LinkBuffer unused;
+        LinkBuffer &links = kStoreLinks ? workerLinks[w] : unused;
         for (size_t t; !failed && (t = next++) < tasks.size();) {
             try {
-                uint64_t links = kernel.tally.links, calls = kernel.tally.oracleCalls;
-                kernel.Project(tasks[t].call, tasks[t].pair, kStoreLinks ? taskLinks[t] : unused,
-                               nullptr);
-                taskLinkCount[t] = kernel.tally.links - links;
+                uint64_t linksBefore = kernel.tally.links, calls = kernel.tally.oracleCalls;
+                kernel.Project(tasks[t].call, tasks[t].pair, links, nullptr);
+                taskLinkCount[t] = kernel.tally.links - linksBefore;
                 taskCallCount[t] = kernel.tally.oracleCalls - calls;
+                taskLinksEnd[t] = links.size();
                 taskWorker[t] = w;
             } catch (...) {
                 errors[w] = {t, std::current_exception()};
@@ -317,17 +332,30 @@ void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOption
     ForestUnion<Forest, std::remove_reference_t<decltype(canonical)>> merged(forests, canonical,
                                                                              kStoreLinks);
     if constexpr (kStoreLinks) {
-        size_t total = topLinks.size();
-        for (const auto &links : taskLinks)
+        if (numWorkers == 1) {
+            // One worker ran every task in order: translate its buffer in place.
+            for (Link &link : workerLinks[0])
+                link = {merged.Canonical(0, link.i), merged.Canonical(0, link.j)};
+            result.links = std::move(workerLinks[0]);
+            return;
+        }
+        // Concatenate the tasks' ranges in task order, translating each worker's ids.
+        size_t total = 0;
+        for (const auto &links : workerLinks)
             total += links.size();
-        result.links.reserve(total);
-        for (const Link &link : topLinks)  // ids of the sequential pass are the same in every worker
-            result.links.push_back({merged.Canonical(0, link.i), merged.Canonical(0, link.j)});
+        result.links.Reserve(total);
+        size_t topCount =
+            total - std::accumulate(taskLinkCount.begin(), taskLinkCount.end(), size_t(0));
+        for (size_t k = 0; k < topCount; ++k) {
+            const Link &link = workerLinks[0][k];
+            result.links.Append({merged.Canonical(0, link.i), merged.Canonical(0, link.j)});
+        }
         for (size_t t = 0; t < tasks.size(); ++t) {
-            for (const Link &link : taskLinks[t])
-                result.links.push_back({merged.Canonical(taskWorker[t], link.i),
-                                        merged.Canonical(taskWorker[t], link.j)});
-            std::vector<Link>().swap(taskLinks[t]);  // free as we go
+            size_t w = taskWorker[t];
+            for (size_t k = taskLinksEnd[t] - taskLinkCount[t]; k < taskLinksEnd[t]; ++k) {
+                const Link &link = workerLinks[w][k];
+                result.links.Append({merged.Canonical(w, link.i), merged.Canonical(w, link.j)});
+            }
         }
     }
 }

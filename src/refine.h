@@ -6,6 +6,7 @@
 
 #include "counters.h"
 #include "element_tree.h"
+#include "link_buffer.h"
 #include "oracle.h"
 #include "polygon.h"
 #include "polygon_forest.h"
@@ -37,11 +38,6 @@ struct RefineOptions {
 // Throws InputError naming the option when _options_ are out of range.
 void ValidateOptions(const RefineOptions &options);
 
-// One stored link: two element indices, 8 bytes.
-struct Link {
-    uint32_t i, j;
-};
-
 // Per root pair tallies, for the invariant oracle_calls = 2 * links - 1.
 struct PairTally {
     uint32_t p, q;         // root indices, p < q
@@ -56,7 +52,7 @@ struct PairTally {
 struct Refinement {
     SegmentForest forest;
     Counters counters;
-    std::vector<Link> links;       // empty in count-only mode
+    LinkBuffer links;              // empty in count-only mode
     std::vector<PairTally> pairs;  // refined (non-culled) root pairs in order
     double seconds = 0;            // wall time of the refinement
     PolygonForest forest3d = PolygonForest();  // the trees of a 3D scene; empty in 2D

@@ -1,0 +1,70 @@
+// Storage for links: a growable array of trivially copyable 8-byte records.
+#pragma once
+
+#include <cstdint>
+#include <cstdlib>
+#include <new>
+#include <type_traits>
+#include <utility>
+
+namespace hrbench {
+
+// One stored link: two element indices, 8 bytes.
+struct Link {
+    uint32_t i, j;
+};
+
+// Like std::vector<Link>, without what costs most at 1e8 links: growth uses realloc,
+// which moves large blocks by remapping pages instead of copying them, and appending
+// after Reserve() is a plain store (std::vector's out-of-line growth path kept its
+// push_back from being inlined into the refinement kernel).
+class LinkBuffer {
+  public:
+    static_assert(std::is_trivially_copyable_v<Link>);
+
+    LinkBuffer() = default;
+    LinkBuffer(LinkBuffer &&other) noexcept { Swap(other); }
+    LinkBuffer &operator=(LinkBuffer &&other) noexcept {
+        LinkBuffer(std::move(other)).Swap(*this);
+        return *this;
+    }
+    LinkBuffer(const LinkBuffer &) = delete;
+    LinkBuffer &operator=(const LinkBuffer &) = delete;
+    ~LinkBuffer() { std::free(data_); }
+
+    // Makes room for _capacity_ links in all; throws std::bad_alloc if memory runs out.
+    void Reserve(size_t capacity) {
+        if (capacity <= capacity_)
+            return;
+        void *grown = std::realloc(data_, capacity * sizeof(Link));
+        if (!grown)
+            throw std::bad_alloc();
+        data_ = static_cast<Link *>(grown);
+        capacity_ = capacity;
+    }
+
+    // Appends a link; the caller has made room (size() < capacity()).
+    void Append(Link link) { data_[size_++] = link; }
+
+    size_t size() const { return size_; }
+    size_t capacity() const { return capacity_; }
+    bool empty() const { return size_ == 0; }
+    Link &operator[](size_t k) { return data_[k]; }
+    const Link &operator[](size_t k) const { return data_[k]; }
+    Link *begin() { return data_; }
+    Link *end() { return data_ + size_; }
+    const Link *begin() const { return data_; }
+    const Link *end() const { return data_ + size_; }
+
+  private:
+    void Swap(LinkBuffer &other) noexcept {
+        std::swap(data_, other.data_);
+        std::swap(size_, other.size_);
+        std::swap(capacity_, other.capacity_);
+    }
+
+    Link *data_ = nullptr;
+    size_t size_ = 0, capacity_ = 0;
+};
+
+}  // namespace hrbench
