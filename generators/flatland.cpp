@@ -7,28 +7,12 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include "family_helpers.h"
 #include "util/error.h"
 
 namespace hrbench {
 
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = 3.14159265358979323846;
-
-ParamSpec Length(const std::string &name, double value, const std::string &help) {
-    return {name, value, "", 0, kInf, true, false, false, help};
-}
-ParamSpec LengthLike(const std::string &name, const std::string &from, const std::string &help) {
-    return {name, 0, from, 0, kInf, true, false, false, help};
-}
-ParamSpec Gap(const std::string &name, double value, const std::string &help) {
-    return {name, value, "", 0, kInf, false, false, false, help};
-}
-ParamSpec Count(const std::string &name, double value, double low, double high,
-                const std::string &help) {
-    return {name, value, "", low, high, false, false, true, help};
-}
 
 Segment Seg(double ax, double ay, double bx, double by) { return {Vec2(ax, ay), Vec2(bx, by), {}}; }
 
@@ -93,9 +77,6 @@ std::vector<Segment> Room(const ParamMap &p) {
     return {Seg(0, 0, w, 0), Seg(w, 0, w, h), Seg(w, h, 0, h), Seg(0, h, 0, 0)};
 }
 
-// Uniform double in [0, 1) from the top 53 bits: the same on every platform,
-// unlike std::uniform_real_distribution.
-double Uniform(std::mt19937_64 &rng) { return double(rng() >> 11) * 0x1.0p-53; }
 
 // n non-crossing segments of fixed length with uniform centres in [0,size]^2 and
 // uniform directions; a candidate that touches an earlier segment is drawn again.
@@ -138,7 +119,7 @@ std::vector<Family> FlatlandFamilies() {
         {"parallel",
          "two facing parallel plates: P (0,0)->(l,0), Q (offset+l2,d)->(offset,d)",
          {Length("l", 64, "length of plate P"), Length("d", 1, "distance between the plates"),
-          {"offset", 0, "", -kInf, kInf, false, false, false, "lateral offset of plate Q along x"},
+          Offset("offset", "lateral offset of plate Q along x"),
           LengthLike("l2", "l", "length of plate Q (default: l)")},
          Parallel},
         {"occluded",
@@ -147,8 +128,7 @@ std::vector<Family> FlatlandFamilies() {
          {Length("l", 1, "length of the plates"), Length("d", 1, "distance between the plates"),
           Length("b", 0.5, "length of the blocker"),
           Length("h", 0.5, "height of the blocker above P (< d)"),
-          {"offset", 0, "", -kInf, kInf, false, false, false,
-           "offset of the blocker's centre from x = l/2"}},
+          Offset("offset", "offset of the blocker's centre from x = l/2")},
          Occluded},
         {"perpendicular",
          "two plates at a right angle, P on the x axis and Q on the y axis, both facing the "

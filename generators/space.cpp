@@ -7,31 +7,12 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include "family_helpers.h"
 #include "util/error.h"
 
 namespace hrbench {
 
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = 3.14159265358979323846;
-
-ParamSpec Length(const std::string &name, double value, const std::string &help) {
-    return {name, value, "", 0, kInf, true, false, false, help};
-}
-ParamSpec LengthLike(const std::string &name, const std::string &from, const std::string &help) {
-    return {name, 0, from, 0, kInf, true, false, false, help};
-}
-ParamSpec Gap(const std::string &name, double value, const std::string &help) {
-    return {name, value, "", 0, kInf, false, false, false, help};
-}
-ParamSpec Offset(const std::string &name, const std::string &help) {
-    return {name, 0, "", -kInf, kInf, false, false, false, help};
-}
-ParamSpec Count(const std::string &name, double value, double low, double high,
-                const std::string &help) {
-    return {name, value, "", low, high, false, false, true, help};
-}
 
 Face Quad(const Vec3 &a, const Vec3 &b, const Vec3 &c, const Vec3 &d, Material m = {}) {
     return {Polygon::Quad(a, b, c, d), m};
@@ -138,8 +119,6 @@ std::vector<Face> Cornell(const ParamMap &p) {
     return f;
 }
 
-// Uniform double in [0, 1) from the top 53 bits: the same on every platform.
-double Uniform(std::mt19937_64 &rng) { return double(rng() >> 11) * 0x1.0p-53; }
 
 // n pairwise disjoint triangles: uniform centres in [0,size]^3, corners uniform in the
 // cube of side _length_ around the centre. A candidate thinner than 5% of length^2 in

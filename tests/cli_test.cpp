@@ -1,67 +1,13 @@
 // End-to-end tests of the hrbench command: its JSON, its files and its exit codes.
 #include <catch2/catch.hpp>
 
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-#include <sys/wait.h>
-#include <unistd.h>
+#include "cli_helpers.h"
 
 #include <nlohmann/json.hpp>
 
 using nlohmann::json;
 
-namespace {
-
-struct CliResult {
-    int exitCode;
-    std::string out, err;
-};
-
-// A scratch file in a folder of this test process, so that runs never collide.
-std::string Scratch(const std::string &name) {
-    static const std::filesystem::path dir = [] {
-        auto d = std::filesystem::temp_directory_path() /
-                 ("hrbench_cli_test_" + std::to_string(getpid()));
-        std::filesystem::create_directories(d);
-        return d;
-    }();
-    return (dir / name).string();
-}
-
-std::string ReadFile(const std::string &path) {
-    std::ifstream in(path);
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-// Runs `hrbench ARGS` through the shell and captures both streams and the exit code.
-CliResult Cli(const std::string &args) {
-    std::string errPath = Scratch("stderr.txt");
-    std::string command = std::string(HRBENCH_CLI) + " " + args + " 2>" + errPath;
-    FILE *pipe = popen(command.c_str(), "r");
-    REQUIRE(pipe);
-    std::string out;
-    char buffer[4096];
-    while (size_t n = fread(buffer, 1, sizeof buffer, pipe))
-        out.append(buffer, n);
-    int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, ReadFile(errPath)};
-}
-
-// An error is exactly one line on stderr and the given exit code.
-void CheckError(const std::string &args, int exitCode, const std::string &fragment) {
-    INFO("hrbench " << args);
-    CliResult r = Cli(args);
-    CHECK(r.exitCode == exitCode);
-    CHECK(r.out.empty());
-    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-    CHECK_THAT(r.err, Catch::Contains(fragment));
-}
-
-}  // namespace
+using namespace hrbench_test;
 
 TEST_CASE("run --json reports every field the analysis reads", "[cli]") {
     CliResult r = Cli("run parallel l=64 d=1 --eps 0.25 --json");
