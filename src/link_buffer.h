@@ -43,6 +43,21 @@ class LinkBuffer {
         capacity_ = capacity;
     }
 
+    // Returns unused capacity to the system (realloc shrinks in place).
+    void ShrinkToFit() {
+        if (size_ == capacity_)
+            return;
+        if (size_ == 0) {
+            std::free(data_);
+            data_ = nullptr;
+        } else if (void *shrunk = std::realloc(data_, size_ * sizeof(Link))) {
+            data_ = static_cast<Link *>(shrunk);
+        } else {
+            return;  // keep the larger block
+        }
+        capacity_ = size_;
+    }
+
     // Appends a link; the caller has made room (size() < capacity()).
     void Append(Link link) { data_[size_++] = link; }
 

@@ -337,6 +337,7 @@ void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOption
             for (Link &link : workerLinks[0])
                 link = {merged.Canonical(0, link.i), merged.Canonical(0, link.j)};
             result.links = std::move(workerLinks[0]);
+            result.links.ShrinkToFit();
             return;
         }
         // Concatenate the tasks' ranges in task order, translating each worker's ids.
