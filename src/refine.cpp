@@ -6,8 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
-#include <numeric>
 #include <fstream>
+#include <numeric>
 #include <string>
 #include <thread>
 
