@@ -60,9 +60,9 @@ double SegmentForest::T1(uint32_t i) const {
     return rootLength_[hot_[i].root] * std::ldexp(double(position_[i] + 1), -depth_[i]);
 }
 
-std::vector<uint64_t> SegmentForest::NodesPerDepth() const {
+std::vector<uint64_t> DepthHistogram(const std::vector<uint8_t> &depths) {
     std::vector<uint64_t> histogram;
-    for (uint8_t d : depth_) {
+    for (uint8_t d : depths) {
         if (d >= histogram.size())
             histogram.resize(d + 1, 0);
         ++histogram[d];
@@ -70,11 +70,8 @@ std::vector<uint64_t> SegmentForest::NodesPerDepth() const {
     return histogram;
 }
 
-uint64_t SegmentForest::NumLeaves() const {
-    uint64_t leaves = 0;
-    for (const ElementType &e : hot_)
-        leaves += e.firstChild == kNoChildren;
-    return leaves;
-}
+std::vector<uint64_t> SegmentForest::NodesPerDepth() const { return DepthHistogram(depth_); }
+
+uint64_t SegmentForest::NumLeaves() const { return CountLeaves(hot_); }
 
 }  // namespace hrbench

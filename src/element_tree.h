@@ -21,6 +21,18 @@ struct Element {
 // Element 0 is always a root, so it can never be anyone's child.
 constexpr uint32_t kNoChildren = 0;
 
+// Elements per depth, from the depth of every element.
+std::vector<uint64_t> DepthHistogram(const std::vector<uint8_t> &depths);
+
+// Elements without children.
+template <typename ElementType>
+uint64_t CountLeaves(const std::vector<ElementType> &elements) {
+    uint64_t leaves = 0;
+    for (const ElementType &e : elements)
+        leaves += e.firstChild == kNoChildren;
+    return leaves;
+}
+
 // The trees of a flatland scene: every segment halved at its midpoint, on demand.
 class SegmentForest {
   public:

@@ -55,21 +55,8 @@ uint32_t PolygonForest::Subdivide(uint32_t i) {
     return first;
 }
 
-std::vector<uint64_t> PolygonForest::NodesPerDepth() const {
-    std::vector<uint64_t> histogram;
-    for (uint8_t d : depth_) {
-        if (d >= histogram.size())
-            histogram.resize(d + 1, 0);
-        ++histogram[d];
-    }
-    return histogram;
-}
+std::vector<uint64_t> PolygonForest::NodesPerDepth() const { return DepthHistogram(depth_); }
 
-uint64_t PolygonForest::NumLeaves() const {
-    uint64_t leaves = 0;
-    for (const ElementType &e : hot_)
-        leaves += e.firstChild == kNoChildren;
-    return leaves;
-}
+uint64_t PolygonForest::NumLeaves() const { return CountLeaves(hot_); }
 
 }  // namespace hrbench

@@ -3,18 +3,18 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <cstdio>
 #include <functional>
 #include <sstream>
-#include <sys/wait.h>
 
 #include <nlohmann/json.hpp>
 
 #include "generators.h"
 #include "hrbench.h"
 #include "translation_count.h"
+#include "cli_helpers.h"
 
 using namespace hrbench;
+using hrbench_test::Cli;
 
 namespace {
 
@@ -73,18 +73,6 @@ std::string Differences(const Counters &a, const Counters &b) {
     if (a.linksPerDepth != b.linksPerDepth)
         out << "links_per_depth differs\n";
     return out.str();
-}
-
-// Runs `hrbench ARGS` (standard error discarded); returns the exit code and the output.
-std::pair<int, std::string> Cli(const std::string &args) {
-    FILE *pipe = popen((std::string(HRBENCH_CLI) + " " + args + " 2>/dev/null").c_str(), "r");
-    REQUIRE(pipe);
-    std::string out;
-    char buffer[4096];
-    while (size_t n = fread(buffer, 1, sizeof buffer, pipe))
-        out.append(buffer, n);
-    int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
 }  // namespace
@@ -209,11 +197,11 @@ TEST_CASE("The translation method counts beyond 10^14 links", "[translation]") {
 
 TEST_CASE("hrbench run --method reports the method and the same counters", "[translation][cli]") {
     const std::string run = "run parallel l=64 d=1 offset=0.5 --eps 0.2 --count-only --json";
-    auto [codeE, outE] = Cli(run);
-    auto [codeT, outT] = Cli(run + " --method translation");
-    REQUIRE(codeE == 0);
-    REQUIRE(codeT == 0);
-    nlohmann::json e = nlohmann::json::parse(outE), t = nlohmann::json::parse(outT);
+    hrbench_test::CliResult enumerated = Cli(run), translated = Cli(run + " --method translation");
+    REQUIRE(enumerated.exitCode == 0);
+    REQUIRE(translated.exitCode == 0);
+    nlohmann::json e = nlohmann::json::parse(enumerated.out),
+                   t = nlohmann::json::parse(translated.out);
     CHECK(e["method"] == "enumerate");
     CHECK(t["method"] == "translation");
     for (const char *key : {"nodes", "leaves", "links", "oracle_calls", "max_depth", "forced_links",
@@ -222,13 +210,15 @@ TEST_CASE("hrbench run --method reports the method and the same counters", "[tra
         CHECK(e[key] == t[key]);
     }
     SECTION("out of scope or misspelt: exit code 2") {
-        CHECK(Cli("run parallel --eps 0.2 --method translation").first == 2);  // store mode
-        CHECK(Cli("run parallel --eps 0.2 --count-only --oracle hanrahan --method translation")
-                  .first == 2);
-        CHECK(Cli("run parallel l2=3 --eps 0.2 --count-only --method translation").first == 2);
-        CHECK(Cli("run room --eps 0.2 --count-only --min-area 0.1 --method translation").first ==
-              2);
-        CHECK(Cli("run parallel --eps 0.2 --count-only --method fast").first == 2);
-        CHECK(Cli("links parallel --eps 0.2 --out x.csv --method translation").first == 2);
+        using hrbench_test::CheckError;
+        CheckError("run parallel --eps 0.2 --method translation", 2, "count-only");  // store mode
+        CheckError("run parallel --eps 0.2 --count-only --oracle hanrahan --method translation", 2,
+                   "garmann");
+        CheckError("run parallel l2=3 --eps 0.2 --count-only --method translation", 2, "l2");
+        CheckError("run room --eps 0.2 --count-only --min-area 0.1 --method translation", 2,
+                   "recursion limit");
+        CheckError("run room --eps 0.2 --count-only --method translation", 2, "parallel");
+        CheckError("run parallel --eps 0.2 --count-only --method fast", 2, "method");
+        CheckError("links parallel --eps 0.2 --out x.csv --method translation", 2, "method");
     }
 }
