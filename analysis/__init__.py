@@ -14,4 +14,4 @@ report      the Markdown, HTML and JSON report
 reproduce   the command line: ``python -m analysis.reproduce``
 """
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
