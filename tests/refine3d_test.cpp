@@ -8,6 +8,7 @@
 #include "hrbench.h"
 #include "mesh_io.h"
 #include "oracles3d.h"
+#include "refinement_helpers.h"
 
 using namespace hrbench;
 
@@ -133,16 +134,8 @@ TEST_CASE("3D counts and links do not depend on the number of threads", "[3d][re
         Refinement one = Refine(scene, o);
         o.threads = 4;
         Refinement four = Refine(scene, o);
-        CHECK(one.counters.links == four.counters.links);
-        CHECK(one.counters.oracleCalls == four.counters.oracleCalls);
-        CHECK(one.counters.nodes == four.counters.nodes);
-        CHECK(one.counters.rays == four.counters.rays);
-        CHECK(one.counters.linksPerDepth == four.counters.linksPerDepth);
-        REQUIRE(one.links.size() == four.links.size());
-        bool same = true;
-        for (size_t k = 0; k < one.links.size(); ++k)
-            same &= one.links[k].i == four.links[k].i && one.links[k].j == four.links[k].j;
-        CHECK(same);
+        CHECK(hrbench_test::CounterDifferences(one.counters, four.counters) == "");
+        CHECK(hrbench_test::SameLinks(one.links, four.links));
         CHECK(one.counters.links > 1000);  // enough for tasks on several threads
     }
 }

@@ -10,8 +10,11 @@
 #include "generators.h"
 #include "hrbench.h"
 #include "oracles.h"
+#include "refinement_helpers.h"
 
 using namespace hrbench;
+using hrbench_test::CounterDifferences;
+using hrbench_test::SameLinks;
 
 namespace {
 
@@ -216,13 +219,7 @@ TEST_CASE("Counts are identical in count-only and store mode and on every run", 
     Refinement again = Refine(scene, Options(eps, oracle, false));
     REQUIRE(stored.counters.links > 100);  // not a trivial case
     for (const Refinement *r : {&counted, &again}) {
-        CHECK(r->counters.nodes == stored.counters.nodes);
-        CHECK(r->counters.leaves == stored.counters.leaves);
-        CHECK(r->counters.links == stored.counters.links);
-        CHECK(r->counters.oracleCalls == stored.counters.oracleCalls);
-        CHECK(r->counters.maxDepth == stored.counters.maxDepth);
-        CHECK(r->counters.nodesPerDepth == stored.counters.nodesPerDepth);
-        CHECK(r->counters.linksPerDepth == stored.counters.linksPerDepth);
+        CHECK(CounterDifferences(stored.counters, r->counters) == "");
         CHECK(r->links.empty());
     }
 }
@@ -302,17 +299,8 @@ TEST_CASE("Counts, element ids and links do not depend on the number of threads"
         INFO(family << " threads=" << threads);
         o.threads = threads;
         Refinement many = Refine(scene, o);
-        CHECK(many.counters.nodes == one.counters.nodes);
-        CHECK(many.counters.leaves == one.counters.leaves);
-        CHECK(many.counters.links == one.counters.links);
-        CHECK(many.counters.oracleCalls == one.counters.oracleCalls);
-        CHECK(many.counters.nodesPerDepth == one.counters.nodesPerDepth);
-        CHECK(many.counters.linksPerDepth == one.counters.linksPerDepth);
-        REQUIRE(many.links.size() == one.links.size());
-        bool sameLinks = true;
-        for (size_t k = 0; k < one.links.size(); ++k)
-            sameLinks &= many.links[k].i == one.links[k].i && many.links[k].j == one.links[k].j;
-        CHECK(sameLinks);
+        CHECK(CounterDifferences(one.counters, many.counters) == "");
+        CHECK(SameLinks(one.links, many.links));
         for (size_t p = 0; p < one.pairs.size(); ++p)
             CHECK(many.pairs[p].oracleCalls == one.pairs[p].oracleCalls);
         CheckInvariants(scene, many, GarmannOracle(eps));

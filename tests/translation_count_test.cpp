@@ -12,9 +12,11 @@
 #include "hrbench.h"
 #include "translation_count.h"
 #include "cli_helpers.h"
+#include "refinement_helpers.h"
 
 using namespace hrbench;
 using hrbench_test::Cli;
+using hrbench_test::CounterDifferences;
 
 namespace {
 
@@ -53,28 +55,6 @@ uint64_t CountTies(double l, double d, double offset, double eps) {
     return ties;
 }
 
-// Every counter of _a_ and _b_ that differs, one per line; empty if they agree.
-std::string Differences(const Counters &a, const Counters &b) {
-    std::ostringstream out;
-    auto field = [&](const char *name, auto x, auto y) {
-        if (x != y)
-            out << name << ": enumerate " << x << ", translation " << y << "\n";
-    };
-    field("nodes", a.nodes, b.nodes);
-    field("leaves", a.leaves, b.leaves);
-    field("links", a.links, b.links);
-    field("oracle_calls", a.oracleCalls, b.oracleCalls);
-    field("max_depth", a.maxDepth, b.maxDepth);
-    field("forced_links", a.forcedLinks, b.forcedLinks);
-    field("culled_pairs", a.culledPairs, b.culledPairs);
-    field("root_pairs", a.rootPairs, b.rootPairs);
-    if (a.nodesPerDepth != b.nodesPerDepth)
-        out << "nodes_per_depth differs\n";
-    if (a.linksPerDepth != b.linksPerDepth)
-        out << "links_per_depth differs\n";
-    return out.str();
-}
-
 }  // namespace
 
 TEST_CASE("The translation method reproduces the worked example of DESIGN section 2",
@@ -98,7 +78,7 @@ TEST_CASE("The translation method agrees exactly with enumeration", "[translatio
                         Refinement r = Refine(scene, CountOnly(eps));
                         TranslationCount t = CountByTranslation(scene, CountOnly(eps));
                         INFO("l=" << l << " d=" << d << " offset=" << offset << " eps=" << eps);
-                        REQUIRE(Differences(r.counters, t.counters) == "");
+                        REQUIRE(CounterDifferences(r.counters, t.counters) == "");
                         ++cases;
                     }
         CHECK(cases == 6 * 5 * 7 * 7);
@@ -117,7 +97,7 @@ TEST_CASE("The translation method agrees exactly with enumeration", "[translatio
         TranslationCount t = CountByTranslation(scene, CountOnly(eps));
         INFO("l=" << l << " d=" << d << " offset=" << offset << " eps=" << eps);
         CHECK(r.counters.links > 1000);
-        CHECK(Differences(r.counters, t.counters) == "");
+        CHECK(CounterDifferences(r.counters, t.counters) == "");
     }
 }
 
@@ -134,7 +114,7 @@ TEST_CASE("The translation method decides ties exactly as the engine", "[transla
     Scene scene = Parallel(l, d, offset);
     Refinement r = Refine(scene, CountOnly(eps));
     TranslationCount t = CountByTranslation(scene, CountOnly(eps));
-    CHECK(Differences(r.counters, t.counters) == "");
+    CHECK(CounterDifferences(r.counters, t.counters) == "");
 }
 
 TEST_CASE("The translation method rejects what it cannot count exactly", "[translation][errors]") {
