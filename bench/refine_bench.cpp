@@ -15,6 +15,7 @@
 
 #include "generators.h"
 #include "hrbench.h"
+#include "record_counters.h"
 
 namespace hrbench {
 namespace {
@@ -34,32 +35,30 @@ void RunRefine(benchmark::State &state, const Scene &scene, const RefineOptions 
     bool measured = false;
     for (auto _ : state) {
         size_t before = measured ? 0 : HeapBytes();
-        Refinement r = Refine(scene, options);
+        Refinement<Segment> r = Refine<Segment>(scene, options);
         if (!measured) {
             // Count what the result keeps: the link array, then the trees and the rest.
             linkBytes = r.links.capacity() * sizeof(Link);
             otherBytes = HeapBytes() - before - linkBytes;
             measured = true;
         }
-        benchmark::DoNotOptimize(r.counters.links);
-        counters = r.counters;
+        benchmark::DoNotOptimize(r.record.counters.links);
+        counters = r.record.counters;
     }
 
-    // Attach the counts of one refinement (identical on every iteration).
+    // Attach the counts of one refinement (identical on every iteration), then rates.
     double iterations = double(state.iterations());
-    state.counters["links"] = double(counters.links);
-    state.counters["nodes"] = double(counters.nodes);
-    state.counters["oracle_calls"] = double(counters.oracleCalls);
+    AddRecordCounters(state, counters);
     state.counters["oracle_calls_per_second"] =
         benchmark::Counter(double(counters.oracleCalls) * iterations, benchmark::Counter::kIsRate);
     state.counters["links_per_second"] =
         benchmark::Counter(double(counters.links) * iterations, benchmark::Counter::kIsRate);
     state.counters["bytes_per_link"] = double(linkBytes) / double(counters.links);
     state.counters["bytes_per_node"] = double(otherBytes) / double(counters.nodes);
-    state.SetLabel(OracleName(options.oracle) + (options.storeLinks ? " store" : " count-only"));
+    state.SetLabel(options.oracle + (options.storeLinks ? " store" : " count-only"));
 }
 
-RefineOptions Options(OracleKind oracle, bool store, double eps, int threads = 1) {
+RefineOptions Options(const std::string &oracle, bool store, double eps, int threads = 1) {
     RefineOptions o;
     o.oracle = oracle;
     o.storeLinks = store;
@@ -72,7 +71,7 @@ Scene Parallel(double l, double d) { return MakeScene("parallel", {{"l", l}, {"d
 
 // Fixed geometry g = l / d, eps = 1 / inv_eps shrinking: N = Theta(1/eps) elements and
 // L = Theta(N^2) links (claim C4), so the time grows as N^2.
-void BM_EpsSweep(benchmark::State &state, OracleKind oracle, bool store, double g) {
+void BM_EpsSweep(benchmark::State &state, const std::string &oracle, bool store, double g) {
     double eps = 1.0 / double(state.range(0));
     RunRefine(state, Parallel(g, 1), Options(oracle, store, eps));
     state.SetComplexityN(int64_t(state.counters["nodes"].value));
@@ -80,7 +79,7 @@ void BM_EpsSweep(benchmark::State &state, OracleKind oracle, bool store, double 
 
 // Fixed eps, geometry g = l / d growing: N and L both Theta(g) (claim C3), so the time
 // grows linearly in the links.
-void BM_GeometrySweep(benchmark::State &state, OracleKind oracle, bool store, double eps) {
+void BM_GeometrySweep(benchmark::State &state, const std::string &oracle, bool store, double eps) {
     double g = double(state.range(0));
     RunRefine(state, Parallel(g, 1), Options(oracle, store, eps));
     state.SetComplexityN(int64_t(state.counters["links"].value));
@@ -90,7 +89,7 @@ void BM_GeometrySweep(benchmark::State &state, OracleKind oracle, bool store, do
 // (135,566,575 oracle calls, 67,783,288 links), count-only or store, on _threads_ threads.
 void BM_Headline(benchmark::State &state, bool store) {
     int threads = int(state.range(0));
-    RunRefine(state, Parallel(1024, 1), Options(OracleKind::Garmann, store, 0.01, threads));
+    RunRefine(state, Parallel(1024, 1), Options("garmann", store, 0.01, threads));
 }
 
 void EpsArgs(benchmark::internal::Benchmark *b, int64_t lowest, int64_t highest) {
@@ -117,19 +116,15 @@ void GarmannGeometry(benchmark::internal::Benchmark *b) { GeometryArgs(b, 16, 40
 void HanrahanEps(benchmark::internal::Benchmark *b) { EpsArgs(b, 32, 1024); }
 void HanrahanGeometry(benchmark::internal::Benchmark *b) { GeometryArgs(b, 1, 16); }
 
-BENCHMARK_CAPTURE(BM_EpsSweep, garmann_count, OracleKind::Garmann, false, 64)->Apply(GarmannEps);
-BENCHMARK_CAPTURE(BM_EpsSweep, garmann_store, OracleKind::Garmann, true, 64)->Apply(GarmannEps);
-BENCHMARK_CAPTURE(BM_EpsSweep, hanrahan_count, OracleKind::Hanrahan, false, 4)
-    ->Apply(HanrahanEps);
-BENCHMARK_CAPTURE(BM_EpsSweep, hanrahan_store, OracleKind::Hanrahan, true, 4)
-    ->Apply(HanrahanEps);
-BENCHMARK_CAPTURE(BM_GeometrySweep, garmann_count, OracleKind::Garmann, false, 0.05)
-    ->Apply(GarmannGeometry);
-BENCHMARK_CAPTURE(BM_GeometrySweep, garmann_store, OracleKind::Garmann, true, 0.05)
-    ->Apply(GarmannGeometry);
-BENCHMARK_CAPTURE(BM_GeometrySweep, hanrahan_count, OracleKind::Hanrahan, false, 0.002)
+BENCHMARK_CAPTURE(BM_EpsSweep, garmann_count, "garmann", false, 64)->Apply(GarmannEps);
+BENCHMARK_CAPTURE(BM_EpsSweep, garmann_store, "garmann", true, 64)->Apply(GarmannEps);
+BENCHMARK_CAPTURE(BM_EpsSweep, hanrahan_count, "hanrahan", false, 4)->Apply(HanrahanEps);
+BENCHMARK_CAPTURE(BM_EpsSweep, hanrahan_store, "hanrahan", true, 4)->Apply(HanrahanEps);
+BENCHMARK_CAPTURE(BM_GeometrySweep, garmann_count, "garmann", false, 0.05)->Apply(GarmannGeometry);
+BENCHMARK_CAPTURE(BM_GeometrySweep, garmann_store, "garmann", true, 0.05)->Apply(GarmannGeometry);
+BENCHMARK_CAPTURE(BM_GeometrySweep, hanrahan_count, "hanrahan", false, 0.002)
     ->Apply(HanrahanGeometry);
-BENCHMARK_CAPTURE(BM_GeometrySweep, hanrahan_store, OracleKind::Hanrahan, true, 0.002)
+BENCHMARK_CAPTURE(BM_GeometrySweep, hanrahan_store, "hanrahan", true, 0.002)
     ->Apply(HanrahanGeometry);
 BENCHMARK_CAPTURE(BM_Headline, garmann_count, false)->Apply(HeadlineArgs);
 BENCHMARK_CAPTURE(BM_Headline, garmann_store, true)->Apply(HeadlineArgs);

@@ -11,6 +11,7 @@
 
 #include "generators.h"
 #include "hrbench.h"
+#include "record_counters.h"
 #include "translation_count.h"
 
 namespace hrbench {
@@ -27,16 +28,14 @@ void RunTranslation(benchmark::State &state, double l, double eps) {
     TranslationCount count;
     for (auto _ : state) {
         count = CountByTranslation(scene, options);
-        benchmark::DoNotOptimize(count.counters.links);
+        benchmark::DoNotOptimize(count.record.counters.links);
     }
     double iterations = double(state.iterations());
-    state.counters["links"] = double(count.counters.links);
-    state.counters["nodes"] = double(count.counters.nodes);
-    state.counters["oracle_calls"] = double(count.counters.oracleCalls);
+    AddRecordCounters(state, count.record.counters);
     state.counters["pair_states"] = double(count.pairStates);
     state.counters["element_states"] = double(count.elementStates);
-    state.counters["links_per_second"] =
-        benchmark::Counter(double(count.counters.links) * iterations, benchmark::Counter::kIsRate);
+    state.counters["links_per_second"] = benchmark::Counter(
+        double(count.record.counters.links) * iterations, benchmark::Counter::kIsRate);
 }
 
 // Fixed g = 1024, eps = 1 / inv_eps shrinking: about 4 / eps states on each of

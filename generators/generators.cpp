@@ -5,6 +5,7 @@
 #include "flatland.h"
 #include "space.h"
 #include "util/error.h"
+#include "util/format.h"
 
 namespace hrbench {
 
@@ -63,26 +64,23 @@ Scene MakeScene(const std::string &familyName, const ParamMap &given) {
         if (it != given.end())
             params[spec.name] = it->second;
         else
-            params[spec.name] = spec.defaultFrom.empty() ? spec.defaultValue
-                                                         : params.at(spec.defaultFrom);
+            params[spec.name] =
+                spec.defaultFrom.empty() ? spec.defaultValue : params.at(spec.defaultFrom);
     }
     for (const ParamSpec &spec : family.params) {
         double v = params[spec.name];
         bool ok = std::isfinite(v) && (spec.lowOpen ? v > spec.low : v >= spec.low) &&
-                  (spec.highOpen ? v < spec.high : v <= spec.high) && (!spec.integer || v == std::floor(v));
+                  (spec.highOpen ? v < spec.high : v <= spec.high) &&
+                  (!spec.integer || v == std::floor(v));
         if (!ok)
             throw InputError("scene " + family.name + ": parameter " + spec.name + "=" +
                              FormatDouble(v) + " is out of range (" + DescribeRange(spec) + ")");
     }
 
     Scene scene;
-    scene.dimension = family.dimension;
     scene.family = family.name;
     scene.params = params;
-    if (family.dimension == 3)
-        scene.faces = family.build3d(params);
-    else
-        scene.segments = family.build(params);
+    scene.patches = family.build(params);
     ValidateScene(scene);
     return scene;
 }

@@ -26,9 +26,8 @@ struct Family {
     std::string name;
     std::string help;
     std::vector<ParamSpec> params;
-    std::function<std::vector<Segment>(const ParamMap &)> build;  // 2D families
-    int dimension = 2;                                              // 2 or 3
-    std::function<std::vector<Face>(const ParamMap &)> build3d = nullptr;  // 3D families
+    int dimension;                                      // 2 (segments) or 3 (polygons)
+    std::function<AnyPatches(const ParamMap &)> build;  // the patches, in scene order
 };
 
 // Every family, in the order `hrbench scenes` lists them.

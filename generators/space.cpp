@@ -9,18 +9,19 @@
 
 #include "family_helpers.h"
 #include "util/error.h"
+#include "util/format.h"
 
 namespace hrbench {
 
 namespace {
 
-Face Quad(const Vec3 &a, const Vec3 &b, const Vec3 &c, const Vec3 &d, Material m = {}) {
+Patch<Polygon> Quad(const Vec3 &a, const Vec3 &b, const Vec3 &c, const Vec3 &d, Material m = {}) {
     return {Polygon::Quad(a, b, c, d), m};
 }
 
 // The rectangle [x0,x1] x [y0,y1] at height z, facing +z (up) or -z; either way
 // its first edge runs along +x, so that ties halve x first.
-Face Horizontal(double x0, double x1, double y0, double y1, double z, bool up) {
+Patch<Polygon> Horizontal(double x0, double x1, double y0, double y1, double z, bool up) {
     if (up)
         return Quad(Vec3(x0, y0, z), Vec3(x1, y0, z), Vec3(x1, y1, z), Vec3(x0, y1, z));
     return Quad(Vec3(x0, y1, z), Vec3(x1, y1, z), Vec3(x1, y0, z), Vec3(x0, y0, z));
@@ -28,29 +29,29 @@ Face Horizontal(double x0, double x1, double y0, double y1, double z, bool up) {
 
 // P spans [0,l] x [0,w] at z=0 facing +z; Q the same rectangle moved by (ox, oy) at z=d
 // facing -z.
-std::vector<Face> Parallel(const ParamMap &p) {
+Patches<Polygon> Parallel(const ParamMap &p) {
     double l = p.at("l"), w = p.at("w"), d = p.at("d"), ox = p.at("ox"), oy = p.at("oy");
     return {Horizontal(0, l, 0, w, 0, true), Horizontal(ox, ox + l, oy, oy + w, d, false)};
 }
 
 // P on the floor z=0, x in [0,l], y in [gap, gap+w], facing +z; Q on the arm
 // (0, cos angle, sin angle) from the x axis, from gap to gap+h, facing into the wedge.
-std::vector<Face> Angled(double l, double w, double h, double angleDegrees, double gap) {
+Patches<Polygon> Angled(double l, double w, double h, double angleDegrees, double gap) {
     double angle = angleDegrees * kPi / 180;
     Vec3 arm(0, std::cos(angle), std::sin(angle));
     if (angleDegrees == 90)
         arm = Vec3(0, 0, 1);  // exact, so that `perpendicular3d` has exact coordinates
     Vec3 x(l, 0, 0);
-    Face p = Horizontal(0, l, gap, gap + w, 0, true);
+    Patch<Polygon> p = Horizontal(0, l, gap, gap + w, 0, true);
     Vec3 far = (gap + h) * arm, near = gap * arm;
-    Face q = Quad(far, far + x, near + x, near);
+    Patch<Polygon> q = Quad(far, far + x, near + x, near);
     return {p, q};
 }
 
 // Two plates as in `parallel3d` (no offset) with a blocker between them: a rectangle
 // bl x bw at height h, centred over the plates' centre moved by (ox, oy), made of two
 // back-to-back patches (facing P, then facing Q).
-std::vector<Face> Occluded(const ParamMap &p) {
+Patches<Polygon> Occluded(const ParamMap &p) {
     double l = p.at("l"), w = p.at("w"), d = p.at("d"), bl = p.at("bl"), bw = p.at("bw"),
            h = p.at("h"), ox = p.at("ox"), oy = p.at("oy");
     if (!(h < d))
@@ -63,10 +64,10 @@ std::vector<Face> Occluded(const ParamMap &p) {
 }
 
 // k x k plates l x l on z=0 facing up and k x k facing down at z=d, _spacing_ apart.
-std::vector<Face> Array(const ParamMap &p) {
+Patches<Polygon> Array(const ParamMap &p) {
     int k = int(p.at("k"));
     double l = p.at("l"), d = p.at("d"), spacing = p.at("spacing");
-    std::vector<Face> faces;
+    Patches<Polygon> faces;
     for (bool up : {true, false})
         for (int b = 0; b < k; ++b)
             for (int a = 0; a < k; ++a) {
@@ -82,16 +83,20 @@ std::vector<Face> Array(const ParamMap &p) {
 // values of the widely used rendering of that data (B. Bitterli, "Rendering resources",
 // https://benedikt-bitterli.me/resources/, scene cornell-box): white (0.725, 0.71, 0.68),
 // red (0.63, 0.065, 0.05), green (0.14, 0.45, 0.091), light emission (17, 12, 4).
-std::vector<Face> Cornell(const ParamMap &p) {
+Patches<Polygon> Cornell(const ParamMap &p) {
     double s = p.at("scale");
     auto v = [s](double x, double y, double z) { return Vec3(s * x, s * y, s * z); };
     const Material white{(0.725 + 0.71 + 0.68) / 3, 0};
     const Material red{(0.63 + 0.065 + 0.05) / 3, 0};
     const Material green{(0.14 + 0.45 + 0.091) / 3, 0};
     const Material light{0.78, (17.0 + 12.0 + 4.0) / 3};  // 0.78: the lamp's reflectance
-    std::vector<Face> f;
-    auto quad = [&](Vec3 a, Vec3 b, Vec3 c, Vec3 d, Material m) { f.push_back(Quad(a, b, c, d, m)); };
+    Patches<Polygon> f;
+    auto quad = [&](Vec3 a, Vec3 b, Vec3 c, Vec3 d, Material m) {
+        f.push_back(Quad(a, b, c, d, m));
+    };
 
+    // The measured data, one patch per line.
+    // clang-format off
     // Walls, facing into the box.
     quad(v(552.8, 0, 0), v(0, 0, 0), v(0, 0, 559.2), v(549.6, 0, 559.2), white);                // floor
     quad(v(556, 548.8, 0), v(556, 548.8, 559.2), v(0, 548.8, 559.2), v(0, 548.8, 0), white);    // ceiling
@@ -116,19 +121,19 @@ std::vector<Face> Cornell(const ParamMap &p) {
     quad(v(472, 0, 406), v(472, 330, 406), v(314, 330, 456), v(314, 0, 456), white);
     quad(v(314, 0, 456), v(314, 330, 456), v(265, 330, 296), v(265, 0, 296), white);
     quad(v(265, 0, 296), v(265, 330, 296), v(423, 330, 247), v(423, 0, 247), white);
+    // clang-format on
     return f;
 }
-
 
 // n pairwise disjoint triangles: uniform centres in [0,size]^3, corners uniform in the
 // cube of side _length_ around the centre. A candidate thinner than 5% of length^2 in
 // area, or that meets an earlier triangle, is drawn again.
-std::vector<Face> Random(const ParamMap &p) {
+Patches<Polygon> Random(const ParamMap &p) {
     using K = CGAL::Exact_predicates_inexact_constructions_kernel;
     int n = int(p.at("n"));
     double size = p.at("size"), length = p.at("length");
     std::mt19937_64 rng(uint64_t(p.at("seed")));
-    std::vector<Face> faces;
+    Patches<Polygon> faces;
     std::vector<K::Triangle_3> placed;
     const int64_t maxDraws = 1000 * int64_t(n);  // then the box is too crowded
     for (int64_t draw = 0; int(faces.size()) < n; ++draw) {
@@ -172,7 +177,8 @@ std::vector<Family> SpaceFamilies() {
           LengthLike("w", "l", "side of the plates along y (default: l)"),
           Length("d", 1, "distance between the plates"),
           Offset("ox", "lateral offset of Q along x"), Offset("oy", "lateral offset of Q along y")},
-         nullptr, 3, Parallel},
+         3,
+         Parallel},
         {"perpendicular3d",
          "two rectangles at a right angle sharing the x axis: P on the floor z=0 (l x w), Q on "
          "the wall y=0 (l x h), both facing the quadrant between them",
@@ -180,8 +186,10 @@ std::vector<Family> SpaceFamilies() {
           LengthLike("w", "l", "width of P along y (default: l)"),
           LengthLike("h", "w", "height of Q along z (default: w)"),
           Gap("gap", 0.1, "distance of both plates from the common edge; 0 means touching")},
-         nullptr, 3,
-         [](const ParamMap &p) { return Angled(p.at("l"), p.at("w"), p.at("h"), 90, p.at("gap")); }},
+         3,
+         [](const ParamMap &p) {
+             return Angled(p.at("l"), p.at("w"), p.at("h"), 90, p.at("gap"));
+         }},
         {"angled3d",
          "two rectangles hinged on the x axis with an opening angle, facing into the wedge",
          {Length("l", 1, "length of both plates along the hinge"),
@@ -189,7 +197,7 @@ std::vector<Family> SpaceFamilies() {
           LengthLike("h", "w", "width of Q (on the tilted arm) (default: w)"),
           {"angle", 60, "", 0, 180, true, true, false, "opening angle in degrees"},
           Gap("gap", 0.1, "distance of both plates from the hinge; 0 means touching")},
-         nullptr, 3,
+         3,
          [](const ParamMap &p) {
              return Angled(p.at("l"), p.at("w"), p.at("h"), p.at("angle"), p.at("gap"));
          }},
@@ -204,19 +212,22 @@ std::vector<Family> SpaceFamilies() {
           Length("h", 0.5, "height of the blocker above P (< d)"),
           Offset("ox", "offset of the blocker's centre from the plates' centre along x"),
           Offset("oy", "offset of the blocker's centre from the plates' centre along y")},
-         nullptr, 3, Occluded},
+         3,
+         Occluded},
         {"cornell",
          "the Cornell box (measured data, 556 x 548.8 x 559.2 mm): walls, light and two blocks "
          "with their reflectances and emission (walls and blocks touch: needs a recursion limit)",
          {Length("scale", 0.001, "length unit per millimetre (default: metres)")},
-         nullptr, 3, Cornell},
+         3,
+         Cornell},
         {"array3d",
          "a k x k grid of l x l plates on z=0 facing k x k plates at z=d: the geometry grows, "
          "each pair stays the same",
-         {Count("k", 2, 1, 1000, "plates per row and column"),
-          Length("l", 1, "side of each plate"), Length("d", 1, "distance between the layers"),
+         {Count("k", 2, 1, 1000, "plates per row and column"), Length("l", 1, "side of each plate"),
+          Length("d", 1, "distance between the layers"),
           Gap("spacing", 1, "gap between neighbouring plates in a layer")},
-         nullptr, 3, Array},
+         3,
+         Array},
         {"random3d",
          "n disjoint triangles with uniform centres in a cube and corners in a cube of side "
          "length around each centre",
@@ -224,7 +235,8 @@ std::vector<Family> SpaceFamilies() {
           Count("seed", 1, 0, 9.0e15, "random seed (same seed, same scene)"),
           Length("size", 10, "side of the cube of centres"),
           Length("length", 1, "side of the cube each triangle's corners lie in")},
-         nullptr, 3, Random},
+         3,
+         Random},
     };
 }
 

@@ -56,10 +56,4 @@ PairRelation ClassifyPair(const Polygon &p, const Polygon &q) {
     return PairRelation::Interacting;
 }
 
-PairRelation ClassifyRootPair(const Scene &scene, uint32_t p, uint32_t q) {
-    if (scene.dimension == 3)
-        return ClassifyPair(scene.faces[p].polygon, scene.faces[q].polygon);
-    return ClassifyPair(scene.segments[p], scene.segments[q]);
-}
-
 }  // namespace hrbench

@@ -11,14 +11,11 @@ enum class PairRelation {
     Touching,     // they interact and share a point: refinement needs a recursion limit
 };
 
-// Classifies the root pair (_p_, _q_) as DESIGN section 2 defines culling.
+// Classifies the root pair of patches _p_ and _q_ as docs/conventions.md defines culling.
 PairRelation ClassifyPair(const Segment &p, const Segment &q);
 
 // The same for two 3D patches: culled when either lies wholly behind or in the plane
 // of the other (the plane of its corners v0, v1, v2), touching when they share a point.
 PairRelation ClassifyPair(const Polygon &p, const Polygon &q);
-
-// Classifies the root pair (_p_, _q_) of _scene_, in 2D or 3D.
-PairRelation ClassifyRootPair(const Scene &scene, uint32_t p, uint32_t q);
 
 }  // namespace hrbench

@@ -129,10 +129,10 @@ Scene LoadMesh(const std::string &path) {
     {
         QuietCerr quiet;
         if (format == MeshFormat::Off)
-            ok = CGAL::IO::read_OFF(in, points, polygons,
-                                    CGAL::parameters::face_color_output_iterator(
-                                        std::back_inserter(colors))
-                                        .verbose(false));
+            ok = CGAL::IO::read_OFF(
+                in, points, polygons,
+                CGAL::parameters::face_color_output_iterator(std::back_inserter(colors))
+                    .verbose(false));
         else
             ok = CGAL::IO::read_OBJ(in, points, polygons, CGAL::parameters::verbose(false));
     }
@@ -161,8 +161,9 @@ Scene LoadMesh(const std::string &path) {
         }
     }
     Scene scene;
-    scene.dimension = 3;
     scene.family = "mesh";
+    scene.file = path;
+    Patches<Polygon> &faces = scene.patches.emplace<Patches<Polygon>>();
     for (size_t f = 0; f < polygons.size(); ++f) {
         const PolygonIndices &indices = polygons[f];
         std::string where = "mesh file '" + path + "': face " + std::to_string(f);
@@ -180,7 +181,7 @@ Scene LoadMesh(const std::string &path) {
         }
         if (polygon.n == 3)
             polygon.v[3] = polygon.v[2];
-        scene.faces.push_back({polygon, materials[f]});
+        faces.push_back({polygon, materials[f]});
     }
     try {
         ValidateScene(scene);
@@ -192,15 +193,15 @@ Scene LoadMesh(const std::string &path) {
 
 void SaveMesh(const Scene &scene, const std::string &path) {
     MeshFormat format = FormatOf(path);
-    if (scene.dimension != 3)
+    if (scene.Dimension() != 3)
         throw InputError("only 3D scenes can be written as meshes");
     std::vector<Point3> points;
     std::vector<PolygonIndices> polygons;
-    for (const Face &f : scene.faces) {
+    for (const Patch<Polygon> &f : scene.Get<Polygon>()) {
         PolygonIndices indices;
-        for (int k = 0; k < f.polygon.n; ++k) {
+        for (int k = 0; k < f.shape.n; ++k) {
             indices.push_back(points.size());
-            points.emplace_back(f.polygon.v[k].x(), f.polygon.v[k].y(), f.polygon.v[k].z());
+            points.emplace_back(f.shape.v[k].x(), f.shape.v[k].y(), f.shape.v[k].z());
         }
         polygons.push_back(indices);
     }

@@ -6,175 +6,33 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
-#include <fstream>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <thread>
 
 #include "culling.h"
-#include "oracles.h"
-#include "oracles3d.h"
+#include "kernel.h"
+#include "oracles/registry.h"
+#include "translation_count.h"
 #include "util/error.h"
 
 namespace hrbench {
 
 namespace {
 
-// Pairs whose depths add up to this are handed to the worker threads as tasks.
-// A constant, not a function of the thread count, so that the task list (and with
-// it the order of links) is the same for every thread count.
-constexpr int kTaskDepth = 10;
-
-// A pending ProjectKernel call.
-struct Call {
-    uint32_t i, j;
-    int32_t depthI, depthJ;
+// How many elements (per forest) and links a run may hold.
+struct Budget {
+    size_t maxElements;
+    size_t maxLinks;
 };
 
-// A subtree of the refinement left to a worker, with the root pair it belongs to.
-struct Task {
-    Call call;
-    uint32_t pair;
-};
-
-// What one kernel instance counted.
-struct Tally {
-    uint64_t oracleCalls = 0, links = 0, forcedLinks = 0;
-    VisibilityTally visibility;
-    std::array<uint64_t, 2 * kSafetyDepth + 1> linksPerDepth{};
-
-    void Add(const Tally &other) {
-        oracleCalls += other.oracleCalls, links += other.links, forcedLinks += other.forcedLinks;
-        visibility.Add(other.visibility);
-        for (size_t d = 0; d < linksPerDepth.size(); ++d)
-            linksPerDepth[d] += other.linksPerDepth[d];
-    }
-};
-
-// The recursion of DESIGN section 2 for one element kind, one oracle type and one
-// storage mode, so that subdivision, the oracle and the link sink are inlined. It
-// runs depth-first, first child first. With _kFrontier_ it stops at kTaskDepth and
-// records the pairs there as tasks instead. _Visibility_ is NoVisibility (occlusion
-// ignored, compiled out) or SampledVisibility (docs/3d.md).
-template <typename Forest, typename Oracle, bool kStoreLinks, bool kFrontier,
-          typename Visibility = NoVisibility>
-class ProjectKernel {
-  public:
-    ProjectKernel(Forest &forest, const Oracle &oracle, const RefineOptions &options,
-                  size_t maxLinks, const Visibility &visibility = Visibility())
-        : forest_(forest), oracle_(oracle), visibility_(visibility), minArea_(options.minArea),
-          depthLimit_(options.maxDepth >= 0 ? options.maxDepth : kSafetyDepth),
-          userDepthLimit_(options.maxDepth >= 0), maxLinks_(maxLinks) {}
-
-    // Refines _start_ completely (below the frontier), appending links to _links_
-    // and frontier pairs to _tasks_.
-    void Project(Call start, uint32_t pair, LinkBuffer &links, std::vector<Task> *tasks) {
-        links_ = &links;
-        tasks_ = tasks;
-        pair_ = pair;
-        Recurse(start.i, start.j, start.depthI, start.depthJ);
-    }
-
-    Tally tally;
-
-  private:
-    // One ProjectKernel call. Plain recursion with scalar arguments: measured with
-    // fewer instructions per call than an explicit stack, a packed argument struct,
-    // or a separate function for rejected pairs.
-    void Recurse(uint32_t i, uint32_t j, int depthI, int depthJ) {
-        if constexpr (kFrontier) {
-            if (depthI + depthJ >= kTaskDepth)
-                return tasks_->push_back({{i, j, depthI, depthJ}, pair_});
-        }
-        ++tally.oracleCalls;
-        const auto &ei = forest_[i], &ej = forest_[j];
-        if constexpr (Visibility::kEnabled) {
-            // Estimate the visible fraction: drop occluded pairs, weight or refine partial ones.
-            double visible = visibility_.Fraction(forest_, i, j, tally.visibility);
-            if (visible == 0) {
-                ++tally.visibility.occludedPairs;
-                return;
-            }
-            bool acceptable = visible == 1 ? oracle_.Acceptable(ei, ej)
-                              : visibility_.Mode() == VisibilityMode::Fraction
-                                  ? oracle_.AcceptableVisible(ei, ej, visible)
-                                  : false;  // refine: partially visible pairs go to the limit
-            if (acceptable)
-                return AddLink(i, j, depthI + depthJ);
-        } else {
-            if (oracle_.Acceptable(ei, ej))
-                return AddLink(i, j, depthI + depthJ);
-        }
-
-        // Pick the larger element (ties: the first) and apply the recursion limit to it.
-        bool splitI = ei.size >= ej.size;
-        double preferredSize = splitI ? ei.size : ej.size;
-        int preferredDepth = splitI ? depthI : depthJ;
-        if (preferredSize < minArea_ || preferredDepth >= depthLimit_) {
-            if (!userDepthLimit_ && preferredDepth >= depthLimit_)
-                ThrowSafetyCap(i, j);
-            ++tally.forcedLinks;
-            return AddLink(i, j, depthI + depthJ);
-        }
-
-        // Recurse into the children of the preferred element, first child first.
-        if (splitI) {
-            uint32_t child = forest_.Children(i);
-            for (int c = 0; c < Forest::kArity; ++c)
-                Recurse(child + c, j, depthI + 1, depthJ);
-        } else {
-            uint32_t child = forest_.Children(j);
-            for (int c = 0; c < Forest::kArity; ++c)
-                Recurse(i, child + c, depthI, depthJ + 1);
-        }
-    }
-
-    void AddLink(uint32_t i, uint32_t j, int depth) {
-        ++tally.links;
-        ++tally.linksPerDepth[depth];
-        if constexpr (kStoreLinks) {
-            if (links_->size() == links_->capacity())
-                GrowLinks();
-            links_->Append({i, j});
-        }
-    }
-
-    // Doubles the link buffer, within the budget. Out of line: it runs log(L) times.
-    [[gnu::noinline]] void GrowLinks() {
-        size_t capacity = std::max<size_t>(2 * links_->capacity(), 1 << 16);
-        if (capacity > maxLinks_)
-            throw LimitError("stored links would exceed the memory budget (" +
-                             std::to_string(links_->size()) +
-                             " links); use --count-only, a larger eps or --max-memory");
-        links_->Reserve(capacity);
-    }
-
-    [[noreturn]] void ThrowSafetyCap(uint32_t i, uint32_t j) const {
-        throw LimitError("refinement of patches " + std::to_string(forest_[i].root) +
-                         " and " + std::to_string(forest_[j].root) +
-                         " reached the safety depth " + std::to_string(kSafetyDepth) +
-                         " without an acceptable link; set a recursion limit with --min-area "
-                         "or --max-depth");
-    }
-
-    Forest &forest_;
-    const Oracle oracle_;
-    Visibility visibility_;
-    const double minArea_;
-    const int depthLimit_;
-    const bool userDepthLimit_;
-    const size_t maxLinks_;
-    LinkBuffer *links_ = nullptr;
-    std::vector<Task> *tasks_ = nullptr;
-    uint32_t pair_ = 0;
-};
-
-// Builds the canonical forest, the union of the workers' forests (DESIGN: children
-// are created once), and for each worker the map from its element ids to canonical ids.
-template <typename Forest, typename Merged = Forest>
+// Builds the canonical forest, the union of the workers' forests (children are created
+// once), and for each worker the map from its element ids to canonical ids.
+template <typename Forest>
 class ForestUnion {
   public:
-    ForestUnion(const std::vector<Forest> &workers, Merged &canonical, bool buildMaps)
+    ForestUnion(const std::vector<Forest> &workers, Forest &canonical, bool buildMaps)
         : workers_(workers), canonical_(canonical), scratch_(kSafetyDepth + 2) {
         if (buildMaps)
             for (const Forest &w : workers)
@@ -206,9 +64,10 @@ class ForestUnion {
         if (!subdivided)
             return;
         uint32_t child = canonical_.Children(id);
-        for (int c = 0; c < Forest::kArity; ++c) {
+        for (int c = 0; c < canonical_.Arity(); ++c) {
             for (size_t w = 0; w < workers_.size(); ++w) {
-                uint32_t first = local[w] == kAbsent ? kNoChildren : workers_[w][local[w]].firstChild;
+                uint32_t first =
+                    local[w] == kAbsent ? kNoChildren : workers_[w][local[w]].firstChild;
                 scratch_[level + 1][w] = first == kNoChildren ? kAbsent : first + c;
             }
             Visit(child + c, level + 1);
@@ -216,34 +75,31 @@ class ForestUnion {
     }
 
     const std::vector<Forest> &workers_;
-    Merged &canonical_;
+    Forest &canonical_;
     std::vector<std::vector<uint32_t>> scratch_;
     std::vector<std::vector<uint32_t>> maps_;
 };
 
-// The forest a refinement returns: _forest_ in 2D, _forest3d_ in 3D.
-SegmentForest &MergedForest(Refinement &r, const SegmentForest &) { return r.forest; }
-PolygonForest &MergedForest(Refinement &r, const PolygonForest &) { return r.forest3d; }
-
 // Runs the kernel over all root pairs in scene order: a sequential pass down to the
 // task depth, then the tasks on worker threads, each with its own copy of the trees.
-template <typename Forest, typename Oracle, bool kStoreLinks, typename Visibility>
-void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOptions &options,
-                    size_t maxLinks, size_t maxElements, const Visibility &visibility,
-                    Refinement &result) {
-    Counters &counters = result.counters;
-    Forest top(scene, maxElements);
-    ProjectKernel<Forest, Oracle, kStoreLinks, true, Visibility> topKernel(top, oracle, options,
-                                                                           maxLinks, visibility);
+template <typename Shape, int kArity, typename Oracle, bool kStoreLinks, typename Visibility>
+void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
+                    const RefineOptions &options, const Budget &budget,
+                    const Visibility &visibility, Refinement<Shape> &result) {
+    using F = Forest<Shape>;
+    Counters &counters = result.record.counters;
+    F top(patches, budget.maxElements, options.subdivision);
+    ProjectKernel<F, kArity, Oracle, kStoreLinks, true, Visibility> topKernel(
+        top, oracle, options, budget.maxLinks, visibility);
     LinkBuffer topLinks;
     std::vector<Task> tasks;
 
     // Classify every root pair and refine it down to the task depth.
-    const uint32_t numPatches = uint32_t(scene.NumPatches());
+    const uint32_t numPatches = uint32_t(patches.size());
     for (uint32_t p = 0; p < numPatches; ++p) {
         for (uint32_t q = p + 1; q < numPatches; ++q) {
             ++counters.rootPairs;
-            PairRelation relation = ClassifyRootPair(scene, p, q);
+            PairRelation relation = ClassifyPair(patches[p].shape, patches[q].shape);
             if (relation == PairRelation::Culled) {
                 ++counters.culledPairs;
                 continue;
@@ -261,7 +117,7 @@ void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOption
 
     // Run the tasks: each worker takes the next task in order and refines it fully.
     size_t numWorkers = std::max<size_t>(1, std::min<size_t>(options.threads, tasks.size()));
-    std::vector<Forest> forests(numWorkers, top);
+    std::vector<F> forests(numWorkers, top);
     // Each worker appends its links to one buffer; a task's links are a range of it.
     // The first worker's buffer starts with the sequential pass's links, whose ids are
     // the same in every worker's forest.
@@ -276,8 +132,8 @@ void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOption
     std::atomic<bool> failed{false};
     std::vector<std::pair<size_t, std::exception_ptr>> errors(numWorkers, {SIZE_MAX, nullptr});
     auto work = [&](size_t w) {
-        ProjectKernel<Forest, Oracle, kStoreLinks, false, Visibility> kernel(
-            forests[w], oracle, options, maxLinks / numWorkers, visibility);
+        ProjectKernel<F, kArity, Oracle, kStoreLinks, false, Visibility> kernel(
+            forests[w], oracle, options, budget.maxLinks / numWorkers, visibility);
         LinkBuffer unused;
         LinkBuffer &links = kStoreLinks ? workerLinks[w] : unused;
         for (size_t t; !failed && (t = next++) < tasks.size();) {
@@ -328,9 +184,7 @@ void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOption
         counters.linksPerDepth.pop_back();
 
     // Merge the trees into canonical ids and translate the links to them.
-    auto &canonical = MergedForest(result, top);
-    ForestUnion<Forest, std::remove_reference_t<decltype(canonical)>> merged(forests, canonical,
-                                                                             kStoreLinks);
+    ForestUnion<F> merged(forests, result.forest, kStoreLinks);
     if constexpr (kStoreLinks) {
         if (numWorkers == 1) {
             // One worker ran every task in order: translate its buffer in place.
@@ -361,146 +215,124 @@ void RefineAllPairs(const Scene &scene, const Oracle &oracle, const RefineOption
     }
 }
 
-template <typename Oracle, typename Forest = SegmentForest, typename Visibility = NoVisibility>
-void RefineWith(const Scene &scene, const Oracle &oracle, const RefineOptions &options,
-                size_t maxLinks, size_t maxElements, Refinement &result,
-                const Visibility &visibility = Visibility()) {
-    if (options.storeLinks)
-        RefineAllPairs<Forest, Oracle, true>(scene, oracle, options, maxLinks, maxElements,
-                                             visibility, result);
-    else
-        RefineAllPairs<Forest, Oracle, false>(scene, oracle, options, maxLinks, maxElements,
-                                              visibility, result);
-}
-
-// Chooses the visibility policy: compiled out for `none`, sampled otherwise.
-template <int D, typename Forest, typename Oracle>
-void RefineVisible(const Scene &scene, const Oracle &oracle, const RefineOptions &options,
-                   size_t maxLinks, size_t maxElements, Refinement &result) {
+// Calls _f_ with the visibility policy of _options_: NoVisibility when occlusion is
+// ignored (compiled out of the kernel), SampledVisibility otherwise.
+template <typename Shape, typename F>
+void WithVisibility(const Patches<Shape> &patches, const RefineOptions &options, F &&f) {
     if (options.visibility == VisibilityMode::None)
-        return RefineWith<Oracle, Forest>(scene, oracle, options, maxLinks, maxElements, result);
-    Occluders occluders(scene);
-    SampledVisibility<D> visibility(occluders, options.raysPerSide, options.visibility);
-    RefineWith<Oracle, Forest>(scene, oracle, options, maxLinks, maxElements, result, visibility);
+        return f(NoVisibility());
+    Occluders occluders(patches);
+    f(SampledVisibility<Shape>(occluders, options.raysPerSide, options.visibility));
 }
 
-// Chooses the oracle of dimension _D_ (the weighted forms of oracles3d.h).
-template <int D, typename Forest>
-void RefineDimension(const Scene &scene, const RefineOptions &options, size_t maxLinks,
-                     size_t maxElements, Refinement &result) {
-    switch (options.oracle) {
-    case OracleKind::Garmann:
-        return RefineVisible<D, Forest>(scene, GarmannOracleND<D>(options.eps), options, maxLinks,
-                                        maxElements, result);
-    case OracleKind::Hanrahan: {
-        std::vector<Eigen::Matrix<double, D, 1>> normals;
-        for (uint32_t p = 0; p < scene.NumPatches(); ++p) {
-            if constexpr (D == 3)
-                normals.push_back(scene.faces[p].polygon.Normal());
-            else
-                normals.push_back(scene.segments[p].Normal());
+// The one dispatch of a run: picks the oracle, the arity, the storage mode and the
+// visibility policy once, outside the recursion, and runs the kernel compiled for them.
+template <typename Shape>
+void Dispatch(const Patches<Shape> &patches, const RefineOptions &options, const Budget &budget,
+              Refinement<Shape> &result) {
+    bool found = false;
+    AllOracles::ForEach([&](auto tag) {
+        using Oracle = typename decltype(tag)::template Type<Shape>;
+        if (found || options.oracle != Oracle::kInfo.name)
+            return;
+        found = true;
+        if constexpr (Oracle::kInfo.Supports(Shape::kDimension)) {
+            Oracle oracle(options.eps, patches);
+            WithVisibility(patches, options, [&](const auto &visibility) {
+                using Visibility = std::decay_t<decltype(visibility)>;
+                auto run = [&](auto arity, auto store) {
+                    RefineAllPairs<Shape, decltype(arity)::value, Oracle, decltype(store)::value,
+                                   Visibility>(patches, oracle, options, budget, visibility,
+                                               result);
+                };
+                using Binary = std::integral_constant<int, 2>;
+                using Quadtree = std::integral_constant<int, 4>;
+                bool quadtree = options.subdivision == Subdivision::Quadtree;
+                if constexpr (Shape::kDimension == 3) {
+                    if (quadtree)
+                        return options.storeLinks ? run(Quadtree(), std::true_type())
+                                                  : run(Quadtree(), std::false_type());
+                }
+                options.storeLinks ? run(Binary(), std::true_type())
+                                   : run(Binary(), std::false_type());
+            });
         }
-        return RefineVisible<D, Forest>(scene, HanrahanOracleND<D>(options.eps, std::move(normals)),
-                                        options, maxLinks, maxElements, result);
-    }
-    }
+    });
+    if (!found)
+        FindOracle(options.oracle);  // throws, listing the oracles
 }
 
-// 3D scenes, and 2D scenes with visibility: the forest by dimension and subdivision,
-// then the oracle and the visibility policy.
-void RefineGeneral(const Scene &scene, const RefineOptions &options, size_t maxLinks,
-                   size_t maxElements, Refinement &result) {
-    if (scene.dimension == 2)
-        return RefineDimension<2, SegmentForest>(scene, options, maxLinks, maxElements, result);
-    if (options.subdivision == Subdivision::Binary)
-        return RefineDimension<3, BinaryPolygonForest>(scene, options, maxLinks, maxElements,
-                                                       result);
-    RefineDimension<3, QuadtreePolygonForest>(scene, options, maxLinks, maxElements, result);
-}
-
-size_t EffectiveBudget(const RefineOptions &options) {
-    return options.memoryBudget > 0 ? options.memoryBudget : AvailableMemoryBytes() / 10 * 9;
+// Splits the memory budget: a quarter for the element trees (one copy per worker and
+// the merged one) when links are stored, the rest for links.
+template <typename Shape>
+Budget SplitBudget(const RefineOptions &options) {
+    size_t budget = EffectiveBudget(options);
+    size_t forests = size_t(options.threads) + 1;
+    size_t elementBytes = Forest<Shape>::kBytesPerElement;
+    return {(options.storeLinks ? budget / 4 : budget) / elementBytes / forests,
+            budget / 4 * 3 / sizeof(Link)};
 }
 
 }  // namespace
 
-void ValidateOptions(const RefineOptions &o) {
-    if (!(o.eps > 0) || !std::isfinite(o.eps))
-        throw InputError("--eps must be a finite number greater than 0");
-    if (!(o.minArea >= 0) || !std::isfinite(o.minArea))
-        throw InputError("--min-area must be a finite number >= 0");
-    if (o.maxDepth < -1 || o.maxDepth > kSafetyDepth)
-        throw InputError("--max-depth must be between 0 and " + std::to_string(kSafetyDepth));
-    if (o.threads < 1 || o.threads > 256)
-        throw InputError("--threads must be between 1 and 256");
-    if (o.raysPerSide < 1 || o.raysPerSide > 16)
-        throw InputError("--rays-per-side must be between 1 and 16");
-    if (o.visibility == VisibilityMode::Refine && !o.HasRecursionLimit())
-        throw InputError("--visibility refine splits partially visible pairs down to the "
-                         "recursion limit; set one with --min-area or --max-depth");
-}
-
-size_t AvailableMemoryBytes() {
-    std::ifstream meminfo("/proc/meminfo");
-    std::string key;
-    size_t kib = 0;
-    while (meminfo >> key >> kib) {
-        if (key == "MemAvailable:")
-            return kib * 1024;
-        meminfo.ignore(256, '\n');
-    }
-    return size_t(4) << 30;  // 4 GiB when the system does not say
-}
-
-Refinement Refine(const Scene &scene, const RefineOptions &options) {
-    ValidateOptions(options);
+template <typename Shape>
+Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options) {
+    if (!std::holds_alternative<Patches<Shape>>(scene.patches))
+        throw InputError(std::string("the scene does not hold ") + Shape::kName + "s");
+    ValidateOptions(options, Shape::kDimension);
     ValidateScene(scene);
+    const Patches<Shape> &patches = scene.Get<Shape>();
 
-    // Split the memory budget: a quarter for the element trees (one copy per worker
-    // and the merged one), the rest for links. An element costs about 100 bytes.
-    size_t budget = EffectiveBudget(options);
-    size_t elementBytes = sizeof(Element<2>) + 2 * sizeof(Vec2) + sizeof(uint8_t) +
-                          sizeof(uint32_t) + sizeof(uint64_t);
-    if (scene.dimension == 3)
-        elementBytes = PolygonForest::kBytesPerElement;
-    size_t forests = size_t(options.threads) + 1;
-    size_t maxElements = (options.storeLinks ? budget / 4 : budget) / elementBytes / forests;
-    size_t maxLinks = budget / 4 * 3 / sizeof(Link);
-
-    Refinement result{SegmentForest(scene, SIZE_MAX), {}, {}, {}, 0};
-    if (scene.dimension == 3)
-        result.forest3d = PolygonForest(scene, SIZE_MAX, options.subdivision);
-    else if (options.subdivision != Subdivision::Binary)
-        throw InputError("--subdivision quadtree applies to 3D scenes only (segments are halved)");
+    Refinement<Shape> result{
+        Forest<Shape>(patches, SIZE_MAX, options.subdivision), {}, {}, {"enumerate", {}, 0}};
     auto start = std::chrono::steady_clock::now();
-    if (scene.dimension == 3 || options.visibility != VisibilityMode::None) {
-        RefineGeneral(scene, options, maxLinks, maxElements, result);
-    } else {
-        // Flatland with occlusion ignored: the plain oracles of oracles.h.
-        switch (options.oracle) {
-        case OracleKind::Garmann:
-            RefineWith(scene, GarmannOracle(options.eps), options, maxLinks, maxElements, result);
-            break;
-        case OracleKind::Hanrahan: {
-            std::vector<Vec2> normals;
-            for (const Segment &s : scene.segments)
-                normals.push_back(s.Normal());
-            RefineWith(scene, HanrahanOracle(options.eps, std::move(normals)), options, maxLinks,
-                       maxElements, result);
-            break;
-        }
-        }
-    }
-    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    Dispatch(patches, options, SplitBudget<Shape>(options), result);
+    result.record.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     // Summarise the trees.
-    Counters &c = result.counters;
-    bool is3d = scene.dimension == 3;
-    c.nodes = is3d ? result.forest3d.Size() : result.forest.Size();
-    c.leaves = is3d ? result.forest3d.NumLeaves() : result.forest.NumLeaves();
-    c.nodesPerDepth = is3d ? result.forest3d.NodesPerDepth() : result.forest.NodesPerDepth();
-    c.maxDepth = int(c.nodesPerDepth.size()) - 1;
+    Counters &c = result.record.counters;
+    c.nodes = result.forest.Size();
+    c.leaves = result.forest.NumLeaves();
+    c.nodesPerDepth = result.forest.NodesPerDepth();
+    c.maxDepth = c.nodesPerDepth.size() - 1;
     return result;
+}
+
+template Refinement<Segment> Refine(const Scene &, const RefineOptions &);
+template Refinement<Polygon> Refine(const Scene &, const RefineOptions &);
+
+AnyRefinement Refine(const Scene &scene, const RefineOptions &options) {
+    return std::visit(
+        [&](const auto &patches) -> AnyRefinement {
+            using Shape = std::decay_t<decltype(patches.front().shape)>;
+            return Refine<Shape>(scene, options);
+        },
+        scene.patches);
+}
+
+const std::vector<MethodInfo> &Methods() {
+    static const std::vector<MethodInfo> methods = {
+        {"enumerate", "run ProjectKernel pair by pair (any scene, oracle and option)",
+         [](const Scene &scene, const RefineOptions &options) {
+             return std::visit([](auto &&r) { return std::move(r.record); },
+                               Refine(scene, options));
+         }},
+        {"translation",
+         "exact counts of `parallel` with l2 = l, garmann, --count-only, no recursion limit, "
+         "from translation invariance (any number of links in milliseconds)",
+         [](const Scene &scene, const RefineOptions &options) {
+             return CountByTranslation(scene, options).record;
+         }},
+    };
+    return methods;
+}
+
+RunRecord Count(const Scene &scene, const RefineOptions &options, const std::string &method) {
+    for (const MethodInfo &m : Methods())
+        if (m.name == method)
+            return m.count(scene, options);
+    throw InputError("unknown method '" + method + "'");
 }
 
 }  // namespace hrbench

@@ -1,42 +1,18 @@
-// ProjectKernel over every root pair of a scene (DESIGN section 2).
+// Refinement: ProjectKernel over every root pair of a scene (docs/conventions.md),
+// for either shape, with its forest, links and run record.
 #pragma once
 
 #include <cstdint>
+#include <variant>
 #include <vector>
 
-#include "counters.h"
-#include "element_tree.h"
+#include "forest.h"
 #include "link_buffer.h"
-#include "oracle.h"
-#include "polygon.h"
-#include "polygon_forest.h"
+#include "record.h"
+#include "refine_options.h"
 #include "scene.h"
-#include "visibility.h"
 
 namespace hrbench {
-
-// Depth beyond which no element is halved without a user limit: deeper elements
-// lose their midpoints to double rounding, and a pair that gets there would not
-// terminate on its own (touching patches). Reaching it is an error.
-constexpr int kSafetyDepth = 48;
-
-struct RefineOptions {
-    OracleKind oracle = OracleKind::Garmann;
-    double eps = 0;          // oracle threshold, > 0
-    double minArea = 0;      // link a pair whose preferred element is smaller; 0 = off
-    int maxDepth = -1;       // link a pair whose preferred element has this depth; -1 = off
-    bool storeLinks = false; // keep every link (store mode) or only count (count-only)
-    size_t memoryBudget = 0; // bytes for elements and links; 0 = what the machine has free
-    int threads = 1;         // worker threads; counts never depend on it
-    Subdivision subdivision = Subdivision::Binary;  // 3D: two halves or four quarters
-    VisibilityMode visibility = VisibilityMode::None;  // how occlusion counts (docs/3d.md)
-    int raysPerSide = 3;     // k: sample points per element side for visibility, 1..16
-
-    bool HasRecursionLimit() const { return minArea > 0 || maxDepth >= 0; }
-};
-
-// Throws InputError naming the option when _options_ are out of range.
-void ValidateOptions(const RefineOptions &options);
 
 // Per root pair tallies, for the invariant oracle_calls = 2 * links - 1.
 struct PairTally {
@@ -49,21 +25,40 @@ struct PairTally {
 // children allocated when their parent is first reached. So ids, like counts, do
 // not depend on the number of threads. Links are ordered by the refinement's task
 // order, which does not depend on it either.
+template <typename Shape>
 struct Refinement {
-    SegmentForest forest;
-    Counters counters;
+    Forest<Shape> forest;
     LinkBuffer links;              // empty in count-only mode
     std::vector<PairTally> pairs;  // refined (non-culled) root pairs in order
-    double seconds = 0;            // wall time of the refinement
-    PolygonForest forest3d = PolygonForest();  // the trees of a 3D scene; empty in 2D
+    RunRecord record;              // method "enumerate", the counters and the time
 };
 
-// Refines every root pair of _scene_ (its trees go to _forest_ in 2D, _forest3d_ in 3D).
-// Throws InputError for invalid options or touching patches without a recursion limit,
-// LimitError when the safety depth or the memory budget is reached.
-Refinement Refine(const Scene &scene, const RefineOptions &options);
+using AnyRefinement = std::variant<Refinement<Segment>, Refinement<Polygon>>;
 
-// Free memory reported by the operating system (MemAvailable), in bytes.
-size_t AvailableMemoryBytes();
+// Refines every root pair of _scene_, whichever its shape. Throws InputError for an
+// invalid scene or options, or touching patches without a recursion limit; LimitError
+// when the safety depth or the memory budget is reached.
+AnyRefinement Refine(const Scene &scene, const RefineOptions &options);
+
+// The same for a scene known to hold _Shape_ patches (InputError otherwise).
+template <typename Shape>
+Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options);
+
+extern template Refinement<Segment> Refine(const Scene &, const RefineOptions &);
+extern template Refinement<Polygon> Refine(const Scene &, const RefineOptions &);
+
+// A way to count a refinement, as `--method` names it.
+struct MethodInfo {
+    const char *name;                                          // "enumerate" or "translation"
+    const char *doc;                                           // one line
+    RunRecord (*count)(const Scene &, const RefineOptions &);  // counts a scene this way
+};
+
+// Every counting method, the default first.
+const std::vector<MethodInfo> &Methods();
+
+// The run record of _scene_ by the method the caller names: "enumerate" (Refine) or
+// "translation" (CountByTranslation). Throws InputError for an unknown method.
+RunRecord Count(const Scene &scene, const RefineOptions &options, const std::string &method);
 
 }  // namespace hrbench

@@ -1,17 +1,17 @@
-// A scene: the ordered list of root patches that refinement starts from.
+// A scene: the ordered list of root patches that refinement starts from, in one
+// dimension: segments (flatland) or polygons (3D).
 #pragma once
 
+#include <map>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
-#include <Eigen/Core>
-
-#include "polygon.h"
-#include "util/args.h"
+#include "geometry/polygon.h"
+#include "geometry/segment.h"
 
 namespace hrbench {
-
-using Vec2 = Eigen::Vector2d;
 
 // Surface properties of a root patch, inherited by all of its elements.
 struct Material {
@@ -19,42 +19,52 @@ struct Material {
     double emission = 0.0;     // emitted radiosity E, >= 0
 };
 
-// An oriented flatland patch from _a_ to _b_; its front side is on the left
-// (the direction rotated by +90 degrees), as DESIGN section 2 defines.
-struct Segment {
-    Vec2 a, b;
+// A root patch: its shape and its surface.
+template <typename Shape>
+struct Patch {
+    Shape shape;
     Material material;
+};
 
-    double Length() const { return (b - a).norm(); }
-    Vec2 Midpoint() const { return 0.5 * (a + b); }
-    // Unit normal on the front (left) side.
-    Vec2 Normal() const {
-        Vec2 dir = (b - a).normalized();
-        return Vec2(-dir.y(), dir.x());
+template <typename Shape>
+using Patches = std::vector<Patch<Shape>>;
+
+// The patches of a scene, of one shape for the whole scene.
+using AnyPatches = std::variant<Patches<Segment>, Patches<Polygon>>;
+
+// Scene parameters, by name (lengths in scene units, angles in degrees).
+using ParamMap = std::map<std::string, double>;
+
+// Scene with its provenance (family and parameters, or the file it was read from) so
+// that results explain themselves.
+struct Scene {
+    std::string family;  // generator family, "file" for a scene file, "mesh" for a mesh
+    ParamMap params;     // parameters after defaults
+    std::string file;    // the scene or mesh file read, if any
+    AnyPatches patches;  // root patches in scene order
+
+    // 2 for segments, 3 for polygons.
+    int Dimension() const {
+        return std::visit(
+            [](const auto &p) { return std::decay_t<decltype(p.front().shape)>::kDimension; },
+            patches);
+    }
+    size_t NumPatches() const {
+        return std::visit([](const auto &p) { return p.size(); }, patches);
+    }
+    // The patches, when they are of shape _Shape_ (std::bad_variant_access otherwise).
+    template <typename Shape>
+    const Patches<Shape> &Get() const {
+        return std::get<Patches<Shape>>(patches);
+    }
+    template <typename Shape>
+    Patches<Shape> &Get() {
+        return std::get<Patches<Shape>>(patches);
     }
 };
 
-// A 3D patch: a planar convex triangle or quad, counter-clockwise seen from its
-// front (DESIGN section 2), with its surface properties.
-struct Face {
-    Polygon polygon;
-    Material material;
-};
-
-// Scene with its provenance (family and parameters) so that results explain themselves.
-struct Scene {
-    int dimension = 2;
-    std::string family;       // generator family, or "file" for a loaded scene
-    ParamMap params;          // parameters after defaults
-    std::vector<Segment> segments;  // 2D root patches in scene order
-    std::vector<Face> faces;        // 3D root patches in scene order
-
-    size_t NumPatches() const { return dimension == 3 ? faces.size() : segments.size(); }
-};
-
-// Checks what refinement relies on: at least one patch, finite coordinates,
-// non-degenerate segments, planar convex non-degenerate polygons, materials in range.
-// Throws InputError naming the patch.
+// Checks what refinement relies on: at least one patch, every shape valid (see each
+// shape's Problem()), materials in range. Throws InputError naming the patch.
 void ValidateScene(const Scene &scene);
 
 }  // namespace hrbench

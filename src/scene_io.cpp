@@ -11,27 +11,35 @@ namespace hrbench {
 
 using nlohmann::json;
 
+static json ShapeToJson(const Segment &s) {
+    return {{"a", {s.a.x(), s.a.y()}}, {"b", {s.b.x(), s.b.y()}}};
+}
+
+static json ShapeToJson(const Polygon &p) {
+    json vertices = json::array();
+    for (int k = 0; k < p.n; ++k)
+        vertices.push_back({p.v[k].x(), p.v[k].y(), p.v[k].z()});
+    return {{"vertices", vertices}};
+}
+
 std::string SceneToJson(const Scene &scene) {
     json doc;
     doc["format"] = "hrbench-scene";
     doc["schema_version"] = kSceneSchemaVersion;
-    doc["dimension"] = scene.dimension;
+    doc["dimension"] = scene.Dimension();
     doc["family"] = scene.family;
     doc["params"] = scene.params;
     json patches = json::array();
-    for (const Segment &s : scene.segments)
-        patches.push_back({{"a", {s.a.x(), s.a.y()}},
-                           {"b", {s.b.x(), s.b.y()}},
-                           {"reflectance", s.material.reflectance},
-                           {"emission", s.material.emission}});
-    for (const Face &f : scene.faces) {
-        json vertices = json::array();
-        for (int k = 0; k < f.polygon.n; ++k)
-            vertices.push_back({f.polygon.v[k].x(), f.polygon.v[k].y(), f.polygon.v[k].z()});
-        patches.push_back({{"vertices", vertices},
-                           {"reflectance", f.material.reflectance},
-                           {"emission", f.material.emission}});
-    }
+    std::visit(
+        [&](const auto &list) {
+            for (const auto &patch : list) {
+                json p = ShapeToJson(patch.shape);
+                p["reflectance"] = patch.material.reflectance;
+                p["emission"] = patch.material.emission;
+                patches.push_back(p);
+            }
+        },
+        scene.patches);
     doc["patches"] = patches;
     return doc.dump(2) + "\n";
 }
@@ -99,7 +107,8 @@ Scene SceneFromJson(const std::string &text, const std::string &source) {
         const json &dimension = doc["dimension"];
         if (!dimension.is_number_integer() || (dimension != 2 && dimension != 3))
             throw InputError(source + ": \"dimension\" must be 2 or 3");
-        scene.dimension = dimension.get<int>();
+        if (dimension == 3)
+            scene.patches = Patches<Polygon>();
     }
     if (doc.contains("params") && doc["params"].is_object())
         for (const auto &[key, value] : doc["params"].items())
@@ -117,10 +126,11 @@ Scene SceneFromJson(const std::string &text, const std::string &source) {
             material.reflectance = Number(p["reflectance"], where + ".reflectance");
         if (p.contains("emission"))
             material.emission = Number(p["emission"], where + ".emission");
-        if (scene.dimension == 3)
-            scene.faces.push_back({Corners(p, where), material});
+        if (auto *polygons = std::get_if<Patches<Polygon>>(&scene.patches))
+            polygons->push_back({Corners(p, where), material});
         else
-            scene.segments.push_back({Point(p, "a", where), Point(p, "b", where), material});
+            scene.Get<Segment>().push_back(
+                {{Point(p, "a", where), Point(p, "b", where)}, material});
     }
     try {
         ValidateScene(scene);
@@ -136,7 +146,9 @@ Scene LoadScene(const std::string &path) {
         throw InputError("cannot read scene file '" + path + "'");
     std::stringstream text;
     text << in.rdbuf();
-    return SceneFromJson(text.str(), path);
+    Scene scene = SceneFromJson(text.str(), path);
+    scene.file = path;
+    return scene;
 }
 
 void SaveScene(const Scene &scene, const std::string &path) {

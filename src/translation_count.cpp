@@ -2,15 +2,15 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "oracles.h"
-#include "util/args.h"
+#include "oracles/garmann.h"
 #include "util/error.h"
+#include "util/format.h"
 
 namespace hrbench {
 
@@ -60,9 +60,9 @@ bool ExactToDepth(const Plates &plates, int depth) {
 Plates PlatesOf(const Scene &scene) {
     const char *scope = "--method translation needs the parallel scene with l2 = l: P from (0,0) "
                         "to (l,0) and Q from (offset+l,d) to (offset,d), d > 0";
-    if (scene.dimension != 2 || scene.segments.size() != 2)
+    if (!std::holds_alternative<Patches<Segment>>(scene.patches) || scene.NumPatches() != 2)
         throw InputError(scope);
-    const Segment &p = scene.segments[0], &q = scene.segments[1];
+    const Segment &p = scene.Get<Segment>()[0].shape, &q = scene.Get<Segment>()[1].shape;
     Plates plates{p.b.x(), q.a.x(), q.b.x(), q.a.y()};
     bool shape = p.a.x() == 0 && p.a.y() == 0 && p.b.y() == 0 && plates.l > 0 &&
                  q.b.y() == plates.d && plates.d > 0 && std::isfinite(2 * plates.d) &&
@@ -128,7 +128,7 @@ bool Clip(int64_t &lo, int64_t &hi, int64_t step, int64_t rlo, int64_t rhi) {
 }  // namespace
 
 void CheckTranslationScope(const Scene &scene, const RefineOptions &options) {
-    if (options.oracle != OracleKind::Garmann)
+    if (options.oracle != GarmannOracle<Segment>::kInfo.name)
         throw InputError("--method translation supports --oracle garmann only");
     if (options.storeLinks)
         throw InputError("--method translation only counts; add --count-only");
@@ -143,15 +143,16 @@ void CheckTranslationScope(const Scene &scene, const RefineOptions &options) {
 }
 
 TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &options) {
-    ValidateOptions(options);
+    ValidateOptions(options, scene.Dimension());
     ValidateScene(scene);
     CheckTranslationScope(scene, options);
     const Plates plates = PlatesOf(scene);
-    const GarmannOracle oracle(options.eps);
+    const GarmannOracle<Segment> oracle(options.eps, scene.Get<Segment>());
     auto start = std::chrono::steady_clock::now();
 
     TranslationCount result;
-    Counters &counters = result.counters;
+    result.record.method = "translation";
+    Counters &counters = result.record.counters;
     counters.rootPairs = 1;
     std::vector<uint64_t> splitP, splitQ;  // elements halved, per depth, in P and in Q
 
@@ -217,7 +218,8 @@ TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &opt
         // [rlo, rhi]; the element intervals below rely on it.
         if (numRejected > 0 && lastRejected - firstRejected + 1 != numRejected)
             throw std::logic_error("translation count: rejected offsets are not contiguous at "
-                                   "level " + std::to_string(level));
+                                   "level " +
+                                   std::to_string(level));
         // An empty run [1, 0] when every state is accepted.
         int64_t rlo = numRejected ? pairs[firstRejected].c : 1;
         int64_t rhi = numRejected ? pairs[lastRejected].c : 0;
@@ -274,16 +276,12 @@ TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &opt
     for (uint64_t n : counters.nodesPerDepth)
         counters.nodes = CheckedAdd(counters.nodes, n);
     counters.leaves = counters.nodes - halvedTotal;
-    counters.maxDepth = int(counters.nodesPerDepth.size()) - 1;
+    counters.maxDepth = counters.nodesPerDepth.size() - 1;
     while (!counters.linksPerDepth.empty() && counters.linksPerDepth.back() == 0)
         counters.linksPerDepth.pop_back();
-    result.seconds =
+    result.record.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
-}
-
-Refinement AsRefinement(const TranslationCount &count, const Scene &scene) {
-    return {SegmentForest(scene, SIZE_MAX), count.counters, {}, {}, count.seconds};
 }
 
 }  // namespace hrbench

@@ -22,18 +22,18 @@
 
 #include <cstdint>
 
-#include "counters.h"
-#include "refine.h"
+#include "record.h"
+#include "refine_options.h"
 #include "scene.h"
 
 namespace hrbench {
 
 // What the translation method computed, and how much work it took.
 struct TranslationCount {
-    Counters counters;            // the counters Refine() reports in count-only mode
-    uint64_t pairStates = 0;      // distinct (level, offset) states: oracle evaluations made
-    uint64_t elementStates = 0;   // distinct (level, interval) element states processed
-    double seconds = 0;           // wall time of the count, in seconds
+    RunRecord record;            // method "translation": the counters Refine() reports
+                                 // in count-only mode, and the time
+    uint64_t pairStates = 0;     // distinct (level, offset) states: oracle evaluations made
+    uint64_t elementStates = 0;  // distinct (level, interval) element states processed
 };
 
 // Throws InputError, with a message naming what is wrong, unless _scene_ and _options_
@@ -49,9 +49,5 @@ void CheckTranslationScope(const Scene &scene, const RefineOptions &options);
 // CheckTranslationScope), LimitError where Refine() would reach the safety depth or
 // a counter would exceed 64 bits.
 TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &options);
-
-// The count as a Refinement, for RunToJson: the counters and the time, no links,
-// and of the element trees only the roots.
-Refinement AsRefinement(const TranslationCount &count, const Scene &scene);
 
 }  // namespace hrbench

@@ -10,28 +10,6 @@
 
 namespace hrbench {
 
-std::string VisibilityName(VisibilityMode mode) {
-    switch (mode) {
-    case VisibilityMode::None:
-        return "none";
-    case VisibilityMode::Fraction:
-        return "fraction";
-    case VisibilityMode::Refine:
-        return "refine";
-    }
-    return "unknown";
-}
-
-VisibilityMode ParseVisibility(const std::string &name) {
-    if (name == "none")
-        return VisibilityMode::None;
-    if (name == "fraction")
-        return VisibilityMode::Fraction;
-    if (name == "refine")
-        return VisibilityMode::Refine;
-    throw InputError("unknown visibility mode '" + name + "' (choose none, fraction or refine)");
-}
-
 namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -122,27 +100,26 @@ struct Occluders::Index {
     CGAL::AABB_tree<SegmentTraits> segmentTree;
 };
 
-Occluders::Occluders(const Scene &scene) : index_(std::make_unique<Index>()) {
-    // Collect the occluders, tagged with their root patch, and build the tree now so
-    // that later queries only read it.
-    if (scene.dimension == 3) {
-        for (uint32_t k = 0; k < scene.faces.size(); ++k) {
-            const Polygon &p = scene.faces[k].polygon;
-            index_->triangles.push_back({{ToPoint(p.v[0]), ToPoint(p.v[1]), ToPoint(p.v[2])}, k});
-            if (p.n == 4)
-                index_->triangles.push_back(
-                    {{ToPoint(p.v[0]), ToPoint(p.v[2]), ToPoint(p.v[3])}, k});
-        }
-        index_->triangleTree.insert(index_->triangles.begin(), index_->triangles.end());
-        index_->triangleTree.build();
-    } else {
-        for (uint32_t k = 0; k < scene.segments.size(); ++k) {
-            const Segment &s = scene.segments[k];
-            index_->segments.push_back({{ToPoint(s.a), ToPoint(s.b)}, k});
-        }
-        index_->segmentTree.insert(index_->segments.begin(), index_->segments.end());
-        index_->segmentTree.build();
+// Collect the occluders, tagged with their root patch, and build the tree now so that
+// later queries only read it.
+Occluders::Occluders(const Patches<Polygon> &patches) : index_(std::make_unique<Index>()) {
+    for (uint32_t k = 0; k < patches.size(); ++k) {
+        const Polygon &p = patches[k].shape;
+        index_->triangles.push_back({{ToPoint(p.v[0]), ToPoint(p.v[1]), ToPoint(p.v[2])}, k});
+        if (p.n == 4)
+            index_->triangles.push_back({{ToPoint(p.v[0]), ToPoint(p.v[2]), ToPoint(p.v[3])}, k});
     }
+    index_->triangleTree.insert(index_->triangles.begin(), index_->triangles.end());
+    index_->triangleTree.build();
+}
+
+Occluders::Occluders(const Patches<Segment> &patches) : index_(std::make_unique<Index>()) {
+    for (uint32_t k = 0; k < patches.size(); ++k) {
+        const Segment &s = patches[k].shape;
+        index_->segments.push_back({{ToPoint(s.a), ToPoint(s.b)}, k});
+    }
+    index_->segmentTree.insert(index_->segments.begin(), index_->segments.end());
+    index_->segmentTree.build();
 }
 
 Occluders::~Occluders() = default;
@@ -164,18 +141,6 @@ bool Occluders::Blocked(const Vec3 &a, const Vec3 &b, uint32_t p, uint32_t q) co
 
 bool Occluders::Blocked(const Vec2 &a, const Vec2 &b, uint32_t p, uint32_t q) const {
     return AnyOtherHit(index_->segmentTree, Trimmed(a, b), p, q);
-}
-
-void ElementSamples(const SegmentForest &forest, uint32_t i, int k, std::vector<Vec2> &out) {
-    const Vec2 &a = forest.Start(i), &b = forest.End(i);
-    for (int s = 0; s < k; ++s) {
-        double t = (s + 0.5) / k;
-        out.push_back((1 - t) * a + t * b);
-    }
-}
-
-void ElementSamples(const PolygonForest &forest, uint32_t i, int k, std::vector<Vec3> &out) {
-    SamplePoints(forest.Shape(i), k, out);
 }
 
 }  // namespace hrbench

@@ -8,24 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "element_tree.h"
-#include "polygon_forest.h"
+#include "refine_options.h"
 #include "scene.h"
 
 namespace hrbench {
-
-// How refinement treats occlusion (`--visibility`).
-enum class VisibilityMode {
-    None,      // ignore occlusion (the setting of the papers; the default)
-    Fraction,  // weight the oracle's error by the visible fraction V of the pair
-    Refine,    // refine every partially visible pair down to the recursion limit
-};
-
-// Name used on the command line and in JSON ("none", "fraction", "refine").
-std::string VisibilityName(VisibilityMode mode);
-
-// Parses a visibility mode; throws InputError listing the valid names.
-VisibilityMode ParseVisibility(const std::string &name);
 
 // The patches of a scene as occluders, in an AABB tree: 3D faces as triangles (a quad
 // as v0 v1 v2 and v0 v2 v3), 2D segments as themselves. Queries use CGAL's exact
@@ -35,7 +21,8 @@ VisibilityMode ParseVisibility(const std::string &name);
 // queries may run on several threads.
 class Occluders {
   public:
-    explicit Occluders(const Scene &scene);
+    explicit Occluders(const Patches<Segment> &patches);
+    explicit Occluders(const Patches<Polygon> &patches);
     ~Occluders();
     Occluders(const Occluders &) = delete;
     Occluders &operator=(const Occluders &) = delete;
@@ -49,11 +36,6 @@ class Occluders {
     struct Index;
     std::unique_ptr<Index> index_;
 };
-
-// The sample points of an element (docs/3d.md): a segment's k points at the centres
-// of its k equal parts; a polygon's k x k points of SamplePoints().
-void ElementSamples(const SegmentForest &forest, uint32_t i, int k, std::vector<Vec2> &out);
-void ElementSamples(const PolygonForest &forest, uint32_t i, int k, std::vector<Vec3> &out);
 
 // Counts of the visibility policy, summed over a run.
 struct VisibilityTally {
@@ -74,7 +56,7 @@ struct NoVisibility {
 // The kernel's visibility policy when occlusion counts: the visible fraction of a pair
 // is the share of unblocked segments among all pairs of sample points. Each kernel
 // (and so each thread) holds its own copy, with its own scratch space.
-template <int D>
+template <typename Shape>
 class SampledVisibility {
   public:
     static constexpr bool kEnabled = true;
@@ -84,13 +66,14 @@ class SampledVisibility {
 
     VisibilityMode Mode() const { return mode_; }
 
-    // Fraction in [0, 1] of the k^(D-1) x k^(D-1) sample segments between elements _i_
-    // and _j_ that no third patch blocks; counts the query and its rays in _tally_.
+    // Fraction in [0, 1] of the sample segments between elements _i_ and _j_ (the
+    // shapes' SamplePoints, k per side) that no third patch blocks; counts the query
+    // and its rays in _tally_.
     template <typename Forest>
     double Fraction(const Forest &forest, uint32_t i, uint32_t j, VisibilityTally &tally) {
         samplesI_.clear(), samplesJ_.clear();
-        ElementSamples(forest, i, k_, samplesI_);
-        ElementSamples(forest, j, k_, samplesJ_);
+        forest.ShapeOf(i).SamplePoints(k_, samplesI_);
+        forest.ShapeOf(j).SamplePoints(k_, samplesJ_);
         uint32_t p = forest[i].root, q = forest[j].root;
         uint64_t visible = 0;
         for (const auto &a : samplesI_)
@@ -106,7 +89,7 @@ class SampledVisibility {
     const Occluders *occluders_;
     int k_;
     VisibilityMode mode_;
-    std::vector<Eigen::Matrix<double, D, 1>> samplesI_, samplesJ_;
+    std::vector<typename Shape::Vec> samplesI_, samplesJ_;
 };
 
 }  // namespace hrbench

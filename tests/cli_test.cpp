@@ -1,13 +1,35 @@
-// End-to-end tests of the hrbench command: its JSON, its files and its exit codes.
+// End-to-end tests of the hrbench command, 2D and 3D: its JSON, its files, the
+// capability listing and the exit code of every kind of bad input.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <set>
+
 #include "cli_helpers.h"
+#include "generators.h"
+#include "hrbench.h"
 
 #include <nlohmann/json.hpp>
 
 using nlohmann::json;
 
 using namespace hrbench_test;
+
+namespace {
+
+const std::string kData = HRBENCH_TEST_DATA;
+
+// The keys of a run record that describe the run rather than count it (record.h).
+const std::set<std::string> kRunContextKeys = {
+    "schema_version", "version",     "context",    "scene",         "params",
+    "scene_file",     "mesh_file",   "patches",    "dimension",     "eps",
+    "oracle",         "method",      "mode",       "min_area",      "max_depth_limit",
+    "threads",        "subdivision", "visibility", "rays_per_side", "seconds"};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// run, links and save
 
 TEST_CASE("run --json reports every field the analysis reads", "[cli]") {
     CliResult r = Cli("run parallel l=64 d=1 --eps 0.25 --json");
@@ -37,8 +59,9 @@ TEST_CASE("run --json reports every field the analysis reads", "[cli]") {
 }
 
 TEST_CASE("run options reach the engine", "[cli]") {
-    json j = json::parse(
-        Cli("run room --eps 0.1 --oracle hanrahan --min-area 0.01 --max-depth 6 --count-only --json").out);
+    json j = json::parse(Cli("run room --eps 0.1 --oracle hanrahan --min-area 0.01 --max-depth 6 "
+                             "--count-only --json")
+                             .out);
     CHECK(j["oracle"] == "hanrahan");
     CHECK(j["mode"] == "count-only");
     CHECK(j["min_area"] == 0.01);
@@ -47,14 +70,18 @@ TEST_CASE("run options reach the engine", "[cli]") {
     CHECK(j["oracle_calls"] == 2 * j["links"].get<int>() - 6);  // 6 root pairs, none culled
 }
 
-TEST_CASE("The human table, the scene list and the help print", "[cli]") {
+TEST_CASE("The human table, the scene list with the oracles, and the help print", "[cli]") {
     CliResult table = Cli("run parallel --eps 0.25");
     CHECK(table.exitCode == 0);
     CHECK_THAT(table.out, Catch::Contains("oracle_calls") && Catch::Contains("10183"));
     CliResult scenes = Cli("scenes");
     CHECK(scenes.exitCode == 0);
-    for (const char *family : {"parallel", "perpendicular", "angled", "enclosure", "room", "array", "random"})
+    for (const char *family :
+         {"parallel", "perpendicular", "angled", "enclosure", "room", "array", "random"})
         CHECK_THAT(scenes.out, Catch::Contains(std::string(family) + ":"));
+    CHECK_THAT(scenes.out, Catch::Contains("oracles (--oracle):"));
+    for (const hrbench::OracleInfo &info : hrbench::OracleInfos())
+        CHECK_THAT(scenes.out, Catch::Contains(std::string("  ") + info.name + " "));
     CHECK(Cli("--help").exitCode == 0);
     CHECK_THAT(Cli("run --help").out, Catch::Contains("--min-area"));
     CHECK_THAT(Cli("--version").out, Catch::StartsWith("hrbench "));
@@ -96,6 +123,171 @@ TEST_CASE("Saved scenes run the same as the family they came from", "[cli]") {
         CHECK(a[key] == b[key]);
 }
 
+TEST_CASE("The 2D worked example is unchanged and visibility counts stay zero", "[cli]") {
+    json j = json::parse(Cli("run parallel l=64 d=1 --eps 0.25 --json").out);
+    CHECK(j["nodes"] == 1022);
+    CHECK(j["leaves"] == 512);
+    CHECK(j["links"] == 5092);
+    CHECK(j["oracle_calls"] == 10183);
+    CHECK(j["dimension"] == 2);
+    CHECK(j["rays"] == 0);
+}
+
+// ---------------------------------------------------------------------------------------
+// 3D scenes, meshes and visibility
+
+TEST_CASE("run --json reports the 3D and visibility fields", "[cli][3d]") {
+    CliResult r = Cli("run parallel3d l=1 w=1 d=1 --eps 0.5 --json");
+    REQUIRE(r.exitCode == 0);
+    json j = json::parse(r.out);
+    CHECK(j["dimension"] == 3);
+    CHECK(j["subdivision"] == "binary");
+    CHECK(j["visibility"] == "none");
+    CHECK(j["rays_per_side"].is_null());
+    CHECK(j["nodes"] == 6);
+    CHECK(j["links"] == 4);
+    CHECK(j["oracle_calls"] == 7);
+    CHECK(j["rays"] == 0);
+    CHECK(j["visibility_queries"] == 0);
+    CHECK(j["occluded_pairs"] == 0);
+    json q =
+        json::parse(Cli("run occluded3d --eps 0.1 --subdivision quadtree --visibility fraction "
+                        "--rays-per-side 2 --json")
+                        .out);
+    CHECK(q["subdivision"] == "quadtree");
+    CHECK(q["visibility"] == "fraction");
+    CHECK(q["rays_per_side"] == 2);
+    CHECK(q["rays"] == 16 * q["visibility_queries"].get<int>());
+    CHECK(q["occluded_pairs"].get<int>() > 0);
+}
+
+TEST_CASE("A mesh runs like the family it copies, and is named in the record", "[cli][mesh]") {
+    json a = json::parse(Cli("run --mesh " + kData + "/two_plates.obj --eps 0.05 --json").out);
+    json b = json::parse(Cli("run parallel3d --eps 0.05 --json").out);
+    CHECK(a["scene"] == "mesh");
+    CHECK(a["mesh_file"] == kData + "/two_plates.obj");
+    for (const char *key : {"nodes", "leaves", "links", "oracle_calls"})
+        CHECK(a[key] == b[key]);
+}
+
+TEST_CASE("3D scenes save, load and write links with areas and centroids", "[cli][3d]") {
+    std::string scenePath = Scratch("plates.json"), csvPath = Scratch("links3d.csv");
+    REQUIRE(Cli("save parallel3d l=2 --out " + scenePath).exitCode == 0);
+    json a = json::parse(Cli("run --scene-file " + scenePath + " --eps 0.1 --json").out);
+    json b = json::parse(Cli("run parallel3d l=2 --eps 0.1 --json").out);
+    CHECK(a["links"] == b["links"]);
+    REQUIRE(Cli("links parallel3d --eps 0.5 --out " + csvPath).exitCode == 0);
+    std::ifstream csv(csvPath);
+    std::string header, line;
+    std::getline(csv, header);
+    CHECK(header == "root_i,elem_i,area_i,cx_i,cy_i,cz_i,depth_i,root_j,elem_j,area_j,cx_j,cy_j,"
+                    "cz_j,depth_j");
+    int rows = 0;
+    while (std::getline(csv, line))
+        ++rows;
+    CHECK(rows == 4);
+}
+
+TEST_CASE("The Cornell box runs with visibility from the command line", "[cli][3d]") {
+    CliResult r = Cli("run cornell --eps 0.05 --oracle hanrahan --min-area 1e-2 --visibility "
+                      "fraction --count-only --json");
+    REQUIRE(r.exitCode == 0);
+    json j = json::parse(r.out);
+    CHECK(j["patches"] == 17);
+    CHECK(j["links"].get<int>() > 0);
+    CHECK(j["occluded_pairs"].get<int>() > 0);
+}
+
+// ---------------------------------------------------------------------------------------
+// capabilities
+
+TEST_CASE("capabilities --json lists the engine's families, methods and options",
+          "[cli][capabilities]") {
+    CliResult r = Cli("capabilities --json");
+    REQUIRE(r.exitCode == 0);
+    CHECK(r.err.empty());
+    json caps = json::parse(r.out);
+    CHECK(caps["schema_version"] == 1);
+    CHECK(caps["engine"] == "hrbench");
+    CHECK(caps["version"] == hrbench::EngineVersion());
+    CHECK(caps["run_schema_version"] == hrbench::kRunSchemaVersion);
+    CHECK(caps["context"]["git_commit"].is_string());
+    std::vector<std::string> families, expected;
+    for (const json &f : caps["families"])
+        families.push_back(f["name"]);
+    for (const hrbench::Family &f : hrbench::Families())
+        expected.push_back(f.name);
+    CHECK(families == expected);
+    std::vector<std::string> methods;
+    for (const json &m : caps["methods"])
+        methods.push_back(m["name"]);
+    CHECK(methods == std::vector<std::string>{"enumerate", "translation"});
+    std::string help = Cli("--help").out;
+    for (const json &o : caps["options"]) {
+        INFO(o["flag"]);
+        CHECK_THAT(help, Catch::Contains(o["flag"].get<std::string>()));
+        CHECK(o["commands"].size() > 0);
+    }
+}
+
+TEST_CASE("capabilities --json lists exactly the registry's oracles, and each of them runs",
+          "[cli][capabilities]") {
+    CliResult r = Cli("capabilities --json");
+    REQUIRE(r.exitCode == 0);
+    json caps = json::parse(r.out);
+    std::vector<std::string> listed, registry;
+    for (const json &o : caps["oracles"])
+        listed.push_back(o["name"]);
+    for (const hrbench::OracleInfo &info : hrbench::OracleInfos())
+        registry.push_back(info.name);
+    CHECK(listed == registry);
+    REQUIRE(!listed.empty());
+    for (const json &o : caps["oracles"]) {
+        std::string name = o["name"];
+        INFO("oracle " << name);
+        CHECK(o["dimensions"] == json({2, 3}));
+        CliResult run = Cli("run parallel --eps 0.3 --oracle " + name + " --json");
+        CHECK(run.exitCode == 0);
+        CHECK(run.err.empty());
+        json record = json::parse(run.out);
+        CHECK(record["oracle"] == name);
+        CHECK(record["links"].get<int>() > 0);
+    }
+    // A name it does not list is refused, with the names it does.
+    std::string unlisted = "magic";
+    REQUIRE(std::find(listed.begin(), listed.end(), unlisted) == listed.end());
+    CheckError("run parallel --eps 0.3 --oracle " + unlisted + " --json", 2,
+               "unknown oracle 'magic' (choose one of: garmann, hanrahan)");
+}
+
+TEST_CASE("capabilities --json lists exactly the counters of a run record, in order",
+          "[cli][capabilities]") {
+    json caps = json::parse(Cli("capabilities --json").out);
+    std::vector<std::string> listed;
+    for (const json &c : caps["counters"]) {
+        listed.push_back(c["name"]);
+        CHECK((c["kind"] == "scalar" || c["kind"] == "histogram"));
+    }
+    std::vector<std::string> table;
+    for (const hrbench::CounterInfo &c : hrbench::CounterTable())
+        table.push_back(c.name);
+    CHECK(listed == table);
+    // The run record holds every listed counter and nothing else that is not context.
+    json record = json::parse(Cli("run parallel --eps 0.3 --json").out);
+    std::set<std::string> recordCounters;
+    for (const auto &[key, value] : record.items())
+        if (!kRunContextKeys.count(key))
+            recordCounters.insert(key);
+    CHECK(recordCounters == std::set<std::string>(listed.begin(), listed.end()));
+    for (const json &c : caps["counters"]) {
+        INFO(c["name"]);
+        CHECK(record[c["name"].get<std::string>()].is_array() == (c["kind"] == "histogram"));
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Errors and exit codes
+
 TEST_CASE("Bad input gives one line on stderr and exit code 2", "[cli][errors]") {
     CheckError("", 2, "no command");
     CheckError("frobnicate parallel --eps 1", 2, "unknown command");
@@ -115,10 +307,37 @@ TEST_CASE("Bad input gives one line on stderr and exit code 2", "[cli][errors]")
     CheckError("run perpendicular gap=0 --eps 0.5", 2, "touch");
     CheckError("run enclosure --eps 0.5", 2, "touch");
     CheckError("run --scene-file /nonexistent.json --eps 1", 2, "cannot read");
-    CheckError("run --scene-file " HRBENCH_TEST_DATA "/truncated.json --eps 1", 2, "malformed JSON");
+    CheckError("run --scene-file " HRBENCH_TEST_DATA "/truncated.json --eps 1", 2,
+               "malformed JSON");
     CheckError("run --scene-file " HRBENCH_TEST_DATA "/degenerate.json --eps 1", 2, "degenerate");
     CheckError("run parallel --scene-file x.json --eps 1", 2, "either");
     CheckError("links parallel --eps 1", 2, "needs --out");
+    CheckError("links parallel --eps 1 --out x.csv --json", 2, "--json does not apply to links");
+    CheckError("save parallel --eps 1", 2, "--eps does not apply to save");
+    CheckError("scenes parallel", 2, "takes no scene");
+    CheckError("capabilities", 2, "add --json");
+    CheckError("capabilities parallel --json", 2, "takes no scene");
+    CheckError("run parallel --eps 1 --oracle magic", 2,
+               "unknown oracle 'magic' (choose one of: garmann, hanrahan)");
+}
+
+TEST_CASE("Bad 3D input gives one line on stderr and exit code 2", "[cli][errors][3d]") {
+    std::string nonPlanar = Scratch("nonplanar.obj"), truncated = Scratch("truncated.off");
+    std::ofstream(nonPlanar) << "v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0\nf 1 2 3 4\n";
+    std::ofstream(truncated) << "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n";
+    CheckError("run --mesh " + nonPlanar + " --eps 0.1", 2, "not planar");
+    CheckError("run --mesh " + truncated + " --eps 0.1", 2, "truncated");
+    CheckError("run --mesh /no/such.obj --eps 0.1", 2, "cannot read");
+    CheckError("run --mesh " + kData + "/two_plates.obj parallel --eps 0.1", 2, "either");
+    CheckError("run --mesh " + kData + "/two_plates.obj l=2 --eps 0.1", 2, "apply to a family");
+    CheckError("run parallel3d --eps 0.1 --visibility some", 2, "unknown visibility");
+    CheckError("run parallel3d --eps 0.1 --subdivision octree", 2, "unknown subdivision");
+    CheckError("run parallel --eps 0.1 --subdivision quadtree", 2, "3D scenes only");
+    CheckError("run parallel3d --eps 0.1 --visibility refine", 2, "--min-area");
+    CheckError("run parallel3d --eps 0.1 --rays-per-side 0", 2, "--rays-per-side");
+    CheckError("run perpendicular3d gap=0 --eps 0.1", 2, "touch");
+    CheckError("run cornell --eps 0.1", 2, "touch");
+    CheckError("run occluded3d h=2 --eps 0.1", 2, "between the plates");
 }
 
 TEST_CASE("Limits reached during refinement give exit code 3", "[cli][errors]") {

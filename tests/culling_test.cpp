@@ -1,16 +1,17 @@
-// Root-pair classification with exact predicates.
+// Root-pair classification with exact predicates, in 2D and 3D.
 #include <catch2/catch.hpp>
 
+#include "generators.h"
 #include "hrbench.h"
 
 using namespace hrbench;
 
 static Segment S(double ax, double ay, double bx, double by) {
-    return {Vec2(ax, ay), Vec2(bx, by), {}};
+    return {Vec2(ax, ay), Vec2(bx, by)};
 }
 
-TEST_CASE("Root pairs are culled, touching or interacting as DESIGN section 2 defines",
-          "[culling]") {
+TEST_CASE("Root pairs are culled, touching or interacting as docs/conventions.md defines",
+          "[culling][2d]") {
     SECTION("facing plates interact") {
         CHECK(ClassifyPair(S(0, 0, 1, 0), S(1, 1, 0, 1)) == PairRelation::Interacting);
     }
@@ -35,5 +36,32 @@ TEST_CASE("Root pairs are culled, touching or interacting as DESIGN section 2 de
     SECTION("the decision is exact for a point a rounding error off the line") {
         double y = 1e-300;
         CHECK(ClassifyPair(S(0, 0, 1, 0), S(1, y, 0, y)) == PairRelation::Interacting);
+    }
+}
+
+TEST_CASE("3D root pairs are culled when coplanar or back-facing, and touching is found",
+          "[culling][3d]") {
+    Polygon floor = Polygon::Quad({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0});
+    SECTION("facing plates interact") {
+        const Patches<Polygon> s = MakeScene("parallel3d", {}).Get<Polygon>();
+        CHECK(ClassifyPair(s[0].shape, s[1].shape) == PairRelation::Interacting);
+    }
+    SECTION("coplanar plates are culled") {
+        Polygon next = Polygon::Quad({2, 0, 0}, {3, 0, 0}, {3, 1, 0}, {2, 1, 0});
+        CHECK(ClassifyPair(floor, next) == PairRelation::Culled);
+    }
+    SECTION("plates facing away from each other are culled") {
+        Polygon above = Polygon::Quad({0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1});  // faces +z
+        CHECK(ClassifyPair(floor, above) == PairRelation::Culled);
+    }
+    SECTION("a plate behind the other's plane is culled") {
+        Polygon below = Polygon::Quad({0, 1, -1}, {1, 1, -1}, {1, 0, -1}, {0, 0, -1});
+        CHECK(ClassifyPair(floor, below) == PairRelation::Culled);
+    }
+    SECTION("perpendicular plates touch without a gap") {
+        const Patches<Polygon> s = MakeScene("perpendicular3d", {{"gap", 0}}).Get<Polygon>();
+        CHECK(ClassifyPair(s[0].shape, s[1].shape) == PairRelation::Touching);
+        const Patches<Polygon> g = MakeScene("perpendicular3d", {{"gap", 0.1}}).Get<Polygon>();
+        CHECK(ClassifyPair(g[0].shape, g[1].shape) == PairRelation::Interacting);
     }
 }

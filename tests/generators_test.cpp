@@ -1,10 +1,29 @@
-// Scene families: geometry as documented, defaults, ranges and determinism.
+// Scene families, 2D and 3D: geometry as documented, orientation, defaults, ranges and
+// determinism.
 #include <catch2/catch.hpp>
+
+#include <variant>
 
 #include "generators.h"
 #include "hrbench.h"
 
 using namespace hrbench;
+
+namespace {
+
+// The shapes of a scene's patches, for short assertions.
+template <typename Shape>
+std::vector<Shape> ShapesOf(const Scene &scene) {
+    std::vector<Shape> shapes;
+    for (const Patch<Shape> &p : scene.Get<Shape>())
+        shapes.push_back(p.shape);
+    return shapes;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// Every family
 
 TEST_CASE("Every family builds a valid scene from its defaults", "[generators]") {
     for (const Family &family : Families()) {
@@ -16,74 +35,24 @@ TEST_CASE("Every family builds a valid scene from its defaults", "[generators]")
     }
 }
 
-TEST_CASE("The parallel family places the plates as DESIGN section 2 says", "[generators]") {
-    Scene s = MakeScene("parallel", {{"l", 4}, {"d", 2}, {"offset", 1}, {"l2", 3}});
-    REQUIRE(s.segments.size() == 2);
-    CHECK(s.segments[0].a == Vec2(0, 0));
-    CHECK(s.segments[0].b == Vec2(4, 0));
-    CHECK(s.segments[1].a == Vec2(4, 2));  // offset + l2
-    CHECK(s.segments[1].b == Vec2(1, 2));  // offset
-    CHECK(s.segments[0].Normal() == Vec2(0, 1));
-    CHECK(s.segments[1].Normal() == Vec2(0, -1));
-    CHECK(MakeScene("parallel", {{"l", 5}}).params.at("l2") == 5);  // l2 defaults to l
-}
-
-TEST_CASE("Plates of the corner families face each other", "[generators]") {
-    Scene perpendicular = MakeScene("perpendicular", {{"gap", 0.5}});
-    CHECK(perpendicular.segments[1].a == Vec2(0, 1.5));
-    CHECK(perpendicular.segments[1].b == Vec2(0, 0.5));
-    CHECK(perpendicular.segments[1].Normal().isApprox(Vec2(1, 0)));
-    for (double angle : {30.0, 90.0, 170.0}) {
-        Scene s = MakeScene("angled", {{"angle", angle}});
-        CHECK(ClassifyPair(s.segments[0], s.segments[1]) == PairRelation::Interacting);
-    }
-    CHECK(ClassifyPair(MakeScene("perpendicular", {{"gap", 0}}).segments[0],
-                       MakeScene("perpendicular", {{"gap", 0}}).segments[1]) ==
-          PairRelation::Touching);
-}
-
-TEST_CASE("Enclosures are closed with normals pointing inward", "[generators]") {
-    for (const Scene &s : {MakeScene("enclosure", {{"n", 7}}), MakeScene("room", {})}) {
-        Vec2 centroid = Vec2::Zero();
-        for (const Segment &seg : s.segments)
-            centroid += seg.Midpoint() / double(s.segments.size());
-        for (size_t k = 0; k < s.segments.size(); ++k) {
-            const Segment &seg = s.segments[k];
-            CHECK(seg.b == s.segments[(k + 1) % s.segments.size()].a);  // closed
-            CHECK(seg.Normal().dot(centroid - seg.Midpoint()) > 0);       // inward
+TEST_CASE("Every family builds patches of the dimension it declares", "[generators]") {
+    int families2d = 0, families3d = 0;
+    for (const Family &family : Families()) {
+        INFO(family.name);
+        Scene scene = MakeScene(family.name, {});
+        CHECK(scene.Dimension() == family.dimension);
+        if (family.dimension == 2) {
+            ++families2d;
+            CHECK(std::holds_alternative<Patches<Segment>>(scene.patches));
+            CHECK(scene.NumPatches() == scene.Get<Segment>().size());
+        } else {
+            ++families3d;
+            CHECK(std::holds_alternative<Patches<Polygon>>(scene.patches));
+            CHECK(scene.NumPatches() == scene.Get<Polygon>().size());
         }
     }
-}
-
-TEST_CASE("The array family repeats the same facing pair k times", "[generators]") {
-    Scene s = MakeScene("array", {{"k", 5}, {"l", 2}, {"d", 1}, {"spacing", 1}});
-    REQUIRE(s.segments.size() == 10);
-    for (int i = 0; i < 5; ++i) {
-        CHECK(s.segments[i].a == Vec2(3 * i, 0));
-        CHECK(s.segments[5 + i].b == Vec2(3 * i, 1));
-    }
-}
-
-TEST_CASE("Random scenes depend only on their seed and never cross", "[generators]") {
-    ParamMap p{{"n", 30}, {"seed", 5}, {"size", 10}};
-    Scene a = MakeScene("random", p), b = MakeScene("random", p);
-    REQUIRE(a.segments.size() == 30);
-    for (size_t k = 0; k < a.segments.size(); ++k) {
-        CHECK(a.segments[k].a == b.segments[k].a);
-        CHECK(a.segments[k].b == b.segments[k].b);
-        CHECK(a.segments[k].Length() == Approx(1));
-    }
-    p["seed"] = 6;
-    CHECK(MakeScene("random", p).segments[0].a != a.segments[0].a);
-    for (size_t i = 0; i < a.segments.size(); ++i)
-        for (size_t j = i + 1; j < a.segments.size(); ++j)
-            CHECK(ClassifyPair(a.segments[i], a.segments[j]) != PairRelation::Touching);
-    // The scene of a seed is fixed for good: a changed generator breaks saved sweeps.
-    Scene one = MakeScene("random", {{"n", 1}, {"seed", 1}, {"size", 10}});
-    CHECK_THAT(one.segments[0].a.x(), Catch::Matchers::WithinRel(1.8407641913114348, 1e-12));
-    CHECK_THAT(one.segments[0].b.y(), Catch::Matchers::WithinRel(1.4896405422134733, 1e-12));
-    CHECK_THROWS_WITH(MakeScene("random", {{"n", 500}, {"size", 1}, {"length", 1}}),
-                      Catch::Contains("enlarge size"));
+    CHECK(families2d == 8);
+    CHECK(families3d == 7);
 }
 
 TEST_CASE("Bad scene parameters are rejected with a clear message", "[generators][errors]") {
@@ -95,4 +64,183 @@ TEST_CASE("Bad scene parameters are rejected with a clear message", "[generators
     CHECK_THROWS_AS(MakeScene("enclosure", {{"n", 2}}), InputError);
     CHECK_THROWS_AS(MakeScene("enclosure", {{"n", 4.5}}), InputError);
     CHECK_THROWS_AS(MakeScene("perpendicular", {{"gap", -0.1}}), InputError);
+}
+
+// ---------------------------------------------------------------------------------------
+// 2D families
+
+TEST_CASE("The parallel family places the plates as docs/conventions.md says", "[generators][2d]") {
+    Scene scene = MakeScene("parallel", {{"l", 4}, {"d", 2}, {"offset", 1}, {"l2", 3}});
+    std::vector<Segment> s = ShapesOf<Segment>(scene);
+    REQUIRE(s.size() == 2);
+    CHECK(s[0].a == Vec2(0, 0));
+    CHECK(s[0].b == Vec2(4, 0));
+    CHECK(s[1].a == Vec2(4, 2));  // offset + l2
+    CHECK(s[1].b == Vec2(1, 2));  // offset
+    CHECK(s[0].Normal() == Vec2(0, 1));
+    CHECK(s[1].Normal() == Vec2(0, -1));
+    CHECK(MakeScene("parallel", {{"l", 5}}).params.at("l2") == 5);  // l2 defaults to l
+}
+
+TEST_CASE("Plates of the corner families face each other", "[generators][2d]") {
+    std::vector<Segment> perpendicular =
+        ShapesOf<Segment>(MakeScene("perpendicular", {{"gap", 0.5}}));
+    CHECK(perpendicular[1].a == Vec2(0, 1.5));
+    CHECK(perpendicular[1].b == Vec2(0, 0.5));
+    CHECK(perpendicular[1].Normal().isApprox(Vec2(1, 0)));
+    for (double angle : {30.0, 90.0, 170.0}) {
+        std::vector<Segment> s = ShapesOf<Segment>(MakeScene("angled", {{"angle", angle}}));
+        CHECK(ClassifyPair(s[0], s[1]) == PairRelation::Interacting);
+    }
+    std::vector<Segment> touching = ShapesOf<Segment>(MakeScene("perpendicular", {{"gap", 0}}));
+    CHECK(ClassifyPair(touching[0], touching[1]) == PairRelation::Touching);
+}
+
+TEST_CASE("Enclosures are closed with normals pointing inward", "[generators][2d]") {
+    for (const Scene &scene : {MakeScene("enclosure", {{"n", 7}}), MakeScene("room", {})}) {
+        std::vector<Segment> s = ShapesOf<Segment>(scene);
+        Vec2 centroid = Vec2::Zero();
+        for (const Segment &seg : s)
+            centroid += seg.Midpoint() / double(s.size());
+        for (size_t k = 0; k < s.size(); ++k) {
+            const Segment &seg = s[k];
+            CHECK(seg.b == s[(k + 1) % s.size()].a);                 // closed
+            CHECK(seg.Normal().dot(centroid - seg.Midpoint()) > 0);  // inward
+        }
+    }
+}
+
+TEST_CASE("The array family repeats the same facing pair k times", "[generators][2d]") {
+    std::vector<Segment> s =
+        ShapesOf<Segment>(MakeScene("array", {{"k", 5}, {"l", 2}, {"d", 1}, {"spacing", 1}}));
+    REQUIRE(s.size() == 10);
+    for (int i = 0; i < 5; ++i) {
+        CHECK(s[i].a == Vec2(3 * i, 0));
+        CHECK(s[5 + i].b == Vec2(3 * i, 1));
+    }
+}
+
+TEST_CASE("Random scenes depend only on their seed and never cross", "[generators][2d]") {
+    ParamMap p{{"n", 30}, {"seed", 5}, {"size", 10}};
+    std::vector<Segment> a = ShapesOf<Segment>(MakeScene("random", p)),
+                         b = ShapesOf<Segment>(MakeScene("random", p));
+    REQUIRE(a.size() == 30);
+    for (size_t k = 0; k < a.size(); ++k) {
+        CHECK(a[k].a == b[k].a);
+        CHECK(a[k].b == b[k].b);
+        CHECK(a[k].Length() == Approx(1));
+    }
+    p["seed"] = 6;
+    CHECK(MakeScene("random", p).Get<Segment>()[0].shape.a != a[0].a);
+    for (size_t i = 0; i < a.size(); ++i)
+        for (size_t j = i + 1; j < a.size(); ++j)
+            CHECK(ClassifyPair(a[i], a[j]) != PairRelation::Touching);
+    // The scene of a seed is fixed for good: a changed generator breaks saved sweeps.
+    Segment one =
+        MakeScene("random", {{"n", 1}, {"seed", 1}, {"size", 10}}).Get<Segment>()[0].shape;
+    CHECK_THAT(one.a.x(), Catch::Matchers::WithinRel(1.8407641913114348, 1e-12));
+    CHECK_THAT(one.b.y(), Catch::Matchers::WithinRel(1.4896405422134733, 1e-12));
+    CHECK_THROWS_WITH(MakeScene("random", {{"n", 500}, {"size", 1}, {"length", 1}}),
+                      Catch::Contains("enlarge size"));
+}
+
+TEST_CASE("The occluded family puts two back-to-back blockers between the plates",
+          "[generators][2d]") {
+    std::vector<Segment> o2 = ShapesOf<Segment>(MakeScene("occluded", {}));
+    REQUIRE(o2.size() == 4);
+    CHECK(o2[2].Normal() == Vec2(0, -1));
+    CHECK(o2[3].Normal() == Vec2(0, 1));
+    CHECK_THROWS_AS(MakeScene("occluded", {{"h", 2}}), InputError);
+}
+
+// ---------------------------------------------------------------------------------------
+// 3D families
+
+TEST_CASE("parallel3d places its plates as documented, first edges along x", "[generators][3d]") {
+    std::vector<Polygon> s = ShapesOf<Polygon>(
+        MakeScene("parallel3d", {{"l", 4}, {"w", 2}, {"d", 3}, {"ox", 1}, {"oy", -1}}));
+    REQUIRE(s.size() == 2);
+    const Polygon &p = s[0], &q = s[1];
+    CHECK(p.v[0] == Vec3(0, 0, 0));
+    CHECK(p.v[1] == Vec3(4, 0, 0));
+    CHECK(p.v[2] == Vec3(4, 2, 0));
+    CHECK(p.Normal() == Vec3(0, 0, 1));
+    CHECK(q.Normal() == Vec3(0, 0, -1));
+    CHECK((q.v[1] - q.v[0]) == Vec3(4, 0, 0));
+    CHECK(q.Centroid().isApprox(Vec3(3, 0, 3)));
+    CHECK(MakeScene("parallel3d", {{"l", 5}}).params.at("w") == 5);  // w defaults to l
+}
+
+TEST_CASE("The corner families face into their wedge", "[generators][3d]") {
+    std::vector<Polygon> s =
+        ShapesOf<Polygon>(MakeScene("perpendicular3d", {{"gap", 0.5}, {"h", 2}}));
+    const Polygon &q = s[1];
+    CHECK(q.Normal() == Vec3(0, 1, 0));
+    CHECK(q.v[0] == Vec3(0, 0, 2.5));
+    CHECK(q.v[3] == Vec3(0, 0, 0.5));
+    for (double angle : {30.0, 90.0, 150.0}) {
+        std::vector<Polygon> a = ShapesOf<Polygon>(MakeScene("angled3d", {{"angle", angle}}));
+        CHECK(ClassifyPair(a[0], a[1]) == PairRelation::Interacting);
+    }
+}
+
+TEST_CASE("The Cornell box has its measured size and faces the right way", "[generators][3d]") {
+    Scene scene = MakeScene("cornell", {});
+    const Patches<Polygon> &s = scene.Get<Polygon>();
+    REQUIRE(s.size() == 17);
+    // The box: walls face its centre, the light faces down, the blocks face out.
+    Vec3 boxCentre(0.278, 0.2744, 0.2796);
+    Vec3 shortCentre(0.186, 0.0825, 0.1685), tallCentre(0.3685, 0.165, 0.3515);
+    for (size_t k = 0; k < s.size(); ++k) {
+        INFO("face " << k);
+        const Polygon &p = s[k].shape;
+        Vec3 c = p.Centroid(), n = p.Normal();
+        if (k < 6)
+            CHECK(n.dot(boxCentre - c) > 0);
+        else if (k == 6)
+            CHECK(n.isApprox(Vec3(0, -1, 0)));
+        else
+            CHECK(n.dot(c - (k < 12 ? shortCentre : tallCentre)) > 0);
+    }
+    CHECK(s[6].material.emission > 0);
+    int emitters = 0;
+    for (const Patch<Polygon> &f : s)
+        emitters += f.material.emission > 0;
+    CHECK(emitters == 1);
+    CHECK(s[3].material.reflectance < s[0].material.reflectance);  // green < white
+    CHECK_THAT(s[0].shape.Area(), Catch::Matchers::WithinRel(0.5528 * 0.5592, 0.01));
+    CHECK(MakeScene("cornell", {{"scale", 1}}).Get<Polygon>()[1].shape.v[0] == Vec3(556, 548.8, 0));
+}
+
+TEST_CASE("random3d is deterministic, disjoint and not trivial", "[generators][3d]") {
+    std::vector<Polygon> a = ShapesOf<Polygon>(MakeScene("random3d", {{"n", 30}, {"seed", 7}}));
+    std::vector<Polygon> b = ShapesOf<Polygon>(MakeScene("random3d", {{"n", 30}, {"seed", 7}}));
+    std::vector<Polygon> c = ShapesOf<Polygon>(MakeScene("random3d", {{"n", 30}, {"seed", 8}}));
+    REQUIRE(a.size() == 30);
+    for (size_t k = 0; k < a.size(); ++k)
+        for (int v = 0; v < 3; ++v)
+            CHECK(a[k].v[v] == b[k].v[v]);
+    CHECK(a[0].v[0] != c[0].v[0]);
+    int touching = 0, interacting = 0;
+    for (uint32_t p = 0; p < 30; ++p)
+        for (uint32_t q = p + 1; q < 30; ++q) {
+            PairRelation r = ClassifyPair(a[p], a[q]);
+            touching += r == PairRelation::Touching;
+            interacting += r == PairRelation::Interacting;
+        }
+    CHECK(touching == 0);
+    CHECK(interacting > 50);
+    CHECK_THROWS_AS(MakeScene("random3d", {{"n", 100}, {"size", 0.001}}), InputError);  // crowded
+}
+
+TEST_CASE("array3d and occluded3d build the documented patches", "[generators][3d]") {
+    CHECK(MakeScene("array3d", {{"k", 3}}).Get<Polygon>().size() == 18);
+    std::vector<Polygon> o =
+        ShapesOf<Polygon>(MakeScene("occluded3d", {{"bl", 0.4}, {"bw", 0.2}, {"h", 0.3}}));
+    REQUIRE(o.size() == 4);
+    CHECK(o[2].Normal() == Vec3(0, 0, -1));  // facing P
+    CHECK(o[3].Normal() == Vec3(0, 0, 1));   // facing Q
+    CHECK(o[2].Centroid().isApprox(Vec3(0.5, 0.5, 0.3)));
+    CHECK_THAT(o[3].Area(), Catch::Matchers::WithinRel(0.08, 1e-12));
+    CHECK_THROWS_AS(MakeScene("occluded3d", {{"h", 1}}), InputError);
 }

@@ -50,53 +50,55 @@ const char *kSquareObj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
 
 TEST_CASE("Meshes round-trip through CGAL's OFF and OBJ writers and readers", "[mesh]") {
     Scene scene = MakeScene("random3d", {{"n", 12}, {"seed", 3}});
-    scene.faces.push_back(MakeScene("cornell", {}).faces[0]);  // a quad too
+    scene.Get<Polygon>().push_back(MakeScene("cornell", {}).Get<Polygon>()[0]);  // a quad too
+    const Patches<Polygon> &faces = scene.Get<Polygon>();
     for (const char *ext : {"off", "obj"}) {
         INFO(ext);
         ScratchFile file(std::string("roundtrip.") + ext);
         SaveMesh(scene, file.path);
         Scene back = LoadMesh(file.path);
-        CHECK(back.dimension == 3);
+        CHECK(back.Dimension() == 3);
         CHECK(back.family == "mesh");
-        REQUIRE(back.faces.size() == scene.faces.size());
-        for (size_t k = 0; k < scene.faces.size(); ++k) {
-            REQUIRE(back.faces[k].polygon.n == scene.faces[k].polygon.n);
-            for (int v = 0; v < scene.faces[k].polygon.n; ++v)
-                CHECK(back.faces[k].polygon.v[v] == scene.faces[k].polygon.v[v]);  // 17 digits
-            CHECK(back.faces[k].material.reflectance == kMeshDefaultReflectance);
-            CHECK(back.faces[k].material.emission == kMeshDefaultEmission);
+        const Patches<Polygon> &read = back.Get<Polygon>();
+        REQUIRE(read.size() == faces.size());
+        for (size_t k = 0; k < faces.size(); ++k) {
+            REQUIRE(read[k].shape.n == faces[k].shape.n);
+            for (int v = 0; v < faces[k].shape.n; ++v)
+                CHECK(read[k].shape.v[v] == faces[k].shape.v[v]);  // 17 digits
+            CHECK(read[k].material.reflectance == kMeshDefaultReflectance);
+            CHECK(read[k].material.emission == kMeshDefaultEmission);
         }
     }
 }
 
 TEST_CASE("OBJ materials come from usemtl and the mtllib's Kd and Ke", "[mesh]") {
-    Scene s = LoadMesh(kData + "/two_plates.obj");
-    REQUIRE(s.faces.size() == 2);
-    CHECK_THAT(s.faces[0].material.reflectance, Catch::Matchers::WithinRel(0.5, 1e-15));
-    CHECK(s.faces[0].material.emission == 0);
-    CHECK_THAT(s.faces[1].material.reflectance, Catch::Matchers::WithinRel(0.8, 1e-15));
-    CHECK_THAT(s.faces[1].material.emission, Catch::Matchers::WithinRel(4.0, 1e-15));
+    Patches<Polygon> s = LoadMesh(kData + "/two_plates.obj").Get<Polygon>();
+    REQUIRE(s.size() == 2);
+    CHECK_THAT(s[0].material.reflectance, Catch::Matchers::WithinRel(0.5, 1e-15));
+    CHECK(s[0].material.emission == 0);
+    CHECK_THAT(s[1].material.reflectance, Catch::Matchers::WithinRel(0.8, 1e-15));
+    CHECK_THAT(s[1].material.emission, Catch::Matchers::WithinRel(4.0, 1e-15));
     // The geometry of parallel3d l=1 d=1.
-    Scene p = MakeScene("parallel3d", {});
+    Patches<Polygon> p = MakeScene("parallel3d", {}).Get<Polygon>();
     for (int k = 0; k < 2; ++k)
         for (int v = 0; v < 4; ++v)
-            CHECK(s.faces[k].polygon.v[v] == p.faces[k].polygon.v[v]);
+            CHECK(s[k].shape.v[v] == p[k].shape.v[v]);
 }
 
 TEST_CASE("OFF face colours set the reflectance, capped below 1", "[mesh]") {
-    Scene s = LoadMesh(kData + "/tetra_colours.off");
-    REQUIRE(s.faces.size() == 4);
-    CHECK_THAT(s.faces[0].material.reflectance, Catch::Matchers::WithinRel(1.0 / 3, 1e-12));
-    CHECK(s.faces[3].material.reflectance == kMeshMaxReflectance);
-    CHECK(s.faces[3].polygon.Normal().isApprox(Vec3(1, 1, 1).normalized()));
+    Patches<Polygon> s = LoadMesh(kData + "/tetra_colours.off").Get<Polygon>();
+    REQUIRE(s.size() == 4);
+    CHECK_THAT(s[0].material.reflectance, Catch::Matchers::WithinRel(1.0 / 3, 1e-12));
+    CHECK(s[3].material.reflectance == kMeshMaxReflectance);
+    CHECK(s[3].shape.Normal().isApprox(Vec3(1, 1, 1).normalized()));
 }
 
 TEST_CASE("A mesh without materials gets the documented defaults", "[mesh]") {
     ScratchFile file("plain.obj", std::string(kSquareObj) + "usemtl nowhere\nf 1 2 3 4\n");
-    Scene s = LoadMesh(file.path);
-    REQUIRE(s.faces.size() == 1);
-    CHECK(s.faces[0].material.reflectance == 0.5);
-    CHECK(s.faces[0].material.emission == 0);
+    Patches<Polygon> s = LoadMesh(file.path).Get<Polygon>();
+    REQUIRE(s.size() == 1);
+    CHECK(s[0].material.reflectance == 0.5);
+    CHECK(s[0].material.emission == 0);
 }
 
 TEST_CASE("Bad mesh files are rejected with one line naming the file", "[mesh]") {
@@ -137,8 +139,7 @@ TEST_CASE("Bad mesh files are rejected with one line naming the file", "[mesh]")
                      "not planar");
         CheckBadMesh("nonconvex.obj", "v 0 0 0\nv 1 0 0\nv 0.2 0.2 0\nv 0 1 0\nf 1 2 3 4\n",
                      "not a convex quad");
-        CheckBadMesh("degenerate.off", "OFF\n3 1 0\n0 0 0\n1 1 1\n2 2 2\n3 0 1 2\n",
-                     "degenerate");
+        CheckBadMesh("degenerate.off", "OFF\n3 1 0\n0 0 0\n1 1 1\n2 2 2\n3 0 1 2\n", "degenerate");
         CheckBadMesh("pentagon.obj",
                      "v 0 0 0\nv 1 0 0\nv 1.5 1 0\nv 0.5 2 0\nv -0.5 1 0\nf 1 2 3 4 5\n",
                      "5 corners");

@@ -1,24 +1,27 @@
-// ProjectKernel against DESIGN section 2: the worked example, hand-computed cases,
-// and the invariants every refinement must satisfy.
+// ProjectKernel against docs/conventions.md, in 2D and 3D: the worked examples,
+// hand-computed cases, an independent transcription, the invariants every refinement
+// must satisfy (tiling, oracle calls, trees), thread independence, visibility, and errors.
 #include <catch2/catch.hpp>
 
 #include <functional>
 #include <limits>
 #include <map>
 #include <tuple>
+#include <variant>
 
 #include "generators.h"
 #include "hrbench.h"
-#include "oracles.h"
 #include "refinement_helpers.h"
 
 using namespace hrbench;
 using hrbench_test::CounterDifferences;
+using hrbench_test::ForestDifferences;
+using hrbench_test::RefinementDifferences;
 using hrbench_test::SameLinks;
 
 namespace {
 
-RefineOptions Options(double eps, OracleKind oracle = OracleKind::Garmann, bool store = true) {
+RefineOptions Options(double eps, const std::string &oracle = "garmann", bool store = true) {
     RefineOptions o;
     o.eps = eps;
     o.oracle = oracle;
@@ -26,7 +29,14 @@ RefineOptions Options(double eps, OracleKind oracle = OracleKind::Garmann, bool 
     return o;
 }
 
-// A direct transcription of DESIGN section 2, independent of the engine: elements
+RefineOptions Options3D(double eps, const std::string &oracle = "garmann",
+                        Subdivision subdivision = Subdivision::Binary) {
+    RefineOptions o = Options(eps, oracle, true);
+    o.subdivision = subdivision;
+    return o;
+}
+
+// A direct transcription of docs/conventions.md, independent of the engine: elements
 // are keyed by (root, depth, position) in a map, the recursion is plain.
 struct ReferenceCounts {
     uint64_t nodes = 0, links = 0, calls = 0;
@@ -71,26 +81,49 @@ ReferenceCounts ReferenceGarmann(const Segment &p, const Segment &q, double eps)
     return counts;
 }
 
-// Checks the invariants of DESIGN section 2 on a stored refinement.
-template <typename Oracle>
-void CheckInvariants(const Scene &scene, const Refinement &r, const Oracle &oracle) {
-    const SegmentForest &f = r.forest;
-    // Per root pair: oracle_calls = 2 * links - 1, and the links tile the parameter square.
+// Per root pair: the links tile P x Q (sum of A_i A_j = A_P A_Q) and the oracle calls
+// follow from the links: 2L - 1 (binary) or (4L - 1) / 3 (quadtree); the tree counters
+// agree with the histograms and the forest.
+template <typename Shape>
+void CheckTiling(const Scene &scene, const Refinement<Shape> &r) {
+    const Forest<Shape> &f = r.forest;
+    const Patches<Shape> &roots = scene.Get<Shape>();
     std::map<std::pair<uint32_t, uint32_t>, double> area;
     for (const Link &link : r.links)
         area[{f[link.i].root, f[link.j].root}] += f[link.i].size * f[link.j].size;
     uint64_t linksSeen = 0;
     for (const PairTally &pair : r.pairs) {
-        CHECK(pair.oracleCalls == 2 * pair.links - 1);
-        double expected = scene.segments[pair.p].Length() * scene.segments[pair.q].Length();
+        INFO("pair " << pair.p << " " << pair.q);
+        if (f.Mode() == Subdivision::Binary)
+            CHECK(pair.oracleCalls == 2 * pair.links - 1);
+        else
+            CHECK(3 * pair.oracleCalls == 4 * pair.links - 1);
+        double expected = roots[pair.p].shape.Measure() * roots[pair.q].shape.Measure();
         double tiled = area[std::make_pair(pair.p, pair.q)];
         CHECK_THAT(tiled, Catch::Matchers::WithinRel(expected, 1e-12));
         linksSeen += pair.links;
     }
-    CHECK(linksSeen == r.counters.links);
-    CHECK(r.links.size() == r.counters.links);
+    const Counters &c = r.record.counters;
+    CHECK(linksSeen == c.links);
+    CHECK(r.links.size() == c.links);
 
-    // Every link satisfies the oracle or is forced; the pair it came from did not.
+    // Tree counters agree with the histograms and the forest.
+    uint64_t nodes = 0, links = 0;
+    for (uint64_t n : c.nodesPerDepth)
+        nodes += n;
+    for (uint64_t n : c.linksPerDepth)
+        links += n;
+    CHECK(nodes == c.nodes);
+    CHECK(links == c.links);
+    CHECK(c.nodes == f.Size());
+}
+
+// Checks the invariants of docs/conventions.md on a stored refinement: the tiling, and
+// every link satisfies the oracle or is forced, while the pair it came from did not.
+template <typename Shape, typename Oracle>
+void CheckInvariants(const Scene &scene, const Refinement<Shape> &r, const Oracle &oracle) {
+    CheckTiling(scene, r);
+    const Forest<Shape> &f = r.forest;
     uint64_t unacceptable = 0;
     for (const Link &link : r.links) {
         unacceptable += !oracle.Acceptable(f[link.i], f[link.j]);
@@ -105,64 +138,112 @@ void CheckInvariants(const Scene &scene, const Refinement &r, const Oracle &orac
             CHECK(f.Depth(link.i) + f.Depth(link.j) == 0);  // only a root pair has no parent
         }
     }
-    CHECK(unacceptable == r.counters.forcedLinks);
-
-    // Tree counters agree with the histograms.
-    uint64_t nodes = 0, links = 0;
-    for (uint64_t n : r.counters.nodesPerDepth)
-        nodes += n;
-    for (uint64_t n : r.counters.linksPerDepth)
-        links += n;
-    CHECK(nodes == r.counters.nodes);
-    CHECK(links == r.counters.links);
+    CHECK(unacceptable == r.record.counters.forcedLinks);
 }
 
 }  // namespace
 
-TEST_CASE("The worked example of DESIGN section 2 gives its published counts", "[refine]") {
+// ---------------------------------------------------------------------------------------
+// Worked examples and hand-computed counts
+
+TEST_CASE("The worked example of docs/conventions.md gives its published counts", "[refine]") {
     Scene scene = MakeScene("parallel", {{"l", 64}, {"d", 1}});
-    Refinement r = Refine(scene, Options(0.25));
-    CHECK(r.counters.nodes == 1022);
-    CHECK(r.counters.leaves == 512);
-    CHECK(r.counters.links == 5092);
-    CHECK(r.counters.oracleCalls == 10183);
-    CHECK(r.counters.maxDepth == 8);
-    CHECK(r.counters.forcedLinks == 0);
-    CHECK(r.counters.rootPairs == 1);
+    Refinement<Segment> r = Refine<Segment>(scene, Options(0.25));
+    CHECK(r.record.counters.nodes == 1022);
+    CHECK(r.record.counters.leaves == 512);
+    CHECK(r.record.counters.links == 5092);
+    CHECK(r.record.counters.oracleCalls == 10183);
+    CHECK(r.record.counters.maxDepth == 8);
+    CHECK(r.record.counters.forcedLinks == 0);
+    CHECK(r.record.counters.rootPairs == 1);
 }
 
-TEST_CASE("Small cases computed by hand", "[refine]") {
+TEST_CASE("Small cases give the counts computed by hand", "[refine]") {
     SECTION("a pair acceptable at once is one link and one oracle call") {
         // l = d = 1: max(1, 1) <= 1 * 1 holds with equality, and ties are acceptable.
-        Refinement r = Refine(MakeScene("parallel", {{"l", 1}, {"d", 1}}), Options(1));
-        CHECK(r.counters.links == 1);
-        CHECK(r.counters.oracleCalls == 1);
-        CHECK(r.counters.nodes == 2);
-        CHECK(r.counters.leaves == 2);
-        CHECK(r.counters.maxDepth == 0);
+        Refinement<Segment> r =
+            Refine<Segment>(MakeScene("parallel", {{"l", 1}, {"d", 1}}), Options(1));
+        CHECK(r.record.counters.links == 1);
+        CHECK(r.record.counters.oracleCalls == 1);
+        CHECK(r.record.counters.nodes == 2);
+        CHECK(r.record.counters.leaves == 2);
+        CHECK(r.record.counters.maxDepth == 0);
     }
     SECTION("one level: P is halved first (tie), then Q once, its children shared") {
         // eps = 0.5: (P,Q) fails (1 > 0.5 * 1); P splits (tie). (P0,Q): 1 > 0.5*sqrt(1.0625)
         // -> Q splits; (P0,Q0): 0.5 <= 0.5*sqrt(1.25); (P0,Q1): 0.5 <= 0.5*1 (tie).
         // (P1,Q) fails likewise and reuses Q's children: (P1,Q0) tie, (P1,Q1) accepted.
-        Refinement r = Refine(MakeScene("parallel", {{"l", 1}, {"d", 1}}), Options(0.5));
-        CHECK(r.counters.links == 4);
-        CHECK(r.counters.oracleCalls == 7);
-        CHECK(r.counters.nodes == 6);
-        CHECK(r.counters.leaves == 4);
-        CHECK(r.counters.maxDepth == 1);
-        CHECK(r.counters.linksPerDepth == std::vector<uint64_t>{0, 0, 4});
+        Refinement<Segment> r =
+            Refine<Segment>(MakeScene("parallel", {{"l", 1}, {"d", 1}}), Options(0.5));
+        CHECK(r.record.counters.links == 4);
+        CHECK(r.record.counters.oracleCalls == 7);
+        CHECK(r.record.counters.nodes == 6);
+        CHECK(r.record.counters.leaves == 4);
+        CHECK(r.record.counters.maxDepth == 1);
+        CHECK(r.record.counters.linksPerDepth == std::vector<uint64_t>{0, 0, 4});
     }
     SECTION("collinear patches are culled and never refined") {
-        Refinement r = Refine(MakeScene("array", {{"k", 3}}), Options(0.5));
+        Refinement<Segment> r = Refine<Segment>(MakeScene("array", {{"k", 3}}), Options(0.5));
         // 6 plates: the 3 + 3 pairs within a row are collinear, 9 pairs face each other.
-        CHECK(r.counters.rootPairs == 15);
-        CHECK(r.counters.culledPairs == 6);
+        CHECK(r.record.counters.rootPairs == 15);
+        CHECK(r.record.counters.culledPairs == 6);
         CHECK(r.pairs.size() == 9);
     }
 }
 
-TEST_CASE("Counts agree with an independent transcription of DESIGN section 2", "[refine]") {
+TEST_CASE("Two unit squares at distance 1 give the hand-computed 3D counts", "[3d][refine]") {
+    Scene scene = MakeScene("parallel3d", {});
+    SECTION("eps = 1 accepts the root pair: max(1, 1) <= 1 * 1^2") {
+        Refinement<Polygon> r = Refine<Polygon>(scene, Options3D(1));
+        CHECK(r.record.counters.links == 1);
+        CHECK(r.record.counters.oracleCalls == 1);
+        CHECK(r.record.counters.nodes == 2);
+    }
+    SECTION("eps = 0.5 halves both plates along x; two pairs are ties r^2 = 1, accepted") {
+        // (P,Q) rejected, P halved; (P0,Q) rejected (1 > 0.5 * 1.0625), Q halved;
+        // (P0,Q0) 0.5 <= 0.5 * 1, (P0,Q1) 0.5 <= 0.5 * 1.25; (P1,Q) rejected, Q's halves
+        // shared; (P1,Q0), (P1,Q1) accepted.
+        Refinement<Polygon> r = Refine<Polygon>(scene, Options3D(0.5));
+        CHECK(r.record.counters.nodes == 6);
+        CHECK(r.record.counters.leaves == 4);
+        CHECK(r.record.counters.links == 4);
+        CHECK(r.record.counters.oracleCalls == 7);
+        CHECK(r.record.counters.maxDepth == 1);
+        CHECK(r.record.counters.linksPerDepth == std::vector<uint64_t>{0, 0, 4});
+        REQUIRE(r.links.size() == 4);
+        CHECK(r.forest[r.links[0].i].center.isApprox(Vec3(0.25, 0.5, 0)));
+        CHECK(r.forest[r.links[0].j].center.isApprox(Vec3(0.25, 0.5, 1)));
+    }
+    SECTION("quadtree, eps = 0.5: both plates in four, 16 links") {
+        // (P,Q) rejected; (P_k,Q): 1 > 0.5 r^2 for every quarter, Q split; quarters at
+        // r^2 >= 1 satisfy 0.25 <= 0.5 r^2.
+        Refinement<Polygon> r =
+            Refine<Polygon>(scene, Options3D(0.5, "garmann", Subdivision::Quadtree));
+        CHECK(r.record.counters.nodes == 10);
+        CHECK(r.record.counters.links == 16);
+        CHECK(r.record.counters.oracleCalls == 21);
+    }
+}
+
+TEST_CASE("Refine dispatches on the shape of the scene's patches", "[refine]") {
+    AnyRefinement flat = Refine(MakeScene("parallel", {{"l", 1}, {"d", 1}}), Options(0.5));
+    REQUIRE(std::holds_alternative<Refinement<Segment>>(flat));
+    const RunRecord &flatRecord = std::get<Refinement<Segment>>(flat).record;
+    CHECK(flatRecord.method == "enumerate");
+    CHECK(flatRecord.counters.links == 4);
+    CHECK(flatRecord.seconds >= 0);
+    AnyRefinement space = Refine(MakeScene("parallel3d", {}), Options3D(0.5));
+    REQUIRE(std::holds_alternative<Refinement<Polygon>>(space));
+    CHECK(std::get<Refinement<Polygon>>(space).record.counters.links == 4);
+    CHECK_THROWS_WITH(Refine<Polygon>(MakeScene("parallel", {}), Options(0.5)),
+                      Catch::Contains("does not hold polygons"));
+    CHECK_THROWS_AS(Refine<Segment>(MakeScene("parallel3d", {}), Options(0.5)), InputError);
+}
+
+// ---------------------------------------------------------------------------------------
+// An independent transcription
+
+TEST_CASE("Counts agree with an independent transcription of docs/conventions.md", "[refine]") {
     auto [l, d, offset, l2, eps] = GENERATE(table<double, double, double, double, double>({
         {64, 1, 0, 64, 0.25},
         {16, 2, 0, 16, 0.1},
@@ -173,13 +254,17 @@ TEST_CASE("Counts agree with an independent transcription of DESIGN section 2", 
         {32, 1, 0.25, 32, 0.5},
     }));
     Scene scene = MakeScene("parallel", {{"l", l}, {"d", d}, {"offset", offset}, {"l2", l2}});
-    ReferenceCounts ref = ReferenceGarmann(scene.segments[0], scene.segments[1], eps);
-    Refinement r = Refine(scene, Options(eps, OracleKind::Garmann, false));
+    ReferenceCounts ref =
+        ReferenceGarmann(scene.Get<Segment>()[0].shape, scene.Get<Segment>()[1].shape, eps);
+    Refinement<Segment> r = Refine<Segment>(scene, Options(eps, "garmann", false));
     INFO("l=" << l << " d=" << d << " offset=" << offset << " l2=" << l2 << " eps=" << eps);
-    CHECK(r.counters.nodes == ref.nodes);
-    CHECK(r.counters.links == ref.links);
-    CHECK(r.counters.oracleCalls == ref.calls);
+    CHECK(r.record.counters.nodes == ref.nodes);
+    CHECK(r.record.counters.links == ref.links);
+    CHECK(r.record.counters.oracleCalls == ref.calls);
 }
+
+// ---------------------------------------------------------------------------------------
+// Invariants: tiling, oracle calls, trees
 
 TEST_CASE("Refinements satisfy the invariants on many scenes and thresholds", "[refine]") {
     auto [family, params] = GENERATE(table<std::string, ParamMap>({
@@ -196,30 +281,68 @@ TEST_CASE("Refinements satisfy the invariants on many scenes and thresholds", "[
     INFO(family << " eps=" << eps);
 
     SECTION("garmann") {
-        Refinement r = Refine(scene, Options(eps));
-        CheckInvariants(scene, r, GarmannOracle(eps));
-        REQUIRE(r.counters.links > 0);
+        Refinement<Segment> r = Refine<Segment>(scene, Options(eps));
+        CheckInvariants(scene, r, GarmannOracle<Segment>(eps, scene.Get<Segment>()));
+        REQUIRE(r.record.counters.links > 0);
     }
     SECTION("hanrahan") {
-        std::vector<Vec2> normals;
-        for (const Segment &s : scene.segments)
-            normals.push_back(s.Normal());
-        Refinement r = Refine(scene, Options(eps / 10, OracleKind::Hanrahan));
-        CheckInvariants(scene, r, HanrahanOracle(eps / 10, normals));
-        REQUIRE(r.counters.links > 0);
+        Refinement<Segment> r = Refine<Segment>(scene, Options(eps / 10, "hanrahan"));
+        CheckInvariants(scene, r, HanrahanOracle<Segment>(eps / 10, scene.Get<Segment>()));
+        REQUIRE(r.record.counters.links > 0);
     }
 }
 
+TEST_CASE("3D links tile every root pair and oracle calls follow from the links", "[3d][refine]") {
+    std::vector<std::pair<Scene, double>> cases = {
+        {MakeScene("parallel3d", {{"l", 4}, {"w", 2}, {"ox", 0.5}}), 0.05},
+        {MakeScene("angled3d", {{"angle", 70}}), 0.1},
+        {MakeScene("occluded3d", {}), 0.1},
+        {MakeScene("array3d", {{"k", 2}}), 0.2},
+        {MakeScene("random3d", {{"n", 8}, {"seed", 4}, {"size", 3}}), 0.2},
+    };
+    for (const auto &[scene, eps] : cases) {
+        INFO(scene.family);
+        for (std::string oracle : {"garmann", "hanrahan"})
+            for (Subdivision s : {Subdivision::Binary, Subdivision::Quadtree}) {
+                double e = oracle == "garmann" ? eps : eps / 4;
+                Refinement<Polygon> r = Refine<Polygon>(scene, Options3D(e, oracle, s));
+                CHECK(r.record.counters.links > 2);
+                CHECK(r.record.counters.rays == 0);
+                CHECK(r.record.counters.visibilityQueries == 0);
+                CHECK(r.record.counters.occludedPairs == 0);
+                CHECK(r.forest.Mode() == s);
+                CheckTiling(scene, r);
+            }
+    }
+}
+
+TEST_CASE("Every 3D link satisfies the 3D oracle unless forced", "[3d][refine]") {
+    Scene scene = MakeScene("perpendicular3d", {{"gap", 0}});
+    RefineOptions o = Options3D(0.05);
+    o.minArea = 1e-3;
+    Refinement<Polygon> r = Refine<Polygon>(scene, o);
+    GarmannOracle<Polygon> oracle(0.05, scene.Get<Polygon>());
+    uint64_t unacceptable = 0;
+    for (const Link &link : r.links)
+        unacceptable += !oracle.Acceptable(r.forest[link.i], r.forest[link.j]);
+    CHECK(unacceptable == r.record.counters.forcedLinks);
+    CHECK(r.record.counters.forcedLinks > 0);
+    CheckInvariants(scene, r, oracle);
+}
+
+// ---------------------------------------------------------------------------------------
+// Modes and recursion limits
+
 TEST_CASE("Counts are identical in count-only and store mode and on every run", "[refine]") {
     Scene scene = MakeScene("random", {{"n", 20}, {"seed", 3}, {"size", 8}});
-    OracleKind oracle = GENERATE(OracleKind::Garmann, OracleKind::Hanrahan);
-    double eps = oracle == OracleKind::Garmann ? 0.2 : 0.02;
-    Refinement stored = Refine(scene, Options(eps, oracle, true));
-    Refinement counted = Refine(scene, Options(eps, oracle, false));
-    Refinement again = Refine(scene, Options(eps, oracle, false));
-    REQUIRE(stored.counters.links > 100);  // not a trivial case
-    for (const Refinement *r : {&counted, &again}) {
-        CHECK(CounterDifferences(stored.counters, r->counters) == "");
+    std::string oracle = GENERATE(as<std::string>{}, "garmann", "hanrahan");
+    double eps = oracle == "garmann" ? 0.2 : 0.02;
+    Refinement<Segment> stored = Refine<Segment>(scene, Options(eps, oracle, true));
+    Refinement<Segment> counted = Refine<Segment>(scene, Options(eps, oracle, false));
+    Refinement<Segment> again = Refine<Segment>(scene, Options(eps, oracle, false));
+    REQUIRE(stored.record.counters.links > 100);  // not a trivial case
+    for (const Refinement<Segment> *r : {&counted, &again}) {
+        CHECK(CounterDifferences(stored.record.counters, r->record.counters) == "");
         CHECK(r->links.empty());
     }
 }
@@ -229,11 +352,11 @@ TEST_CASE("Recursion limits force links and are counted", "[refine]") {
     SECTION("--min-area stops subdivision of elements shorter than A") {
         RefineOptions o = Options(0.1);
         o.minArea = 0.01;
-        Refinement r = Refine(room, o);
-        CHECK(r.counters.forcedLinks > 0);
-        CHECK(r.counters.rootPairs == 6);
-        CHECK(r.counters.culledPairs == 0);  // in a convex room every wall sees every other
-        CheckInvariants(room, r, GarmannOracle(0.1));
+        Refinement<Segment> r = Refine<Segment>(room, o);
+        CHECK(r.record.counters.forcedLinks > 0);
+        CHECK(r.record.counters.rootPairs == 6);
+        CHECK(r.record.counters.culledPairs == 0);  // in a convex room every wall sees every other
+        CheckInvariants(room, r, GarmannOracle<Segment>(0.1, room.Get<Segment>()));
         for (uint32_t e = 0; e < r.forest.Size(); ++e)
             if (r.forest[e].firstChild != kNoChildren)
                 CHECK(r.forest[e].size >= 0.01);
@@ -241,12 +364,172 @@ TEST_CASE("Recursion limits force links and are counted", "[refine]") {
     SECTION("--max-depth bounds the depth of every element") {
         RefineOptions o = Options(0.1);
         o.maxDepth = 5;
-        Refinement r = Refine(room, o);
-        CHECK(r.counters.maxDepth == 5);
-        CHECK(r.counters.forcedLinks > 0);
-        CheckInvariants(room, r, GarmannOracle(0.1));
+        Refinement<Segment> r = Refine<Segment>(room, o);
+        CHECK(r.record.counters.maxDepth == 5);
+        CHECK(r.record.counters.forcedLinks > 0);
+        CheckInvariants(room, r, GarmannOracle<Segment>(0.1, room.Get<Segment>()));
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Determinism across threads
+
+TEST_CASE("Counts, element ids and links do not depend on the number of threads",
+          "[refine][threads]") {
+    auto [family, params, eps] = GENERATE(table<std::string, ParamMap, double>({
+        {"parallel", {{"l", 128}, {"d", 1}}, 0.05},
+        {"random", {{"n", 15}, {"seed", 4}, {"size", 6}}, 0.03},
+        {"array", {{"k", 4}}, 0.02},
+    }));
+    Scene scene = MakeScene(family, params);
+    RefineOptions o = Options(eps);
+    Refinement<Segment> one = Refine<Segment>(scene, o);
+    REQUIRE(one.record.counters.links > 10000);  // deep enough to hand tasks to the workers
+    for (int threads : {2, 3}) {
+        INFO(family << " threads=" << threads);
+        o.threads = threads;
+        Refinement<Segment> many = Refine<Segment>(scene, o);
+        CHECK(CounterDifferences(one.record.counters, many.record.counters) == "");
+        CHECK(SameLinks(one.links, many.links));
+        for (size_t p = 0; p < one.pairs.size(); ++p)
+            CHECK(many.pairs[p].oracleCalls == one.pairs[p].oracleCalls);
+        CheckInvariants(scene, many, GarmannOracle<Segment>(eps, scene.Get<Segment>()));
+        CHECK(ForestDifferences(one.forest, many.forest) == "");  // canonical element ids
+    }
+}
+
+TEST_CASE("3D counts and links do not depend on the number of threads", "[3d][refine][threads]") {
+    Scene scene = MakeScene("parallel3d", {{"l", 4}, {"w", 4}});
+    for (VisibilityMode mode : {VisibilityMode::None, VisibilityMode::Fraction}) {
+        RefineOptions o = Options3D(0.05);
+        o.visibility = mode;
+        o.raysPerSide = 2;
+        Refinement<Polygon> one = Refine<Polygon>(scene, o);
+        o.threads = 4;
+        Refinement<Polygon> four = Refine<Polygon>(scene, o);
+        CHECK(CounterDifferences(one.record.counters, four.record.counters) == "");
+        CHECK(SameLinks(one.links, four.links));
+        CHECK(one.record.counters.links > 1000);        // enough for tasks on several threads
+        CHECK(RefinementDifferences(one, four) == "");  // tallies and element ids too
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Visibility
+
+TEST_CASE("Visibility none counts nothing; fraction on an unoccluded scene changes nothing",
+          "[3d][visibility][refine]") {
+    Scene scene = MakeScene("parallel3d", {{"l", 2}});
+    RefineOptions o = Options3D(0.05);
+    Refinement<Polygon> none = Refine<Polygon>(scene, o);
+    o.visibility = VisibilityMode::Fraction;
+    Refinement<Polygon> fraction = Refine<Polygon>(scene, o);
+    CHECK(none.record.counters.links == fraction.record.counters.links);
+    CHECK(none.record.counters.oracleCalls == fraction.record.counters.oracleCalls);
+    CHECK(fraction.record.counters.visibilityQueries == fraction.record.counters.oracleCalls);
+    CHECK(fraction.record.counters.rays ==
+          81 * fraction.record.counters.visibilityQueries);  // k = 3
+    CHECK(fraction.record.counters.occludedPairs == 0);
+}
+
+TEST_CASE("A blocker that hides everything leaves no link between the plates",
+          "[3d][visibility][refine]") {
+    Scene scene = MakeScene("occluded3d", {{"bl", 10}});
+    RefineOptions o = Options3D(0.1);
+    o.visibility = VisibilityMode::Fraction;
+    Refinement<Polygon> r = Refine<Polygon>(scene, o);
+    const Counters &c = r.record.counters;
+    uint64_t plateLinks = 0;
+    for (const Link &link : r.links)
+        plateLinks += r.forest[link.i].root == 0 && r.forest[link.j].root == 1;
+    CHECK(plateLinks == 0);
+    CHECK(c.occludedPairs >= 1);
+    // Each call links, is occluded or splits in two: calls = 2 (links + occluded) - pairs.
+    CHECK(c.oracleCalls == 2 * (c.links + c.occludedPairs) - (c.rootPairs - c.culledPairs));
+}
+
+TEST_CASE("An occluder reduces the links of the plates with visibility fraction",
+          "[3d][visibility][refine]") {
+    RefineOptions o = Options3D(0.02);
+    o.visibility = VisibilityMode::Fraction;
+    Refinement<Polygon> open = Refine<Polygon>(MakeScene("parallel3d", {}), o);
+    Refinement<Polygon> blocked = Refine<Polygon>(MakeScene("occluded3d", {}), o);
+    uint64_t plateLinks = 0;
+    for (const Link &link : blocked.links)
+        plateLinks += blocked.forest[link.i].root == 0 && blocked.forest[link.j].root == 1;
+    const Counters &c = blocked.record.counters;
+    CHECK(plateLinks < open.record.counters.links);
+    CHECK(c.occludedPairs > 0);
+    CHECK(c.oracleCalls == 2 * (c.links + c.occludedPairs) - (c.rootPairs - c.culledPairs));
+}
+
+TEST_CASE("Visibility refine splits partially visible pairs down to the limit",
+          "[3d][visibility][refine]") {
+    Scene scene = MakeScene("occluded3d", {});
+    RefineOptions o = Options3D(0.1);
+    o.visibility = VisibilityMode::Refine;
+    CHECK_THROWS_WITH(Refine(scene, o), Catch::Contains("--visibility refine"));
+    o.maxDepth = 6;
+    Refinement<Polygon> refine = Refine<Polygon>(scene, o);
+    o.visibility = VisibilityMode::Fraction;
+    Refinement<Polygon> fraction = Refine<Polygon>(scene, o);
+    CHECK(refine.record.counters.forcedLinks > 0);
+    CHECK(refine.record.counters.links > fraction.record.counters.links);
+}
+
+TEST_CASE("Visibility applies to 2D scenes: the occluded family", "[visibility][refine]") {
+    RefineOptions o;
+    o.eps = 0.05;
+    o.storeLinks = true;
+    Scene scene = MakeScene("occluded", {{"l", 4}});
+    Refinement<Segment> none = Refine<Segment>(scene, o);
+    o.visibility = VisibilityMode::Fraction;
+    Refinement<Segment> fraction = Refine<Segment>(scene, o);
+    const Counters &c = fraction.record.counters;
+    CHECK(none.record.counters.occludedPairs == 0);
+    CHECK(c.occludedPairs > 0);
+    CHECK(c.rays == 9 * c.visibilityQueries);  // k = 3
+    CHECK(c.oracleCalls == 2 * (c.links + c.occludedPairs) - (c.rootPairs - c.culledPairs));
+    // Unoccluded 2D: the worked example is unchanged by visibility.
+    Scene parallel = MakeScene("parallel", {{"l", 64}, {"d", 1}});
+    o.eps = 0.25;
+    Refinement<Segment> worked = Refine<Segment>(parallel, o);
+    CHECK(worked.record.counters.links == 5092);
+    CHECK(worked.record.counters.oracleCalls == 10183);
+}
+
+// ---------------------------------------------------------------------------------------
+// Scenes from the generators and from meshes
+
+TEST_CASE("The Cornell box refines with a recursion limit, and occlusion removes links",
+          "[3d][refine]") {
+    Scene scene = MakeScene("cornell", {});
+    RefineOptions o = Options3D(0.02, "hanrahan");
+    o.minArea = 1e-2;
+    o.storeLinks = false;
+    CHECK_THROWS_AS(Refine(scene, Options3D(0.02, "hanrahan")), InputError);  // touching
+    Refinement<Polygon> r = Refine<Polygon>(scene, o);
+    CHECK(r.record.counters.rootPairs == 17 * 16 / 2);
+    CHECK(r.record.counters.culledPairs > 20);  // coplanar light and ceiling, faces of each block
+    CHECK(r.record.counters.links > 1000);
+    CHECK(r.record.counters.forcedLinks > 0);
+    o.visibility = VisibilityMode::Fraction;
+    Refinement<Polygon> visible = Refine<Polygon>(scene, o);
+    CHECK(visible.record.counters.occludedPairs > 0);
+    CHECK(visible.record.counters.links < r.record.counters.links);
+}
+
+TEST_CASE("An OBJ mesh refines as the family it copies", "[3d][mesh][refine]") {
+    Scene mesh = LoadMesh(std::string(HRBENCH_TEST_DATA) + "/two_plates.obj");
+    Refinement<Polygon> a = Refine<Polygon>(mesh, Options3D(0.03));
+    Refinement<Polygon> b = Refine<Polygon>(MakeScene("parallel3d", {}), Options3D(0.03));
+    CHECK(a.record.counters.links == b.record.counters.links);
+    CHECK(a.record.counters.nodes == b.record.counters.nodes);
+    CHECK(a.record.counters.oracleCalls == b.record.counters.oracleCalls);
+}
+
+// ---------------------------------------------------------------------------------------
+// Errors
 
 TEST_CASE("Refinement that cannot terminate is an error, not a hang", "[refine][errors]") {
     SECTION("touching patches without a recursion limit are rejected before refining") {
@@ -257,8 +540,8 @@ TEST_CASE("Refinement that cannot terminate is an error, not a hang", "[refine][
     SECTION("a recursion limit makes touching patches terminate") {
         RefineOptions o = Options(0.5);
         o.minArea = 1e-3;
-        Refinement r = Refine(MakeScene("perpendicular", {{"gap", 0}}), o);
-        CHECK(r.counters.forcedLinks > 0);
+        Refinement<Segment> r = Refine<Segment>(MakeScene("perpendicular", {{"gap", 0}}), o);
+        CHECK(r.record.counters.forcedLinks > 0);
     }
     SECTION("a --min-area too small for the safety depth names the pair") {
         RefineOptions o = Options(0.5);
@@ -274,7 +557,8 @@ TEST_CASE("Refinement that cannot terminate is an error, not a hang", "[refine][
 
 TEST_CASE("Invalid refinement options are rejected with the option's name", "[refine][errors]") {
     Scene scene = MakeScene("parallel", {});
-    double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    double nan = std::numeric_limits<double>::quiet_NaN(),
+           inf = std::numeric_limits<double>::infinity();
     for (double eps : {0.0, -1.0, nan, inf})
         CHECK_THROWS_WITH(Refine(scene, Options(eps)), Catch::Contains("--eps"));
     RefineOptions o = Options(0.5);
@@ -285,24 +569,34 @@ TEST_CASE("Invalid refinement options are rejected with the option's name", "[re
     CHECK_THROWS_WITH(Refine(scene, o), Catch::Contains("--max-depth"));
 }
 
-TEST_CASE("Counts, element ids and links do not depend on the number of threads", "[refine][threads]") {
-    auto [family, params, eps] = GENERATE(table<std::string, ParamMap, double>({
-        {"parallel", {{"l", 128}, {"d", 1}}, 0.05},
-        {"random", {{"n", 15}, {"seed", 4}, {"size", 6}}, 0.03},
-        {"array", {{"k", 4}}, 0.02},
-    }));
-    Scene scene = MakeScene(family, params);
-    RefineOptions o = Options(eps);
-    Refinement one = Refine(scene, o);
-    REQUIRE(one.counters.links > 10000);  // deep enough to hand tasks to the workers
-    for (int threads : {2, 3}) {
-        INFO(family << " threads=" << threads);
-        o.threads = threads;
-        Refinement many = Refine(scene, o);
-        CHECK(CounterDifferences(one.counters, many.counters) == "");
-        CHECK(SameLinks(one.links, many.links));
-        for (size_t p = 0; p < one.pairs.size(); ++p)
-            CHECK(many.pairs[p].oracleCalls == one.pairs[p].oracleCalls);
-        CheckInvariants(scene, many, GarmannOracle(eps));
+TEST_CASE("Bad 3D refinement options are input errors naming the flag", "[3d][refine][errors]") {
+    Scene scene3 = MakeScene("parallel3d", {});
+    Scene scene2 = MakeScene("parallel", {});
+    RefineOptions o = Options3D(0.1);
+    o.raysPerSide = 0;
+    CHECK_THROWS_WITH(Refine(scene3, o), Catch::Contains("--rays-per-side"));
+    o = Options3D(0.1, "garmann", Subdivision::Quadtree);
+    CHECK_THROWS_WITH(Refine(scene2, o), Catch::Contains("--subdivision quadtree"));
+    CHECK_THROWS_WITH(Refine(MakeScene("perpendicular3d", {{"gap", 0}}), Options3D(0.1)),
+                      Catch::Contains("touch"));
+}
+
+TEST_CASE("Options are checked against the scene's dimension and the oracle registry",
+          "[refine][errors]") {
+    RefineOptions o = Options(0.5);
+    CHECK_NOTHROW(ValidateOptions(o, 2));
+    CHECK_NOTHROW(ValidateOptions(o, 3));
+    o.subdivision = Subdivision::Quadtree;
+    CHECK_NOTHROW(ValidateOptions(o, 3));
+    CHECK_THROWS_WITH(ValidateOptions(o, 2), Catch::Contains("--subdivision quadtree"));
+    for (const OracleInfo &info : OracleInfos()) {
+        o = Options(0.5, info.name);
+        CHECK_NOTHROW(ValidateOptions(o, 2));
+        CHECK_NOTHROW(ValidateOptions(o, 3));
     }
+    o = Options(0.5, "magic");
+    CHECK_THROWS_WITH(ValidateOptions(o, 2),
+                      "unknown oracle 'magic' (choose one of: garmann, hanrahan)");
+    CHECK_THROWS_WITH(Refine(MakeScene("parallel", {}), o),
+                      Catch::Contains("unknown oracle 'magic'"));
 }

@@ -1,4 +1,4 @@
-// Scene files: round trip and every kind of malformed input.
+// Scene files, 2D and 3D: round trip and every kind of malformed input.
 #include <catch2/catch.hpp>
 
 #include "generators.h"
@@ -6,16 +6,18 @@
 
 using namespace hrbench;
 
-TEST_CASE("Scenes survive a round trip through their JSON file", "[scene_io]") {
+TEST_CASE("Scenes survive a round trip through their JSON file", "[scene_io][2d]") {
     Scene scene = MakeScene("random", {{"n", 8}, {"seed", 2}});
-    scene.segments[3].material = {0.25, 2.0};
+    scene.Get<Segment>()[3].material = {0.25, 2.0};
     Scene back = SceneFromJson(SceneToJson(scene), "mem");
-    REQUIRE(back.segments.size() == scene.segments.size());
-    for (size_t k = 0; k < scene.segments.size(); ++k) {
-        CHECK(back.segments[k].a == scene.segments[k].a);  // exact: shortest round-trip digits
-        CHECK(back.segments[k].b == scene.segments[k].b);
-        CHECK(back.segments[k].material.reflectance == scene.segments[k].material.reflectance);
-        CHECK(back.segments[k].material.emission == scene.segments[k].material.emission);
+    CHECK(back.Dimension() == 2);
+    const Patches<Segment> &s = scene.Get<Segment>(), &b = back.Get<Segment>();
+    REQUIRE(b.size() == s.size());
+    for (size_t k = 0; k < s.size(); ++k) {
+        CHECK(b[k].shape.a == s[k].shape.a);  // exact: shortest round-trip digits
+        CHECK(b[k].shape.b == s[k].shape.b);
+        CHECK(b[k].material.reflectance == s[k].material.reflectance);
+        CHECK(b[k].material.emission == s[k].material.emission);
     }
     CHECK(back.params == scene.params);
     CHECK(back.family == "file");
@@ -25,9 +27,9 @@ TEST_CASE("The checked-in example scene loads and gives the worked example", "[s
     Scene scene = LoadScene(std::string(HRBENCH_TEST_DATA) + "/parallel_l64_d1.json");
     RefineOptions o;
     o.eps = 0.25;
-    Refinement r = Refine(scene, o);
-    CHECK(r.counters.links == 5092);
-    CHECK(r.counters.nodes == 1022);
+    Refinement<Segment> r = Refine<Segment>(scene, o);
+    CHECK(r.record.counters.links == 5092);
+    CHECK(r.record.counters.nodes == 1022);
 }
 
 TEST_CASE("Malformed scene files give one line naming the problem", "[scene_io][errors]") {
@@ -56,4 +58,48 @@ TEST_CASE("Malformed scene files give one line naming the problem", "[scene_io][
     CHECK_THAT(error(head + R"([{"a":[0,0],"b":[1,0],"reflectance":1.5}]})"),
                Catch::Contains("reflectance"));
     CHECK_THROWS_WITH(LoadScene("/nonexistent/scene.json"), Catch::Contains("cannot read"));
+}
+
+TEST_CASE("3D scenes survive a round trip through their JSON file", "[3d][scene_io]") {
+    Scene scene = MakeScene("cornell", {});
+    Scene back = SceneFromJson(SceneToJson(scene), "mem");
+    CHECK(back.Dimension() == 3);
+    const Patches<Polygon> &s = scene.Get<Polygon>(), &b = back.Get<Polygon>();
+    REQUIRE(b.size() == s.size());
+    for (size_t k = 0; k < s.size(); ++k) {
+        CHECK(b[k].shape.n == s[k].shape.n);
+        for (int v = 0; v < s[k].shape.n; ++v)
+            CHECK(b[k].shape.v[v] == s[k].shape.v[v]);
+        CHECK(b[k].material.reflectance == s[k].material.reflectance);
+        CHECK(b[k].material.emission == s[k].material.emission);
+    }
+}
+
+TEST_CASE("Bad 3D scene files are rejected with one line naming the problem", "[3d][scene_io]") {
+    auto load = [](const std::string &patches, int dimension = 3) {
+        return SceneFromJson(R"({"format":"hrbench-scene","schema_version":1,"dimension":)" +
+                                 std::to_string(dimension) + R"(,"patches":[)" + patches + "]}",
+                             "mem");
+    };
+    CHECK_NOTHROW(load(R"({"vertices":[[0,0,0],[1,0,0],[0,1,0]]})"));
+    auto fails = [&](const std::string &patches, const std::string &fragment, int dimension = 3) {
+        INFO(patches);
+        try {
+            load(patches, dimension);
+            FAIL("no error");
+        } catch (const InputError &e) {
+            CHECK_THAT(e.what(), Catch::Contains(fragment));
+            CHECK(std::string(e.what()).find('\n') == std::string::npos);
+        }
+    };
+    fails(R"({"vertices":[[0,0,0],[1,0,0],[1,1,0.5],[0,1,0]]})", "not planar");
+    fails(R"({"vertices":[[0,0,0],[1,0,0],[0.1,0.1,0],[0,1,0]]})", "not a convex quad");
+    fails(R"({"vertices":[[0,0,0],[1,1,1],[2,2,2]]})", "degenerate");
+    fails(R"({"vertices":[[0,0,0],[1,0,0]]})", "3 or 4 points");
+    fails(R"({"vertices":[[0,0,0],[1,0,0],[0,1]]})", "3 numbers");
+    fails(R"({"vertices":[[0,0,0],[1e999,0,0],[0,1,0]]})", "malformed JSON");
+    fails(R"({"a":[0,0],"b":[1,0]})", "no \"vertices\"");
+    fails("", "no patches");
+    fails(R"({"vertices":[[0,0,0],[1,0,0],[0,1,0]],"reflectance":1})", "reflectance");
+    fails(R"({"vertices":[[0,0,0],[1,0,0],[0,1,0]]})", "dimension", 4);
 }

@@ -8,10 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_helpers.h"
 #include "generators.h"
 #include "hrbench.h"
-#include "translation_count.h"
-#include "cli_helpers.h"
 #include "refinement_helpers.h"
 
 using namespace hrbench;
@@ -36,7 +35,7 @@ Scene Parallel(double l, double d, double offset) {
 uint64_t CountTies(double l, double d, double offset, double eps) {
     uint64_t ties = 0;
     std::function<void(int, int64_t, int, int64_t)> project = [&](int di, int64_t p, int dj,
-                                                                 int64_t q) {
+                                                                  int64_t q) {
         double si = std::ldexp(l, -di), sj = std::ldexp(l, -dj);
         double xi = (p + 0.5) * si, xj = offset + l - (q + 0.5) * sj;
         double m = std::max(si, sj), r = std::sqrt((xi - xj) * (xi - xj) + d * d);
@@ -57,14 +56,20 @@ uint64_t CountTies(double l, double d, double offset, double eps) {
 
 }  // namespace
 
-TEST_CASE("The translation method reproduces the worked example of DESIGN section 2",
+TEST_CASE("The translation method reproduces the worked example of docs/conventions.md",
           "[translation]") {
     TranslationCount t = CountByTranslation(Parallel(64, 1, 0), CountOnly(0.25));
-    CHECK(t.counters.nodes == 1022);
-    CHECK(t.counters.leaves == 512);
-    CHECK(t.counters.links == 5092);
-    CHECK(t.counters.oracleCalls == 10183);
-    CHECK(t.counters.maxDepth == 8);
+    CHECK(t.record.counters.nodes == 1022);
+    CHECK(t.record.counters.leaves == 512);
+    CHECK(t.record.counters.links == 5092);
+    CHECK(t.record.counters.oracleCalls == 10183);
+    CHECK(t.record.counters.maxDepth == 8);
+    CHECK(t.record.method == "translation");
+    // Fewer states than pairs and elements: what makes the method fast.
+    CHECK(t.pairStates > 0);
+    CHECK(t.pairStates < t.record.counters.oracleCalls);
+    CHECK(t.elementStates > 0);
+    CHECK(t.elementStates < t.record.counters.nodes);
 }
 
 TEST_CASE("The translation method agrees exactly with enumeration", "[translation]") {
@@ -75,10 +80,10 @@ TEST_CASE("The translation method agrees exactly with enumeration", "[translatio
                 for (double offset : {0.0, 0.5, -3.0, 7.25, 1.0, 100.0, -0.125})
                     for (double eps : {1.0, 0.5, 0.4, 0.3, 0.25, 0.2, 0.1}) {
                         Scene scene = Parallel(l, d, offset);
-                        Refinement r = Refine(scene, CountOnly(eps));
+                        Refinement<Segment> r = Refine<Segment>(scene, CountOnly(eps));
                         TranslationCount t = CountByTranslation(scene, CountOnly(eps));
                         INFO("l=" << l << " d=" << d << " offset=" << offset << " eps=" << eps);
-                        REQUIRE(CounterDifferences(r.counters, t.counters) == "");
+                        REQUIRE(CounterDifferences(r.record.counters, t.record.counters) == "");
                         ++cases;
                     }
         CHECK(cases == 6 * 5 * 7 * 7);
@@ -93,11 +98,11 @@ TEST_CASE("The translation method agrees exactly with enumeration", "[translatio
             {1000, 3, 999.75, 0.07},
         }));
         Scene scene = Parallel(l, d, offset);
-        Refinement r = Refine(scene, CountOnly(eps));
+        Refinement<Segment> r = Refine<Segment>(scene, CountOnly(eps));
         TranslationCount t = CountByTranslation(scene, CountOnly(eps));
         INFO("l=" << l << " d=" << d << " offset=" << offset << " eps=" << eps);
-        CHECK(r.counters.links > 1000);
-        CHECK(CounterDifferences(r.counters, t.counters) == "");
+        CHECK(r.record.counters.links > 1000);
+        CHECK(CounterDifferences(r.record.counters, t.record.counters) == "");
     }
 }
 
@@ -112,16 +117,16 @@ TEST_CASE("The translation method decides ties exactly as the engine", "[transla
     INFO("l=" << l << " d=" << d << " offset=" << offset << " eps=" << eps);
     REQUIRE(CountTies(l, d, offset, eps) > 0);  // the case is not trivial
     Scene scene = Parallel(l, d, offset);
-    Refinement r = Refine(scene, CountOnly(eps));
+    Refinement<Segment> r = Refine<Segment>(scene, CountOnly(eps));
     TranslationCount t = CountByTranslation(scene, CountOnly(eps));
-    CHECK(CounterDifferences(r.counters, t.counters) == "");
+    CHECK(CounterDifferences(r.record.counters, t.record.counters) == "");
 }
 
 TEST_CASE("The translation method rejects what it cannot count exactly", "[translation][errors]") {
     Scene scene = Parallel(64, 1, 0);
     SECTION("another oracle") {
         RefineOptions o = CountOnly(0.25);
-        o.oracle = OracleKind::Hanrahan;
+        o.oracle = "hanrahan";
         CHECK_THROWS_AS(CountByTranslation(scene, o), InputError);
     }
     SECTION("store mode") {
@@ -141,8 +146,7 @@ TEST_CASE("The translation method rejects what it cannot count exactly", "[trans
     }
     SECTION("plates of different lengths") {
         Scene unequal = MakeScene("parallel", {{"l", 64}, {"d", 1}, {"l2", 32}});
-        CHECK_THROWS_WITH(CountByTranslation(unequal, CountOnly(0.25)),
-                          Catch::Contains("l2 = l"));
+        CHECK_THROWS_WITH(CountByTranslation(unequal, CountOnly(0.25)), Catch::Contains("l2 = l"));
     }
     SECTION("another scene") {
         CHECK_THROWS_AS(CountByTranslation(MakeScene("perpendicular", {}), CountOnly(0.25)),
@@ -165,14 +169,14 @@ TEST_CASE("The translation method counts beyond 10^14 links", "[translation]") {
     // g = l / d = 2^31 at eps = 0.01: 1.43e14 links, far out of reach of enumeration
     // (about a day at 1e8 oracle calls per second); here a few milliseconds.
     TranslationCount t = CountByTranslation(Parallel(2147483648.0, 1, 0), CountOnly(0.01));
-    CHECK(t.counters.links == 142867791169060);
-    CHECK(t.counters.links >= uint64_t(1e14));
-    CHECK(t.counters.oracleCalls == 2 * t.counters.links - 1);
-    CHECK(t.counters.leaves == t.counters.nodes / 2 + 1);
+    CHECK(t.record.counters.links == 142867791169060);
+    CHECK(t.record.counters.links >= uint64_t(1e14));
+    CHECK(t.record.counters.oracleCalls == 2 * t.record.counters.links - 1);
+    CHECK(t.record.counters.leaves == t.record.counters.nodes / 2 + 1);
     uint64_t sum = 0;
-    for (uint64_t n : t.counters.linksPerDepth)
+    for (uint64_t n : t.record.counters.linksPerDepth)
         sum += n;
-    CHECK(sum == t.counters.links);
+    CHECK(sum == t.record.counters.links);
 }
 
 TEST_CASE("hrbench run --method reports the method and the same counters", "[translation][cli]") {

@@ -4,7 +4,6 @@
 
 #include "generators.h"
 #include "hrbench.h"
-#include "polygon_forest.h"
 #include "visibility.h"
 
 using namespace hrbench;
@@ -12,9 +11,9 @@ using namespace hrbench;
 namespace {
 
 double Fraction3D(const Scene &scene, int k, uint32_t i = 0, uint32_t j = 1) {
-    Occluders occluders(scene);
-    BinaryPolygonForest forest(scene, 1000);
-    SampledVisibility<3> visibility(occluders, k, VisibilityMode::Fraction);
+    Occluders occluders(scene.Get<Polygon>());
+    Forest<Polygon> forest(scene.Get<Polygon>(), 1000, Subdivision::Binary);
+    SampledVisibility<Polygon> visibility(occluders, k, VisibilityMode::Fraction);
     VisibilityTally tally;
     double v = visibility.Fraction(forest, i, j, tally);
     CHECK(tally.queries == 1);
@@ -23,9 +22,9 @@ double Fraction3D(const Scene &scene, int k, uint32_t i = 0, uint32_t j = 1) {
 }
 
 double Fraction2D(const Scene &scene, int k) {
-    Occluders occluders(scene);
-    SegmentForest forest(scene, 1000);
-    SampledVisibility<2> visibility(occluders, k, VisibilityMode::Fraction);
+    Occluders occluders(scene.Get<Segment>());
+    Forest<Segment> forest(scene.Get<Segment>(), 1000, Subdivision::Binary);
+    SampledVisibility<Segment> visibility(occluders, k, VisibilityMode::Fraction);
     VisibilityTally tally;
     double v = visibility.Fraction(forest, 0, 1, tally);
     CHECK(tally.rays == uint64_t(k * k));
@@ -42,7 +41,7 @@ TEST_CASE("Visibility modes parse and print their names", "[visibility]") {
 
 TEST_CASE("Segments are blocked by third patches only, touching counts", "[visibility]") {
     Scene scene = MakeScene("occluded3d", {});  // blocker [0.25,0.75]^2 at z = 0.5
-    Occluders occluders(scene);
+    Occluders occluders(scene.Get<Polygon>());
     SECTION("through the blocker") {
         CHECK(occluders.Blocked(Vec3(0.5, 0.5, 0), Vec3(0.5, 0.5, 1), 0, 1));
     }

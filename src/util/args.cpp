@@ -34,8 +34,8 @@ bool IsParamWord(const std::string &word) {
     return eq != std::string::npos && eq > 0 && word.rfind("--", 0) != 0;
 }
 
-ParamMap ParseParams(const std::vector<std::string> &words) {
-    ParamMap params;
+std::map<std::string, double> ParseParams(const std::vector<std::string> &words) {
+    std::map<std::string, double> params;
     for (const std::string &word : words) {
         if (!IsParamWord(word))
             throw InputError("expected a parameter key=value, got '" + word + "'");
@@ -46,16 +46,6 @@ ParamMap ParseParams(const std::vector<std::string> &words) {
         params[key] = ParseDouble(word.substr(eq + 1), "parameter " + key);
     }
     return params;
-}
-
-std::string FormatDouble(double value) {
-    char buffer[32];
-    for (int precision = 6; precision <= 17; ++precision) {
-        std::snprintf(buffer, sizeof buffer, "%.*g", precision, value);
-        if (std::strtod(buffer, nullptr) == value)
-            break;
-    }
-    return buffer;
 }
 
 }  // namespace hrbench

@@ -1,4 +1,4 @@
-// Command-line plumbing: strict number parsing and key=value parameters.
+// Command-line plumbing: strict number parsing and key=value words.
 #pragma once
 
 #include <cstdint>
@@ -14,17 +14,11 @@ double ParseDouble(const std::string &text, const std::string &what);
 // Parses a non-negative integer that fits in int64; throws InputError otherwise.
 int64_t ParseInt(const std::string &text, const std::string &what);
 
-// Scene parameters given as `key=value` on the command line, in order of appearance.
-using ParamMap = std::map<std::string, double>;
-
-// Parses `key=value` words into _params_; throws InputError on a malformed word,
-// a repeated key or a value that is not a finite number.
-ParamMap ParseParams(const std::vector<std::string> &words);
+// Parses `key=value` words into a map from key to value; throws InputError on a
+// malformed word, a repeated key or a value that is not a finite number.
+std::map<std::string, double> ParseParams(const std::vector<std::string> &words);
 
 // True when _word_ has the form key=value (and is not a flag).
 bool IsParamWord(const std::string &word);
-
-// Formats a double with the shortest representation that reads back exactly.
-std::string FormatDouble(double value);
 
 }  // namespace hrbench

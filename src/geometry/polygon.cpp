@@ -1,4 +1,4 @@
-#include "polygon.h"
+#include "geometry/polygon.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,18 +6,6 @@
 #include "util/error.h"
 
 namespace hrbench {
-
-std::string SubdivisionName(Subdivision mode) {
-    return mode == Subdivision::Binary ? "binary" : "quadtree";
-}
-
-Subdivision ParseSubdivision(const std::string &name) {
-    if (name == "binary")
-        return Subdivision::Binary;
-    if (name == "quadtree")
-        return Subdivision::Quadtree;
-    throw InputError("unknown subdivision '" + name + "' (choose binary or quadtree)");
-}
 
 Vec3 Polygon::AreaVector() const {
     if (n == 3)
@@ -54,7 +42,8 @@ Vec3 Polygon::At(double s, double t) const {
     return (1 - s) * (1 - t) * v[0] + s * (1 - t) * v[1] + s * t * v[2] + (1 - s) * t * v[3];
 }
 
-std::string PolygonProblem(const Polygon &p) {
+std::string Polygon::Problem() const {
+    const Polygon &p = *this;
     if (p.n != 3 && p.n != 4)
         return "has " + std::to_string(p.n) + " corners (only triangles and quads are supported)";
     for (int k = 0; k < p.n; ++k)
@@ -86,9 +75,9 @@ std::string PolygonProblem(const Polygon &p) {
     return "";
 }
 
-int Subdivide(const Polygon &p, Subdivision mode, std::array<Polygon, 4> &out) {
+int Polygon::Subdivide(Subdivision mode, std::array<Polygon, 4> &out) const {
+    const Polygon &p = *this;
     auto mid = [](const Vec3 &a, const Vec3 &b) -> Vec3 { return 0.5 * (a + b); };
-    const auto &v = p.v;
     if (mode == Subdivision::Binary) {
         if (p.n == 4) {
             // Cut across the longer pair of opposite edges; ties halve v0v1 and v2v3.
@@ -116,8 +105,8 @@ int Subdivide(const Polygon &p, Subdivision mode, std::array<Polygon, 4> &out) {
         int b = (a + 1) % 3;
         Vec3 m = mid(v[a], v[b]);
         Polygon keepA = p, keepB = p;
-        keepA.v[b] = m;  // keeps corner a
-        keepB.v[a] = m;  // keeps corner b
+        keepA.v[b] = m;                  // keeps corner a
+        keepB.v[a] = m;                  // keeps corner b
         out[0] = a < b ? keepA : keepB;  // the child keeping the lower-numbered corner first
         out[1] = a < b ? keepB : keepA;
         return 2;
@@ -142,7 +131,8 @@ int Subdivide(const Polygon &p, Subdivision mode, std::array<Polygon, 4> &out) {
     return 4;
 }
 
-void SamplePoints(const Polygon &p, int k, std::vector<Vec3> &out) {
+void Polygon::SamplePoints(int k, std::vector<Vec3> &out) const {
+    const Polygon &p = *this;
     double step = 1.0 / k;
     if (p.n == 4) {
         for (int b = 0; b < k; ++b)
@@ -158,6 +148,16 @@ void SamplePoints(const Polygon &p, int k, std::vector<Vec3> &out) {
                 out.push_back(p.At((a + 2.0 / 3) * step, (b + 2.0 / 3) * step));
         }
     }
+}
+
+bool Polygon::Resolves(double measure, const std::array<double, 4> &children, int n) {
+    double sum = 0;
+    for (int c = 0; c < n; ++c) {
+        if (!(children[c] > 0))
+            return false;
+        sum += children[c];
+    }
+    return std::abs(sum - measure) <= 1e-6 * measure;
 }
 
 }  // namespace hrbench

@@ -1,0 +1,86 @@
+#include "cmd/capabilities.h"
+
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "cmd/options.h"
+#include "generators.h"
+#include "oracles/registry.h"
+#include "record.h"
+#include "refine.h"
+
+namespace hrbench {
+
+using nlohmann::json;
+
+namespace {
+
+// A range bound, or null when the parameter is unbounded on that side.
+json Bound(double value) { return std::isinf(value) ? json(nullptr) : json(value); }
+
+json FamilyJson(const Family &f) {
+    json params = json::array();
+    for (const ParamSpec &p : f.params)
+        params.push_back(
+            {{"name", p.name},
+             {"default", p.defaultFrom.empty() ? json(p.defaultValue) : json(nullptr)},
+             {"default_from", p.defaultFrom.empty() ? json(nullptr) : json(p.defaultFrom)},
+             {"low", Bound(p.low)},
+             {"high", Bound(p.high)},
+             {"low_open", p.lowOpen},
+             {"high_open", p.highOpen},
+             {"integer", p.integer},
+             {"doc", p.help}});
+    return {{"name", f.name}, {"dimension", f.dimension}, {"doc", f.help}, {"params", params}};
+}
+
+json OracleJson(const OracleInfo &info) {
+    json dimensions = json::array();
+    for (int d : {2, 3})
+        if (info.Supports(d))
+            dimensions.push_back(d);
+    return {{"name", info.name},
+            {"dimensions", dimensions},
+            {"parameters", json::array({info.parameters})},
+            {"doc", info.doc}};
+}
+
+json OptionJson(const OptionSpec &o) {
+    return {{"name", o.name},
+            {"flag", o.flag},
+            {"value", o.value.empty() ? json(nullptr) : json(o.value)},
+            {"choices", o.choices.empty() ? json(nullptr) : json(o.choices)},
+            {"commands", o.commands},
+            {"doc", o.doc}};
+}
+
+}  // namespace
+
+json Capabilities() {
+    json doc;
+    doc["schema_version"] = kCapabilitiesSchemaVersion;
+    doc["engine"] = "hrbench";
+    doc["version"] = EngineVersion();
+    doc["run_schema_version"] = kRunSchemaVersion;
+    doc["context"] = RunContext();
+    for (const CommandSpec &c : Commands())
+        doc["commands"].push_back({{"name", c.name}, {"doc", c.doc}});
+    for (const Family &f : Families())
+        doc["families"].push_back(FamilyJson(f));
+    for (const OracleInfo &info : OracleInfos())
+        doc["oracles"].push_back(OracleJson(info));
+    for (const MethodInfo &m : Methods())
+        doc["methods"].push_back({{"name", m.name}, {"doc", m.doc}});
+    for (const OptionSpec &o : OptionTable())
+        doc["options"].push_back(OptionJson(o));
+    for (const CounterInfo &c : CounterTable())
+        doc["counters"].push_back({{"name", c.name},
+                                   {"kind", c.scalar ? "scalar" : "histogram"},
+                                   {"category", c.category},
+                                   {"unit", c.unit},
+                                   {"doc", c.doc}});
+    return doc;
+}
+
+}  // namespace hrbench

@@ -1,0 +1,280 @@
+#include "cmd/options.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "generators.h"
+#include "oracles/registry.h"
+#include "refine.h"
+#include "util/args.h"
+#include "util/error.h"
+
+namespace hrbench {
+
+namespace {
+
+int ClampedInt(const std::string &text, const std::string &flag) {
+    return int(std::min<int64_t>(ParseInt(text, flag), 1 << 20));
+}
+
+std::vector<std::string> OracleNames() {
+    std::vector<std::string> names;
+    for (const OracleInfo &info : OracleInfos())
+        names.push_back(info.name);
+    return names;
+}
+
+std::vector<std::string> MethodNames() {
+    std::vector<std::string> names;
+    for (const MethodInfo &m : Methods())
+        names.push_back(m.name);
+    return names;
+}
+
+std::string OracleDoc() {
+    std::string doc;
+    for (const OracleInfo &info : OracleInfos())
+        doc += std::string(doc.empty() ? "" : "\n") + info.name +
+               (doc.empty() ? " (default)" : "") + ": " + info.doc;
+    return doc;
+}
+
+std::string MethodDoc() {
+    std::string doc;
+    for (const MethodInfo &m : Methods())
+        doc += std::string(doc.empty() ? "" : "\n") + m.name + (doc.empty() ? " (default)" : "") +
+               ": " + m.doc;
+    return doc + "\n(run only)";
+}
+
+const std::vector<std::string> kRefining = {"run", "links"};
+
+}  // namespace
+
+const std::vector<CommandSpec> &Commands() {
+    static const std::vector<CommandSpec> commands = {
+        {"run", "run SCENE [key=value ...] --eps E [options]",
+         "refine a scene, print its counters"},
+        {"links", "links SCENE [key=value ...] --eps E --out F.csv",
+         "write every link (store mode) as CSV"},
+        {"save", "save SCENE [key=value ...] [--out F.json]", "write a scene file"},
+        {"scenes", "scenes", "list scene families with their parameters, and the oracles"},
+        {"capabilities", "capabilities --json",
+         "describe families, oracles, methods, options and counters as JSON"},
+    };
+    return commands;
+}
+
+const std::vector<OptionSpec> &OptionTable() {
+    using S = const std::string &;
+    static const std::vector<OptionSpec> table = {
+        {"eps",
+         "--eps",
+         "E",
+         {},
+         kRefining,
+         "oracle threshold, a finite number > 0 (required)",
+         [](Options &o, S v) { o.eps = ParseDouble(v, "--eps"); }},
+        {"oracle", "--oracle", "NAME", OracleNames(), kRefining, OracleDoc(),
+         [](Options &o, S v) { o.refine.oracle = FindOracle(v).name; }},
+        {"min_area",
+         "--min-area",
+         "A",
+         {},
+         kRefining,
+         "link a pair whose preferred element is smaller than A (length in\n2D, area in 3D; "
+         "forced link)",
+         [](Options &o, S v) { o.refine.minArea = ParseDouble(v, "--min-area"); }},
+        {"max_depth",
+         "--max-depth",
+         "D",
+         {},
+         kRefining,
+         "link a pair whose preferred element has depth D (0..48; forced link)",
+         [](Options &o, S v) { o.refine.maxDepth = ClampedInt(v, "--max-depth"); }},
+        {"count_only",
+         "--count-only",
+         "",
+         {},
+         {"run"},
+         "count links without storing them (default: store)",
+         [](Options &o, S) { o.countOnly = true; }},
+        {"method",
+         "--method",
+         "M",
+         MethodNames(),
+         {"run"},
+         MethodDoc(),
+         [](Options &o, S v) { o.method = v; }},
+        {"threads",
+         "--threads",
+         "N",
+         {},
+         kRefining,
+         "worker threads (default 1); counts and ids never depend on N",
+         [](Options &o, S v) { o.refine.threads = ClampedInt(v, "--threads"); }},
+        {"max_memory",
+         "--max-memory",
+         "MIB",
+         {},
+         kRefining,
+         "memory budget for elements and links in MiB (default: 90% of free)",
+         [](Options &o, S v) {
+             o.refine.memoryBudget = size_t(ParseInt(v, "--max-memory")) << 20;
+         }},
+        {"json",
+         "--json",
+         "",
+         {},
+         {"run", "capabilities"},
+         "print one JSON object instead of a table",
+         [](Options &o, S) { o.json = true; }},
+        {"scene_file",
+         "--scene-file",
+         "F",
+         {},
+         {"run", "links", "save"},
+         "load the scene from a JSON scene file instead of a family",
+         [](Options &o, S v) { o.sceneFile = v; }},
+        {"mesh",
+         "--mesh",
+         "F",
+         {},
+         {"run", "links", "save"},
+         "load a 3D scene from an OFF or OBJ file (triangles, planar\nconvex quads; default "
+         "reflectance 0.5, emission 0)",
+         [](Options &o, S v) { o.mesh = v; }},
+        {"subdivision",
+         "--subdivision",
+         "S",
+         {"binary", "quadtree"},
+         kRefining,
+         "3D: binary (default, two halves across the longer edges) or\nquadtree (four children)",
+         [](Options &o, S v) { o.refine.subdivision = ParseSubdivision(v); }},
+        {"visibility",
+         "--visibility",
+         "V",
+         {"none", "fraction", "refine"},
+         kRefining,
+         "none (default): ignore occlusion, as the papers do;\nfraction: accept when the "
+         "oracle's error times the visible\nfraction is within eps; refine: split partially "
+         "visible pairs\ndown to the recursion limit (needs --min-area or --max-depth)",
+         [](Options &o, S v) { o.refine.visibility = ParseVisibility(v); }},
+        {"rays_per_side",
+         "--rays-per-side",
+         "K",
+         {},
+         kRefining,
+         "visibility samples per element side, 1..16 (default 3): K x K\nrays per pair in 2D, "
+         "K^2 x K^2 in 3D",
+         [](Options &o, S v) { o.refine.raysPerSide = ClampedInt(v, "--rays-per-side"); }},
+        {"out",
+         "--out",
+         "F",
+         {},
+         {"links", "save"},
+         "output file (links: CSV; save: JSON, default standard output)",
+         [](Options &o, S v) { o.out = v; }},
+    };
+    return table;
+}
+
+std::string Usage() {
+    std::ostringstream out;
+    auto row = [&](const std::string &left, const std::string &doc, size_t width) {
+        std::istringstream lines(doc);
+        std::string line;
+        for (bool first = true; std::getline(lines, line); first = false) {
+            std::string label = first ? left : "";
+            out << "  " << label
+                << std::string(std::max(width, label.size() + 1) - label.size(), ' ') << line
+                << "\n";
+        }
+    };
+    out << "usage: hrbench <command> [arguments]\n\nCommands:\n";
+    for (const CommandSpec &c : Commands())
+        row(c.synopsis, c.doc, 48);
+    out << "  (SCENE [key=value ...] may be replaced by --scene-file F.json or --mesh F)\n"
+           "\nOptions:\n";
+    for (const OptionSpec &o : OptionTable())
+        row(o.flag + (o.value.empty() ? "" : " " + o.value), o.doc, 19);
+    out << "\nGeneral:\n";
+    row("--help", "print this text", 19);
+    row("--version", "print the engine version", 19);
+    out << "\nExit codes: 0 success, 2 usage or input error, 3 a refinement limit was reached\n"
+           "(safety depth or memory budget), 1 internal error.\n"
+           "Example: hrbench run parallel l=64 d=1 --eps 0.25 --json\n";
+    return out.str();
+}
+
+Options ParseCommandLine(const std::vector<std::string> &args) {
+    Options o;
+    if (args.empty())
+        throw InputError("no command given; see hrbench --help");
+    o.command = args[0];
+    const auto &commands = Commands();
+    if (std::none_of(commands.begin(), commands.end(),
+                     [&](const CommandSpec &c) { return c.name == o.command; }))
+        throw InputError("unknown command '" + o.command + "'; see hrbench --help");
+
+    // Apply every flag through its table entry; collect the scene and its parameters.
+    for (size_t k = 1; k < args.size(); ++k) {
+        const std::string &a = args[k];
+        const auto &table = OptionTable();
+        auto spec = std::find_if(table.begin(), table.end(),
+                                 [&](const OptionSpec &s) { return s.flag == a; });
+        if (spec != table.end()) {
+            if (std::find(spec->commands.begin(), spec->commands.end(), o.command) ==
+                spec->commands.end())
+                throw InputError(a + " does not apply to " + o.command);
+            std::string value;
+            if (!spec->value.empty()) {
+                if (k + 1 >= args.size())
+                    throw InputError(a + " needs a value");
+                value = args[++k];
+            }
+            const auto &choices = spec->choices;
+            if (!choices.empty() &&
+                std::find(choices.begin(), choices.end(), value) == choices.end()) {
+                std::string names;
+                for (const std::string &c : choices)
+                    names += (names.empty() ? "" : ", ") + c;
+                throw InputError("unknown " + spec->name + " '" + value +
+                                 "' (choose one of: " + names + ")");
+            }
+            spec->apply(o, value);
+        } else if (a.rfind("--", 0) == 0) {
+            throw InputError("unknown option '" + a + "'; see hrbench --help");
+        } else if (IsParamWord(a)) {
+            o.params.push_back(a);
+        } else if (o.scene.empty()) {
+            o.scene = a;
+        } else {
+            throw InputError("unexpected argument '" + a + "'; see hrbench --help");
+        }
+    }
+
+    // Reject combinations that make no sense, naming the flags.
+    bool refines = o.command == "run" || o.command == "links";
+    if (refines || o.command == "save") {
+        int sources = !o.scene.empty() + !o.sceneFile.empty() + !o.mesh.empty();
+        if (sources != 1)
+            throw InputError(o.command + " needs either a SCENE family, --scene-file or --mesh");
+        if (o.scene.empty() && !o.params.empty())
+            throw InputError(
+                "key=value parameters apply to a family, not to --scene-file or --mesh");
+    } else if (!o.scene.empty() || !o.params.empty()) {
+        throw InputError(o.command + " takes no scene");
+    }
+    if (refines && !o.eps)
+        throw InputError(o.command + " needs --eps");
+    if (o.command == "links" && o.out.empty())
+        throw InputError("links needs --out F.csv");
+    if (o.command == "capabilities" && !o.json)
+        throw InputError("capabilities prints JSON only; add --json");
+    o.refine.eps = o.eps.value_or(0);
+    o.refine.storeLinks = o.command == "links" || !o.countOnly;
+    return o;
+}
+
+}  // namespace hrbench

@@ -1,0 +1,55 @@
+// The command line of hrbench: its commands and options, each listed once. Parsing,
+// the usage text and `hrbench capabilities` all read these tables.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "refine_options.h"
+
+namespace hrbench {
+
+// Everything the command line can say, parsed once.
+struct Options {
+    std::string command;
+    std::string scene;
+    std::vector<std::string> params;  // key=value words
+    std::string sceneFile;
+    std::string mesh;
+    std::string out;
+    std::optional<double> eps;
+    RefineOptions refine;
+    bool json = false;
+    bool countOnly = false;
+    std::string method = "enumerate";
+};
+
+struct CommandSpec {
+    std::string name;
+    std::string synopsis;  // after "hrbench "
+    std::string doc;       // one line
+};
+
+struct OptionSpec {
+    std::string name;                   // the option's name in claim files: "min_area"
+    std::string flag;                   // "--min-area"
+    std::string value;                  // metavariable, "" for a switch
+    std::vector<std::string> choices;   // the values it accepts, if a closed set
+    std::vector<std::string> commands;  // the commands it applies to
+    std::string doc;                    // help text; lines after the first are indented
+    std::function<void(Options &, const std::string &)> apply;  // stores the value
+};
+
+const std::vector<CommandSpec> &Commands();
+const std::vector<OptionSpec> &OptionTable();
+
+// The text of `hrbench --help`.
+std::string Usage();
+
+// Parses the arguments after the program name and rejects combinations that make no
+// sense, naming the flags; throws InputError.
+Options ParseCommandLine(const std::vector<std::string> &args);
+
+}  // namespace hrbench

@@ -1,0 +1,85 @@
+#include "forest.h"
+
+#include "util/error.h"
+
+namespace hrbench {
+
+template <typename Shape>
+Forest<Shape>::Forest(const Patches<Shape> &patches, size_t maxElements, Subdivision mode)
+    : numRoots_(patches.size()), maxElements_(maxElements), mode_(mode) {
+    if (numRoots_ >= (size_t(1) << 31))
+        throw InputError("scene has too many patches");
+    for (const Patch<Shape> &patch : patches) {
+        const Shape &s = patch.shape;
+        hot_.push_back({s.Centroid(), s.Measure(), kNoChildren, uint32_t(hot_.size())});
+        shapes_.push_back(s);
+        depth_.push_back(0);
+        parent_.push_back(uint32_t(parent_.size()));
+    }
+}
+
+template <typename Shape>
+uint32_t Forest<Shape>::Subdivide(uint32_t i) {
+    // Refuse to grow past the budget or past 32-bit indices.
+    int arity = Arity();
+    if (hot_.size() + arity > maxElements_ || hot_.size() + arity > UINT32_MAX)
+        throw LimitError("element trees would exceed the memory budget (" +
+                         std::to_string(hot_.size()) + " elements); raise --max-memory or eps");
+
+    // Split element _i_ and check that double precision still resolves its children.
+    std::array<Shape, 4> children;
+    shapes_[i].Subdivide(mode_, children);
+    std::array<double, 4> sizes{};
+    for (int c = 0; c < arity; ++c)
+        sizes[c] = children[c].Measure();
+    if (!Shape::Resolves(hot_[i].size, sizes, arity))
+        throw LimitError("element " + std::to_string(i) + " of patch " +
+                         std::to_string(hot_[i].root) +
+                         " is too small for double precision at depth " +
+                         std::to_string(depth_[i]) + "; use --min-area or --max-depth");
+
+    // Append the children, first child first.
+    uint32_t first = uint32_t(hot_.size());
+    uint32_t root = hot_[i].root;
+    uint8_t depth = uint8_t(depth_[i] + 1);
+    for (int c = 0; c < arity; ++c) {
+        hot_.push_back({children[c].Centroid(), sizes[c], kNoChildren, root});
+        shapes_.push_back(children[c]);
+        depth_.push_back(depth);
+        parent_.push_back(i);
+    }
+    hot_[i].firstChild = first;
+    return first;
+}
+
+template <typename Shape>
+uint64_t Forest<Shape>::Position(uint32_t i) const {
+    uint64_t position = 0, weight = 1;
+    for (; parent_[i] != i; i = parent_[i], weight *= uint64_t(Arity()))
+        position += (i - hot_[parent_[i]].firstChild) * weight;
+    return position;
+}
+
+template <typename Shape>
+std::vector<uint64_t> Forest<Shape>::NodesPerDepth() const {
+    std::vector<uint64_t> histogram;
+    for (uint8_t d : depth_) {
+        if (d >= histogram.size())
+            histogram.resize(d + 1, 0);
+        ++histogram[d];
+    }
+    return histogram;
+}
+
+template <typename Shape>
+uint64_t Forest<Shape>::NumLeaves() const {
+    uint64_t leaves = 0;
+    for (const ElementType &e : hot_)
+        leaves += e.firstChild == kNoChildren;
+    return leaves;
+}
+
+template class Forest<Segment>;
+template class Forest<Polygon>;
+
+}  // namespace hrbench

@@ -1,0 +1,82 @@
+// The element trees of every root patch of a scene, for one shape, in one flat arena:
+// indices, not pointers, children created on demand, once, and shared by every later
+// branch that reaches the element (docs/conventions.md).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "geometry/subdivision.h"
+#include "scene.h"
+
+namespace hrbench {
+
+// What the refinement kernel reads for every oracle call (32 bytes in 2D, 40 in 3D).
+template <int D>
+struct Element {
+    Vector<D> center;     // centroid, where the oracle measures distances
+    double size;          // A: length (2D) or area (3D)
+    uint32_t firstChild;  // index of the first child (children are consecutive); 0 if a leaf
+    uint32_t root;        // index of the root patch in scene order
+};
+
+// Element 0 is always a root, so it can never be anyone's child.
+constexpr uint32_t kNoChildren = 0;
+
+template <typename Shape>
+class Forest {
+  public:
+    using ElementType = Element<Shape::kDimension>;
+
+    // Bytes one element costs in the arena: hot record, shape, depth and parent.
+    static constexpr size_t kBytesPerElement =
+        sizeof(ElementType) + sizeof(Shape) + sizeof(uint8_t) + sizeof(uint32_t);
+
+    // Creates one root element per patch; elements 0..n-1 are the roots. _maxElements_
+    // bounds the arena (a memory budget): growing past it throws LimitError.
+    Forest(const Patches<Shape> &patches, size_t maxElements, Subdivision mode);
+
+    // The hot data of element _i_.
+    const ElementType &operator[](uint32_t i) const { return hot_[i]; }
+    size_t Size() const { return hot_.size(); }
+    size_t NumRoots() const { return numRoots_; }
+    Subdivision Mode() const { return mode_; }
+    int Arity() const { return SubdivisionArity(mode_); }
+
+    // Returns the index of the first child of _i_, subdividing _i_ the first time it is
+    // asked; later calls share the same children (Arity() of them, consecutive).
+    uint32_t Children(uint32_t i) {
+        uint32_t first = hot_[i].firstChild;
+        return first != kNoChildren ? first : Subdivide(i);
+    }
+
+    // Cold data, for visibility sampling, output and tests.
+    const Shape &ShapeOf(uint32_t i) const { return shapes_[i]; }
+    int Depth(uint32_t i) const { return depth_[i]; }
+    // Parent element, or the element itself for a root.
+    uint32_t Parent(uint32_t i) const { return parent_[i]; }
+    // Index of _i_ among the Arity()^Depth(i) elements of its depth in its tree, in
+    // subdivision order (a segment's position along its root, from its start).
+    uint64_t Position(uint32_t i) const;
+
+    // Counters of the trees: elements per depth, elements without children.
+    std::vector<uint64_t> NodesPerDepth() const;
+    uint64_t NumLeaves() const;
+
+  private:
+    uint32_t Subdivide(uint32_t i);
+
+    size_t numRoots_;
+    size_t maxElements_;
+    Subdivision mode_;
+    std::vector<ElementType> hot_;
+    std::vector<Shape> shapes_;
+    std::vector<uint8_t> depth_;
+    std::vector<uint32_t> parent_;
+};
+
+extern template class Forest<Segment>;
+extern template class Forest<Polygon>;
+
+}  // namespace hrbench

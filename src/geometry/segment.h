@@ -1,0 +1,47 @@
+// The flatland shape: an oriented segment (see shape.h for the contract).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "geometry/shape.h"
+#include "geometry/subdivision.h"
+
+namespace hrbench {
+
+// An oriented segment from _a_ to _b_; its front side is on the left (the direction
+// rotated by +90 degrees).
+struct Segment {
+    static constexpr int kDimension = 2;
+    static constexpr const char *kName = "segment";
+    using Vec = Vec2;
+
+    Vec2 a, b;
+
+    double Length() const { return (b - a).norm(); }
+    double Measure() const { return Length(); }
+    Vec2 Midpoint() const { return 0.5 * (a + b); }
+    Vec2 Centroid() const { return Midpoint(); }
+    // Unit normal on the front (left) side.
+    Vec2 Normal() const {
+        Vec2 dir = (b - a).normalized();
+        return Vec2(-dir.y(), dir.x());
+    }
+
+    // The two halves at the midpoint, the first starting at _a_. Segments have no
+    // quadtree rule; the refinement options refuse it before any split.
+    int Subdivide(Subdivision mode, std::array<Segment, 4> &out) const;
+
+    // _k_ points at the centres of the _k_ equal parts, from _a_ to _b_.
+    void SamplePoints(int k, std::vector<Vec2> &out) const;
+
+    // "" when the segment can be a patch; otherwise what is wrong with it.
+    std::string Problem() const;
+
+    // Both halves must measure half the parent to 1e-6: midpoints of an element too small
+    // for its coordinates no longer halve it.
+    static bool Resolves(double measure, const std::array<double, 4> &children, int n);
+};
+
+}  // namespace hrbench

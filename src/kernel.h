@@ -1,0 +1,168 @@
+// ProjectKernel: the refinement recursion of docs/conventions.md, compiled once per
+// forest, arity, oracle, storage mode and visibility policy (chosen by Refine()).
+// Internal to refine.cpp.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "link_buffer.h"
+#include "refine_options.h"
+#include "util/error.h"
+#include "visibility.h"
+
+namespace hrbench {
+
+// Pairs whose depths add up to this are handed to the worker threads as tasks.
+// A constant, not a function of the thread count, so that the task list (and with
+// it the order of links) is the same for every thread count.
+constexpr int kTaskDepth = 10;
+
+// A pending ProjectKernel call.
+struct Call {
+    uint32_t i, j;
+    int32_t depthI, depthJ;
+};
+
+// A subtree of the refinement left to a worker, with the root pair it belongs to.
+struct Task {
+    Call call;
+    uint32_t pair;
+};
+
+// What one kernel instance counted.
+struct Tally {
+    uint64_t oracleCalls = 0, links = 0, forcedLinks = 0;
+    VisibilityTally visibility;
+    std::array<uint64_t, 2 * kSafetyDepth + 1> linksPerDepth{};
+
+    void Add(const Tally &other) {
+        oracleCalls += other.oracleCalls, links += other.links, forcedLinks += other.forcedLinks;
+        visibility.Add(other.visibility);
+        for (size_t d = 0; d < linksPerDepth.size(); ++d)
+            linksPerDepth[d] += other.linksPerDepth[d];
+    }
+};
+
+// The recursion of docs/conventions.md for one forest, one arity, one oracle type and
+// one storage mode, so that subdivision, the oracle and the link sink are inlined. It
+// runs depth-first, first child first. With _kFrontier_ it stops at kTaskDepth and
+// records the pairs there as tasks instead. _Visibility_ is NoVisibility (occlusion
+// ignored, compiled out) or SampledVisibility (docs/3d.md).
+template <typename Forest, int kArity, typename Oracle, bool kStoreLinks, bool kFrontier,
+          typename Visibility = NoVisibility>
+class ProjectKernel {
+  public:
+    ProjectKernel(Forest &forest, const Oracle &oracle, const RefineOptions &options,
+                  size_t maxLinks, const Visibility &visibility = Visibility())
+        : forest_(forest), oracle_(oracle), visibility_(visibility), minArea_(options.minArea),
+          depthLimit_(options.maxDepth >= 0 ? options.maxDepth : kSafetyDepth),
+          userDepthLimit_(options.maxDepth >= 0), maxLinks_(maxLinks) {}
+
+    // Refines _start_ completely (below the frontier), appending links to _links_
+    // and frontier pairs to _tasks_.
+    void Project(Call start, uint32_t pair, LinkBuffer &links, std::vector<Task> *tasks) {
+        links_ = &links;
+        tasks_ = tasks;
+        pair_ = pair;
+        Recurse(start.i, start.j, start.depthI, start.depthJ);
+    }
+
+    Tally tally;
+
+  private:
+    // One ProjectKernel call. Plain recursion with scalar arguments: measured with
+    // fewer instructions per call than an explicit stack, a packed argument struct,
+    // or a separate function for rejected pairs.
+    void Recurse(uint32_t i, uint32_t j, int depthI, int depthJ) {
+        if constexpr (kFrontier) {
+            if (depthI + depthJ >= kTaskDepth)
+                return tasks_->push_back({{i, j, depthI, depthJ}, pair_});
+        }
+        ++tally.oracleCalls;
+        const auto &ei = forest_[i], &ej = forest_[j];
+        if constexpr (Visibility::kEnabled) {
+            // Estimate the visible fraction: drop occluded pairs, weight or refine partial ones.
+            double visible = visibility_.Fraction(forest_, i, j, tally.visibility);
+            if (visible == 0) {
+                ++tally.visibility.occludedPairs;
+                return;
+            }
+            bool acceptable = visible == 1 ? oracle_.Acceptable(ei, ej)
+                              : visibility_.Mode() == VisibilityMode::Fraction
+                                  ? oracle_.AcceptableVisible(ei, ej, visible)
+                                  : false;  // refine: partially visible pairs go to the limit
+            if (acceptable)
+                return AddLink(i, j, depthI + depthJ);
+        } else {
+            if (oracle_.Acceptable(ei, ej))
+                return AddLink(i, j, depthI + depthJ);
+        }
+
+        // Pick the larger element (ties: the first) and apply the recursion limit to it.
+        bool splitI = ei.size >= ej.size;
+        double preferredSize = splitI ? ei.size : ej.size;
+        int preferredDepth = splitI ? depthI : depthJ;
+        if (preferredSize < minArea_ || preferredDepth >= depthLimit_) {
+            if (!userDepthLimit_ && preferredDepth >= depthLimit_)
+                ThrowSafetyCap(i, j);
+            ++tally.forcedLinks;
+            return AddLink(i, j, depthI + depthJ);
+        }
+
+        // Recurse into the children of the preferred element, first child first.
+        if (splitI) {
+            uint32_t child = forest_.Children(i);
+            for (int c = 0; c < kArity; ++c)
+                Recurse(child + c, j, depthI + 1, depthJ);
+        } else {
+            uint32_t child = forest_.Children(j);
+            for (int c = 0; c < kArity; ++c)
+                Recurse(i, child + c, depthI, depthJ + 1);
+        }
+    }
+
+    void AddLink(uint32_t i, uint32_t j, int depth) {
+        ++tally.links;
+        ++tally.linksPerDepth[depth];
+        if constexpr (kStoreLinks) {
+            if (links_->size() == links_->capacity())
+                GrowLinks();
+            links_->Append({i, j});
+        }
+    }
+
+    // Doubles the link buffer, within the budget. Out of line: it runs log(L) times.
+    [[gnu::noinline]] void GrowLinks() {
+        size_t capacity = std::max<size_t>(2 * links_->capacity(), 1 << 16);
+        if (capacity > maxLinks_)
+            throw LimitError("stored links would exceed the memory budget (" +
+                             std::to_string(links_->size()) +
+                             " links); use --count-only, a larger eps or --max-memory");
+        links_->Reserve(capacity);
+    }
+
+    [[noreturn]] void ThrowSafetyCap(uint32_t i, uint32_t j) const {
+        throw LimitError("refinement of patches " + std::to_string(forest_[i].root) + " and " +
+                         std::to_string(forest_[j].root) + " reached the safety depth " +
+                         std::to_string(kSafetyDepth) +
+                         " without an acceptable link; set a recursion limit with --min-area "
+                         "or --max-depth");
+    }
+
+    Forest &forest_;
+    const Oracle oracle_;
+    Visibility visibility_;
+    const double minArea_;
+    const int depthLimit_;
+    const bool userDepthLimit_;
+    const size_t maxLinks_;
+    LinkBuffer *links_ = nullptr;
+    std::vector<Task> *tasks_ = nullptr;
+    uint32_t pair_ = 0;
+};
+
+}  // namespace hrbench

@@ -1,0 +1,59 @@
+// Hanrahan, Salzman & Aupperle's oracle: form-factor estimates (docs/conventions.md).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "forest.h"
+#include "oracles/oracle.h"
+
+namespace hrbench {
+
+// The form factor of a point to a centred element, cosines at the centroids clamped
+// at 0: 3D F(i<-j) = A_j cos+_i cos+_j / (pi r^2 + A_j), 2D (the exact point-to-
+// centred-segment factor) F(i<-j) = A_j cos+_i cos+_j / sqrt(4 r^2 + A_j^2).
+// Acceptable iff V F(i<-j) <= eps and V F(j<-i) <= eps (V = 1 without visibility).
+template <typename Shape>
+class HanrahanOracle {
+  public:
+    static constexpr OracleInfo kInfo = {
+        "hanrahan", kFlatland | kSpace, "eps",
+        "form-factor estimates F(i<-j), F(j<-i) <= eps (Hanrahan, Salzman & Aupperle)"};
+    using ElementType = Element<Shape::kDimension>;
+    using Vec = typename Shape::Vec;
+
+    // Keeps the unit front normal of every root patch, in scene order.
+    HanrahanOracle(double eps, const Patches<Shape> &roots) : eps_(eps) {
+        for (const Patch<Shape> &p : roots)
+            normals_.push_back(p.shape.Normal());
+    }
+
+    bool Acceptable(const ElementType &i, const ElementType &j) const {
+        return AcceptableVisible(i, j, 1.0);
+    }
+
+    bool AcceptableVisible(const ElementType &i, const ElementType &j, double visible) const {
+        constexpr double kPi = 3.14159265358979323846;
+        Vec d = j.center - i.center;
+        double r2 = d.squaredNorm();
+        double r = std::sqrt(r2);
+        double cosI = std::max(0.0, normals_[i.root].dot(d) / r);
+        double cosJ = std::max(0.0, -normals_[j.root].dot(d) / r);
+        double fIJ, fJI;
+        if constexpr (Shape::kDimension == 3) {
+            fIJ = j.size * cosI * cosJ / (kPi * r2 + j.size);
+            fJI = i.size * cosI * cosJ / (kPi * r2 + i.size);
+        } else {
+            fIJ = j.size * cosI * cosJ / std::sqrt(4 * r2 + j.size * j.size);
+            fJI = i.size * cosI * cosJ / std::sqrt(4 * r2 + i.size * i.size);
+        }
+        return visible * fIJ <= eps_ && visible * fJI <= eps_;
+    }
+
+  private:
+    double eps_;
+    std::vector<Vec> normals_;
+};
+
+}  // namespace hrbench

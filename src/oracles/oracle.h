@@ -1,0 +1,39 @@
+// What an oracle is: the rule that decides whether one element pair may be linked.
+//
+// An oracle is a class template over the shape, a small value type that the kernel
+// instantiates once per run, so that its test compiles into the recursion:
+//
+//   template <typename Shape>
+//   class MyOracle {
+//     public:
+//       static constexpr OracleInfo kInfo = {"my-oracle", kFlatland | kSpace, "eps", "one doc
+//       line"};
+//       // Built once per run from the threshold and the root patches.
+//       MyOracle(double eps, const Patches<Shape> &roots);
+//       // True when the pair may be linked.
+//       bool Acceptable(const Element<D> &i, const Element<D> &j) const;
+//       // The same with the error weighted by the pair's visible fraction V in (0, 1]
+//       // (--visibility fraction); with V = 1 it must decide as Acceptable() does.
+//       bool AcceptableVisible(const Element<D> &i, const Element<D> &j, double V) const;
+//   };
+//
+// Every oracle is listed once, in oracles/registry.h; see docs/oracles.md.
+#pragma once
+
+namespace hrbench {
+
+// How an oracle presents itself to the command line, the help text, the JSON and the
+// capability listing.
+constexpr unsigned kFlatland = 1u << 2;  // 2D scenes (segments)
+constexpr unsigned kSpace = 1u << 3;     // 3D scenes (polygons)
+
+struct OracleInfo {
+    const char *name;        // as on the command line and in JSON
+    unsigned dimensions;     // the scene dimensions it supports: kFlatland | kSpace
+    const char *parameters;  // the options it reads, e.g. "eps"
+    const char *doc;         // one line: what it accepts
+
+    constexpr bool Supports(int dimension) const { return (dimensions >> dimension) & 1u; }
+};
+
+}  // namespace hrbench

@@ -1,0 +1,24 @@
+#include "oracles/registry.h"
+
+#include "util/error.h"
+
+namespace hrbench {
+
+std::vector<OracleInfo> OracleInfos() {
+    std::vector<OracleInfo> infos;
+    AllOracles::ForEach([&](auto tag) { infos.push_back(tag.Info()); });
+    return infos;
+}
+
+const OracleInfo &FindOracle(const std::string &name) {
+    static const std::vector<OracleInfo> infos = OracleInfos();
+    std::string names;
+    for (const OracleInfo &info : infos) {
+        if (info.name == name)
+            return info;
+        names += (names.empty() ? "" : ", ") + std::string(info.name);
+    }
+    throw InputError("unknown oracle '" + name + "' (choose one of: " + names + ")");
+}
+
+}  // namespace hrbench

@@ -1,0 +1,39 @@
+// Every oracle of the engine, listed once. The command line, the help text, the JSON,
+// the capability listing and the refinement dispatch all read this list.
+// To add an oracle: write oracles/<name>.h (see oracles/oracle.h) and add it here.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "oracles/garmann.h"
+#include "oracles/hanrahan.h"
+
+namespace hrbench {
+
+// A list of oracle class templates.
+template <template <typename> class... Oracles>
+struct OracleList {
+    // Calls _f_ with a default-constructed tag OracleTag<Oracle> for each oracle in order.
+    template <typename F>
+    static void ForEach(F &&f) {
+        (f(OracleTag<Oracles>{}), ...);
+    }
+
+    template <template <typename> class Oracle>
+    struct OracleTag {
+        template <typename Shape>
+        using Type = Oracle<Shape>;
+        static constexpr const OracleInfo &Info() { return Oracle<Segment>::kInfo; }
+    };
+};
+
+using AllOracles = OracleList<GarmannOracle, HanrahanOracle>;
+
+// The name, dimensions, parameters and doc line of every oracle, in registry order.
+std::vector<OracleInfo> OracleInfos();
+
+// The registry entry named _name_; throws InputError listing the names otherwise.
+const OracleInfo &FindOracle(const std::string &name);
+
+}  // namespace hrbench

@@ -1,0 +1,54 @@
+// The options of one refinement run, as plain typed values (the CLI parses strings).
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "geometry/subdivision.h"
+
+namespace hrbench {
+
+// How refinement treats occlusion (`--visibility`; docs/3d.md).
+enum class VisibilityMode {
+    None,      // ignore occlusion (the setting of the papers; the default)
+    Fraction,  // weight the oracle's error by the visible fraction V of the pair
+    Refine,    // refine every partially visible pair down to the recursion limit
+};
+
+// Name used on the command line and in JSON ("none", "fraction", "refine").
+std::string VisibilityName(VisibilityMode mode);
+
+// Parses a visibility mode; throws InputError listing the valid names.
+VisibilityMode ParseVisibility(const std::string &name);
+
+// Depth beyond which no element is split without a user limit: deeper elements lose
+// their midpoints to double rounding, and a pair that gets there would not terminate
+// on its own (touching patches). Reaching it is an error.
+constexpr int kSafetyDepth = 48;
+
+struct RefineOptions {
+    std::string oracle = "garmann";  // a name of the oracle registry (oracles/registry.h)
+    double eps = 0;                  // oracle threshold, > 0
+    double minArea = 0;              // link a pair whose preferred element is smaller; 0 = off
+    int maxDepth = -1;               // link a pair whose preferred element has this depth; -1 = off
+    bool storeLinks = false;         // keep every link (store mode) or only count (count-only)
+    size_t memoryBudget = 0;         // bytes for elements and links; 0 = what the machine has free
+    int threads = 1;                 // worker threads; counts never depend on it
+    Subdivision subdivision = Subdivision::Binary;     // 3D: two halves or four quarters
+    VisibilityMode visibility = VisibilityMode::None;  // how occlusion counts (docs/3d.md)
+    int raysPerSide = 3;  // k: sample points per element side for visibility, 1..16
+
+    bool HasRecursionLimit() const { return minArea > 0 || maxDepth >= 0; }
+};
+
+// Throws InputError naming the option when _options_ are out of range or do not apply
+// to a scene of dimension _dimension_ (2 or 3).
+void ValidateOptions(const RefineOptions &options, int dimension);
+
+// The memory budget of a run in bytes: the option, or 90% of the free memory.
+size_t EffectiveBudget(const RefineOptions &options);
+
+// Free memory reported by the operating system (MemAvailable), in bytes.
+size_t AvailableMemoryBytes();
+
+}  // namespace hrbench

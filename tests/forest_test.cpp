@@ -1,0 +1,185 @@
+// The element trees of a scene (forest.h), for both shapes: children created once and
+// shared, canonical positions, the tree counters, and the two limits a forest enforces
+// (the memory budget and double precision).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "hrbench.h"
+
+using namespace hrbench;
+
+namespace {
+
+Polygon UnitSquare() { return Polygon::Quad({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}); }
+
+Patches<Polygon> SquareAndTriangle() {
+    return {{UnitSquare(), {}}, {Polygon::Triangle({0, 0, 1}, {0, 1, 1}, {1, 0, 1}), {}}};
+}
+
+Patches<Segment> TwoSegments() {
+    return {{{Vec2(0, 0), Vec2(8, 0)}, {}}, {{Vec2(8, 1), Vec2(0, 1)}, {}}};
+}
+
+// Descends through the first child of _e_ until the forest refuses; returns the depth
+// reached and the message of the error (empty when none came within 300 levels).
+template <typename Shape>
+std::pair<int, std::string> DescendUntilRefused(Forest<Shape> &f, uint32_t e) {
+    for (int depth = 0; depth < 300; ++depth) {
+        try {
+            e = f.Children(e);
+        } catch (const LimitError &error) {
+            return {depth, error.what()};
+        }
+    }
+    return {300, ""};
+}
+
+}  // namespace
+
+TEST_CASE("Segment forests halve elements once, first half first", "[forest][2d]") {
+    Forest<Segment> f(TwoSegments(), 1000, Subdivision::Binary);
+    CHECK(f.Arity() == 2);
+    CHECK(f.Mode() == Subdivision::Binary);
+    REQUIRE(f.Size() == 2);
+    CHECK(f.NumRoots() == 2);
+    CHECK(f[0].size == 8);
+    CHECK(f[0].center == Vec2(4, 0));
+    CHECK(f[1].root == 1);
+    CHECK(f[0].firstChild == kNoChildren);
+    uint32_t c = f.Children(1);
+    CHECK(c == 2);
+    CHECK(f.Children(1) == 2);  // shared
+    CHECK(f.Size() == 4);
+    CHECK(f[1].firstChild == 2);
+    CHECK(f.ShapeOf(2).a == Vec2(8, 1));
+    CHECK(f.ShapeOf(2).b == Vec2(4, 1));
+    CHECK(f.ShapeOf(3).a == Vec2(4, 1));
+    CHECK(f.ShapeOf(3).b == Vec2(0, 1));
+    CHECK(f[3].size == 4);
+    CHECK(f[3].center == Vec2(2, 1));
+    CHECK(f[3].root == 1);
+    CHECK(f.Parent(3) == 1);
+    CHECK(f.Parent(1) == 1);  // a root is its own parent
+    CHECK(f.Depth(3) == 1);
+    CHECK(f.Depth(1) == 0);
+    CHECK(f.Children(0) == 4);
+    CHECK(f[4].root == 0);
+    CHECK(f.NumLeaves() == 4);
+    CHECK(f.NodesPerDepth() == std::vector<uint64_t>{2, 4});
+}
+
+TEST_CASE("Positions are canonical: the index along the root, whatever the creation order",
+          "[forest][2d]") {
+    Forest<Segment> f(TwoSegments(), 1000, Subdivision::Binary);
+    uint32_t first = f.Children(0);          // [0,4] and [4,8]
+    uint32_t right = f.Children(first + 1);  // the second half split first
+    uint32_t left = f.Children(first);
+    REQUIRE(right < left);
+    CHECK(f.Position(0) == 0);
+    CHECK(f.Position(first) == 0);
+    CHECK(f.Position(first + 1) == 1);
+    CHECK(f.Position(left) == 0);
+    CHECK(f.Position(left + 1) == 1);
+    CHECK(f.Position(right) == 2);
+    CHECK(f.Position(right + 1) == 3);
+    // The interval [t0, t1] of an element in arc length along its root (links_csv.h)
+    // is rootLength * [position, position + 1] / 2^depth, and its shape lies there.
+    for (uint32_t e = 0; e < f.Size(); ++e) {
+        INFO("element " << e);
+        const Segment &root = f.ShapeOf(f[e].root);
+        double rootLength = f[f[e].root].size;
+        double t0 = rootLength * std::ldexp(double(f.Position(e)), -f.Depth(e));
+        double t1 = rootLength * std::ldexp(double(f.Position(e) + 1), -f.Depth(e));
+        CHECK((f.ShapeOf(e).a - root.a).norm() == t0);
+        CHECK((f.ShapeOf(e).b - root.a).norm() == t1);
+    }
+    CHECK(f.NodesPerDepth() == std::vector<uint64_t>{2, 2, 4});
+    CHECK(f.NumLeaves() == 5);
+}
+
+TEST_CASE("Polygon forests create children once, first child first", "[forest][3d]") {
+    Patches<Polygon> patches = SquareAndTriangle();
+    SECTION("binary") {
+        Forest<Polygon> f(patches, 1000, Subdivision::Binary);
+        CHECK(f.Arity() == 2);
+        REQUIRE(f.Size() == 2);
+        CHECK(f[0].size == 1);
+        CHECK(f[1].size == 0.5);
+        uint32_t c = f.Children(0);
+        CHECK(c == 2);
+        CHECK(f.Children(0) == 2);  // shared
+        CHECK(f.Size() == 4);
+        CHECK(f[2].size == 0.5);
+        CHECK(f[2].center.isApprox(Vec3(0.25, 0.5, 0)));
+        CHECK(f[3].root == 0);
+        CHECK(f.Parent(3) == 0);
+        CHECK(f.Depth(3) == 1);
+        CHECK(f.Children(1) == 4);
+        CHECK(f[4].root == 1);
+        CHECK(f.NumLeaves() == 4);
+        CHECK(f.NodesPerDepth() == std::vector<uint64_t>{2, 4});
+        std::array<Polygon, 4> halves;
+        UnitSquare().Subdivide(Subdivision::Binary, halves);
+        CHECK(f.ShapeOf(2).v == halves[0].v);  // the shapes of Polygon::Subdivide, in order
+        CHECK(f.ShapeOf(3).v == halves[1].v);
+    }
+    SECTION("quadtree") {
+        Forest<Polygon> f(patches, 1000, Subdivision::Quadtree);
+        CHECK(f.Arity() == 4);
+        CHECK(f.Children(1) == 2);
+        CHECK(f.Size() == 6);
+        CHECK(f[5].size == 0.125);
+        CHECK(f.NumLeaves() == 5);
+        // Quarters of a quarter: positions count in base 4 along the subdivision order.
+        uint32_t grand = f.Children(4);
+        for (int k = 0; k < 4; ++k) {
+            CHECK(f.Position(2 + k) == uint64_t(k));
+            CHECK(f.Position(grand + k) == uint64_t(4 * 2 + k));
+            CHECK(f.Depth(grand + k) == 2);
+        }
+        CHECK(f.NodesPerDepth() == std::vector<uint64_t>{2, 4, 4});
+    }
+    SECTION("the memory budget is enforced") {
+        Forest<Polygon> f(patches, 3, Subdivision::Binary);
+        CHECK_THROWS_AS(f.Children(0), LimitError);
+    }
+}
+
+TEMPLATE_TEST_CASE("A forest refuses to grow past its memory budget, naming the budget", "[forest]",
+                   Segment, Polygon) {
+    Patches<TestType> patches;
+    if constexpr (TestType::kDimension == 2)
+        patches = TwoSegments();
+    else
+        patches = SquareAndTriangle();
+    Forest<TestType> f(patches, 6, Subdivision::Binary);
+    f.Children(0);
+    f.Children(1);
+    CHECK(f.Size() == 6);
+    CHECK_THROWS_WITH(f.Children(2), Catch::Contains("memory budget"));
+    CHECK(f.Size() == 6);  // nothing half made
+    CHECK(f[2].firstChild == kNoChildren);
+    CHECK(f.Children(0) == 2);  // existing children are still shared
+}
+
+TEST_CASE("A forest refuses elements too small for double precision to split", "[forest]") {
+    SECTION("a segment far from the origin for its size") {
+        // [1, 2] halved towards 1: [1, 1 + 2^-52] has a midpoint that rounds to 1.
+        Forest<Segment> f(Patches<Segment>{{{Vec2(1, 0), Vec2(2, 0)}, {}}}, 1000,
+                          Subdivision::Binary);
+        auto [depth, message] = DescendUntilRefused(f, 0);
+        CHECK(depth == 52);
+        CHECK_THAT(message, Catch::Contains("too small for double precision"));
+        CHECK_THAT(message, Catch::Contains("--min-area"));
+    }
+    SECTION("a polygon far from the origin for its size") {
+        Forest<Polygon> f(
+            Patches<Polygon>{{Polygon::Quad({1, 1, 0}, {2, 1, 0}, {2, 2, 0}, {1, 2, 0}), {}}}, 1000,
+            Subdivision::Binary);
+        auto [depth, message] = DescendUntilRefused(f, 0);
+        CHECK(depth > 90);  // both sides halve about 52 times
+        CHECK(depth < 300);
+        CHECK_THAT(message, Catch::Contains("too small for double precision"));
+    }
+}
