@@ -2,6 +2,7 @@
 
 Modules
 -------
+engine      the one module that runs the engine: version, capabilities, command lines
 claimfile   read and check the claims files (``analysis/claims/*.toml``)
 expr        the safe formula evaluator used for a claim's x and y
 loader      read the engine's output (run JSON, link CSV)

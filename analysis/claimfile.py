@@ -4,6 +4,11 @@ A claims file (TOML, one per published source) lists claims. Each claim says whi
 scene family to run, which parameter to sweep over which log-spaced range, which two
 quantities to measure, and which power law ``y = Theta(x^k)`` to expect between them.
 Adding a claim needs no code: see ``docs/analysis.md`` for the format.
+
+Loading checks a file offline: its syntax, keys, types and formulas. What depends on the
+engine is checked against its capabilities before any run starts: the oracle (see
+:func:`analysis.engine.oracle_error`), the names the formulas read (:func:`check_names`),
+and the scene family, parameters and options (:func:`analysis.engine.missing_capability`).
 """
 
 import math
@@ -13,7 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .expr import Expression, ExpressionError
-from .loader import ALIASES, COUNTERS
+from .loader import environment_names
 
 __all__ = [
     "Claim",
@@ -21,14 +26,13 @@ __all__ = [
     "ClaimsFileError",
     "load_claims",
     "load_claims_dir",
+    "check_names",
     "MODES",
     "RESERVED_OPTIONS",
 ]
 
 #: Sweep modes a claim may give ranges for.
 MODES = ("quick", "full")
-
-_ORACLES = ("garmann", "hanrahan", "bf")
 
 #: Engine options a claim may not set through ``options``: they have claim keys of their
 #: own (``eps``, ``oracle``, ``min_area``, ``max_depth``) or are set by the sweep itself.
@@ -134,7 +138,7 @@ class Claim:
     params : dict of str to float
         Fixed scene parameters (scene units).
     oracle : str
-        Oracle name.
+        Oracle name (not checked offline: the engine lists its oracles).
     sweep_param : str
         ``"eps"`` or the name of a scene parameter.
     eps : float or None
@@ -177,6 +181,8 @@ class Claim:
         The claims file.
     line : int
         Line of the claim in the file.
+    key_lines : dict of str to int
+        Line of the keys ``x`` and ``y``, for the messages of :func:`check_names`.
     """
 
     id: str
@@ -210,6 +216,7 @@ class Claim:
     chart: object = None
     path: str = ""
     line: int = 0
+    key_lines: dict = field(default_factory=dict)
 
     def range_for(self, mode):
         """The sweep range for `mode`, falling back to the other mode's range."""
@@ -382,9 +389,7 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
     for name, value in params.items():
         if not _is_number(value):
             fail(f"scene parameter {name!r} must be a number, got {value!r}", f"params.{name}")
-    oracle = raw.get("oracle", "garmann")
-    if oracle not in _ORACLES:
-        fail(f"key 'oracle' must be one of {', '.join(_ORACLES)}, got {oracle!r}", "oracle")
+    oracle = want("oracle", "str", raw.get("oracle", "garmann"))
 
     # Read the sweep: parameter and per-mode ranges.
     sweep = want("sweep", "table")
@@ -438,12 +443,7 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
         fail("sweep needs a range: 'quick', 'full' or 'range' = { from, to, per_decade }",
              "sweep")
 
-    # Parse the measured quantities and check the names they read.
-    known = set(COUNTERS) | set(ALIASES) | {"eps"} | set(params)
-    if sweep_param != "eps":
-        known.add(sweep_param)
-    if "l" in params and "d" in params:
-        known.add("g")
+    # Parse the measured quantities (the names they read are checked by check_names).
     exprs = {}
     for key in ("x", "y"):
         want(key, "str")
@@ -451,10 +451,6 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
             exprs[key] = Expression(raw[key])
         except ExpressionError as exc:
             fail(f"key {key!r}: {exc}", key)
-        unknown_names = exprs[key].names - known
-        if unknown_names:
-            fail(f"key {key!r} reads unknown name(s) {', '.join(sorted(unknown_names))}; "
-                 f"known: {', '.join(sorted(known))}", key)
 
     k = float(want("expected_exponent", "num"))
     tol = float(want("tolerance", "pos"))
@@ -507,7 +503,43 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
         expected_to_hold=expected, min_area=raw.get("min_area"),
         max_depth=int(raw["max_depth"]) if "max_depth" in raw else None,
         options=base_options, mode_options=mode_options, chart=raw.get("chart"),
-        path=str(path), line=loc.claim_line(index) or 0, **options)
+        path=str(path), line=loc.claim_line(index) or 0,
+        key_lines={key: loc.key_line(index, key) for key in ("x", "y")}, **options)
+
+
+def check_names(claim, counters, scene_params=()):
+    """Check that a claim's formulas read only names a run provides.
+
+    A formula may read the scene parameters (the claim's and the family's), ``eps``,
+    ``g`` (with ``l`` and ``d``), the engine's scalar counters, the measures
+    ``patches`` and ``seconds``, and the aliases ``N`` and ``L`` (see
+    :func:`analysis.loader.run_environment`). Any other name is a typo: the analysis
+    exits with code 2 before any run.
+
+    Parameters
+    ----------
+    claim : Claim
+    counters : iterable of str
+        Names of the engine's scalar counters
+        (:attr:`analysis.engine.Capabilities.scalar_counters`).
+    scene_params : iterable of str, optional
+        Parameter names of the claim's scene family (they have defaults, so a run
+        reports them even where the claim does not set them).
+
+    Raises
+    ------
+    ClaimsFileError
+        Naming the file, the line, the claim, the key (``x`` or ``y``), the unknown
+        names and the known ones.
+    """
+    known = environment_names({*claim.params, *scene_params}, counters)
+    for key, expr in (("x", claim.x), ("y", claim.y)):
+        unknown = expr.names - known
+        if unknown:
+            raise ClaimsFileError(
+                claim.path, f"key {key!r} reads unknown name(s) {', '.join(sorted(unknown))}; "
+                f"known: {', '.join(sorted(known))}",
+                line=claim.key_lines.get(key) or claim.line, claim_id=claim.id, key=key)
 
 
 def _options_iv(options, where, fail):

@@ -1,7 +1,10 @@
 """Reading what the ``hrbench`` command line writes: run records (JSON) and link lists (CSV).
 
 Every other module of the analysis works on plain numbers and arrays; this is the only
-place that knows the field names of the engine's output.
+place that knows the field names of the engine's output. The names of the counters are
+the engine's own (``hrbench capabilities --json``, read by :mod:`analysis.engine`); this
+module needs only the few it reads by name (:data:`COUNTERS`). Their meaning is in
+docs/conventions.md.
 """
 
 import csv
@@ -13,6 +16,7 @@ import numpy as np
 
 __all__ = [
     "COUNTERS",
+    "MEASURES",
     "ALIASES",
     "SCHEMA_VERSION",
     "RunResult",
@@ -21,32 +25,33 @@ __all__ = [
     "parse_run_json",
     "read_links_csv",
     "run_environment",
+    "environment_names",
 ]
 
 #: JSON schema version of ``hrbench run --json`` that this module understands.
 SCHEMA_VERSION = 1
 
-#: Scalar counters of a run, as named in DESIGN section 2 (all exact integers except ``seconds``).
-COUNTERS = (
-    "nodes",          # every element of every tree, roots included (count)
-    "leaves",         # elements without children (count)
-    "links",          # element pairs linked by the refinement (count)
-    "oracle_calls",   # evaluations of the refinement oracle (count)
-    "max_depth",      # deepest element depth reached (levels)
-    "forced_links",   # links made by a recursion limit, not by the oracle (count)
-    "culled_pairs",   # root pairs that cannot exchange light (count)
-    "root_pairs",     # root pairs refined (count)
-    "patches",        # root patches of the scene (count)
-    "occluded_pairs", # element pairs found wholly occluded by the visibility test (count)
-    "visibility_queries",  # visibility tests of element pairs (count)
-    "rays",           # rays cast by the visibility tests (count)
-    "seconds",        # refinement wall time (s)
-)
+#: The counters the analysis itself reads by name, which every run record must hold:
+#: ``nodes`` and ``links`` (the aliases ``N`` and ``L``), ``leaves``, ``oracle_calls`` and
+#: ``max_depth``. They are not the full list: the engine names all its counters in
+#: ``hrbench capabilities --json`` (:attr:`analysis.engine.Capabilities.scalar_counters`),
+#: and a record is read generically (see :func:`parse_run_json`). Their meaning is in
+#: docs/conventions.md.
+COUNTERS = ("nodes", "leaves", "links", "oracle_calls", "max_depth")
+_REQUIRED = COUNTERS
+
+#: Measured top-level fields of a record that are not in the engine's counter table but
+#: that formulas may read like counters: ``patches`` (root patches of the scene, count)
+#: and ``seconds`` (refinement wall time, s).
+MEASURES = ("patches", "seconds")
 
 #: Short names a claim formula may use for counters, as in the published statements.
 ALIASES = {"N": "nodes", "L": "links"}
 
-_REQUIRED = ("nodes", "leaves", "links", "oracle_calls", "max_depth")
+# Top-level fields that RunResult reads by name: what describes the run (never a
+# counter, even where it is an integer) and the two histograms it keeps as fields.
+_RECORD_FIELDS = ("schema_version", "version", "scene", "params", "eps", "oracle", "mode",
+                  "min_area", "max_depth_limit", "nodes_per_depth", "links_per_depth")
 
 
 class ResultFormatError(ValueError):
@@ -76,7 +81,8 @@ class RunResult:
     max_depth_limit : int or None
         Recursion limit on depth (levels), if any.
     counters : dict of str to float
-        The scalar counters of :data:`COUNTERS` that the record holds (counts; ``seconds`` in s).
+        The scalar counters the record holds (see :func:`parse_run_json`), and the
+        measures of :data:`MEASURES` (counts; ``seconds`` in s).
     nodes_per_depth : list of int
         Elements per element depth (count).
     links_per_depth : list of int
@@ -106,18 +112,53 @@ def _number(obj, key, where):
     return value
 
 
-def parse_run_json(text):
+def _is_integer(value):
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _counter_names(obj, counters):
+    # The names of the scalar counters of a record, in the record's order.
+    if counters is None:
+        return [k for k, v in obj.items() if k not in _RECORD_FIELDS and _is_integer(v)]
+    return [k for k in counters if k in obj]
+
+
+def _read_counters(obj, counters):
+    # The counters and measures of a record, checked.
+    out = {}
+    for key in _counter_names(obj, counters):
+        if obj[key] is not None:
+            if not _is_integer(obj[key]):
+                raise ResultFormatError(f"run output: counter {key!r} must be an integer, "
+                                        f"got {obj[key]!r}")
+            out[key] = obj[key]
+    for key in MEASURES:
+        if obj.get(key) is not None:
+            out[key] = _number(obj, key, "run output")
+    for key in _REQUIRED:
+        if key not in out:
+            raise ResultFormatError(f"run output: required counter {key!r} is missing")
+    return out
+
+
+def parse_run_json(text, counters=None):
     """Parse the JSON object printed by ``hrbench run ... --json``.
 
-    Unknown fields are kept in ``extra`` and otherwise ignored; optional fields
-    (``min_area``, ``max_depth_limit``, ``forced_links``, ``culled_pairs``, ``root_pairs``,
-    ``patches``, ``occluded_pairs``, ``visibility_queries``, ``rays``, ``seconds``, the
-    per-depth histograms) may be missing.
+    Counters are read generically: the fields named in `counters` (the engine's counter
+    table) when it is given, otherwise every top-level integer field that does not
+    describe the run (scene, eps, limits, ...); without the table, integer fields that
+    echo an option (``threads``, ``rays_per_side``) count too. The counters of
+    :data:`COUNTERS` must be
+    there; the measures of :data:`MEASURES`, the per-depth histograms, ``min_area`` and
+    ``max_depth_limit`` may be missing. Other fields are kept in ``extra``.
 
     Parameters
     ----------
     text : str
         The standard output of one run.
+    counters : sequence of str, optional
+        Names of the engine's scalar counters
+        (:attr:`analysis.engine.Capabilities.scalar_counters`), when an engine is at hand.
 
     Returns
     -------
@@ -127,7 +168,8 @@ def parse_run_json(text):
     ------
     ResultFormatError
         If the text is not a JSON object, its ``schema_version`` is not
-        :data:`SCHEMA_VERSION`, or a required counter is missing or not a number.
+        :data:`SCHEMA_VERSION`, a counter is not an integer, or a counter of
+        :data:`COUNTERS` is missing.
     """
     try:
         obj = json.loads(text)
@@ -139,17 +181,11 @@ def parse_run_json(text):
     if schema != SCHEMA_VERSION:
         raise ResultFormatError(
             f"run output has schema_version {schema!r}; this analysis reads {SCHEMA_VERSION}")
-    counters = {}
-    for key in COUNTERS:
-        if key in obj and obj[key] is not None:
-            counters[key] = _number(obj, key, "run output")
-        elif key in _REQUIRED:
-            raise ResultFormatError(f"run output: required counter {key!r} is missing")
+    values = _read_counters(obj, counters)
     params = obj.get("params") or {}
     if not isinstance(params, dict):
         raise ResultFormatError("run output: field 'params' must be an object")
-    known = {"schema_version", "version", "scene", "params", "eps", "oracle", "mode",
-             "min_area", "max_depth_limit", "nodes_per_depth", "links_per_depth", *COUNTERS}
+    known = {*_RECORD_FIELDS, *_counter_names(obj, counters), *MEASURES}
     return RunResult(
         version=str(obj.get("version", "")),
         scene=str(obj.get("scene", "")),
@@ -160,7 +196,7 @@ def parse_run_json(text):
         mode=str(obj.get("mode", "")),
         min_area=obj.get("min_area"),
         max_depth_limit=obj.get("max_depth_limit"),
-        counters=counters,
+        counters=values,
         nodes_per_depth=list(obj.get("nodes_per_depth") or []),
         links_per_depth=list(obj.get("links_per_depth") or []),
         extra={k: v for k, v in obj.items() if k not in known},
@@ -177,7 +213,7 @@ def run_environment(result):
     Returns
     -------
     env : dict of str to float
-        Every counter of :data:`COUNTERS` the run reported, the aliases of
+        Every counter and measure in ``result.counters``, the aliases of
         :data:`ALIASES` (``N``, ``L``), ``eps``, every scene parameter, and ``g = l / d``
         when the scene has both ``l`` and ``d`` (dimensionless).
     """
@@ -192,6 +228,31 @@ def run_environment(result):
         d = result.params["d"]
         env["g"] = result.params["l"] / d if d != 0 else math.nan
     return env
+
+
+def environment_names(params, counters):
+    """The names :func:`run_environment` gives a formula, for a run of known counters.
+
+    Parameters
+    ----------
+    params : iterable of str
+        Names of the scene parameters.
+    counters : iterable of str
+        Names of the scalar counters (e.g. the engine's
+        :attr:`~analysis.engine.Capabilities.scalar_counters`).
+
+    Returns
+    -------
+    names : set of str
+        `params`, `counters`, :data:`MEASURES`, the aliases of counters in `counters`,
+        ``eps``, and ``g`` when there are both ``l`` and ``d``.
+    """
+    params, counters = set(params), set(counters)
+    names = params | counters | set(MEASURES) | {"eps"}
+    names |= {alias for alias, name in ALIASES.items() if name in counters}
+    if {"l", "d"} <= params:
+        names.add("g")
+    return names
 
 
 @dataclass

@@ -270,7 +270,7 @@ def plot_link_tiling(ax, links, *, root_pair=(0, 1), cmap="viridis"):
     y1 = np.concatenate([links.t1_j[sel], links.t1_i[swap]])
     depth = np.concatenate([links.depth_i[sel] + links.depth_j[sel],
                             links.depth_i[swap] + links.depth_j[swap]])
-    rects = [Rectangle((a, b), c - a, d - b) for a, b, c, d in zip(x0, y0, x1, y1)]
+    rects = [Rectangle((a, b), c - a, d - b) for a, b, c, d in zip(x0, y0, x1, y1, strict=True)]
     coll = PatchCollection(rects, cmap=cmap, edgecolor="k", linewidth=0.15)
     coll.set_array(depth.astype(float))
     ax.add_collection(coll)

@@ -12,9 +12,14 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from .plots import (PowerLawSeries, plot_link_tiling, plot_power_law_comparison,
-                    plot_ratio, plot_slopes)
-from .sweep import option_argv
+from .engine import option_argv
+from .plots import (
+    PowerLawSeries,
+    plot_link_tiling,
+    plot_power_law_comparison,
+    plot_ratio,
+    plot_slopes,
+)
 from .verdict import SKIPPED
 
 __all__ = [
@@ -218,7 +223,8 @@ def get_claims_json(outcomes, mode="quick"):
             "theta_holds": theta.holds if theta else None,
             "best_model": models.best if models else None,
             "models": ([{"model": n, "delta_aic": float(da), "rms_log10": float(r)}
-                        for n, da, r in zip(models.names, models.delta_aic, models.rms)]
+                        for n, da, r in zip(models.names, models.delta_aic, models.rms,
+                                            strict=True)]
                        if models else None),
             "data": {"x": a.x.tolist(), "y": a.y.tolist()},
         }

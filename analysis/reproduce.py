@@ -2,10 +2,19 @@
 
 Runs the sweeps of every claim (reusing cached points), fits the exponents, draws the
 figures, and writes ``report.md``, ``report.html`` and ``claims.json`` to the results
-directory. Claims whose scene family or engine options the engine does not list are
-skipped (reported, not failed). Exit code 0 when no claim that is expected to hold is refuted, 1 when one is,
-2 for usage errors, malformed claims files or an engine that cannot be run, 130 when
-interrupted (finished points stay cached). See ``docs/analysis.md``.
+directory.
+
+Before any run, the claims are checked against the engine's capabilities
+(``hrbench capabilities --json``, see :mod:`analysis.engine`). A claim whose oracle the
+engine does not list, or whose formulas read a name no run provides, is an error. A
+claim that needs a scene family, scene parameter, option or option value the engine
+lacks, or an oracle the engine lists only for scenes of another dimension, is skipped
+(reported, not failed), so that an older engine still judges the claims it can run.
+
+Exit codes: 0 when no claim that is expected to hold is refuted; 1 when one is; 2 for
+usage errors, malformed claims files, claims the engine can never run (unknown oracle or
+formula name), an engine that cannot be run or has no ``capabilities --json`` command;
+130 when interrupted (finished points stay cached). See ``docs/analysis.md``.
 """
 
 import argparse
@@ -19,20 +28,32 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 
-from .claimfile import ClaimsFileError, load_claims, load_claims_dir
-from .loader import ResultFormatError, read_links_csv
+from .claimfile import ClaimsFileError, check_names, load_claims, load_claims_dir
+from .engine import (
+    EngineError,
+    engine_version,
+    get_capabilities,
+    missing_capability,
+    oracle_error,
+    run_links,
+)
+from .loader import SCHEMA_VERSION, ResultFormatError, read_links_csv
 from .report import ClaimOutcome, get_claims_table, get_figures, print_claims_table, write_report
 from .store import ResultStore
-from .sweep import (ClaimData, SweepError, engine_capabilities, engine_version, expand_claim,
-                    get_claim_data, missing_capability, run_links, run_points)
+from .sweep import ClaimData, expand_claim, get_claim_data, run_points
 from .verdict import assess_claim, skipped_assessment
+
+__all__ = ["main", "check_claims", "USAGE_ERROR", "REFUTED"]
 
 ROOT = Path(__file__).resolve().parent.parent
 
-#: The refinement drawn as a link tiling: scene, parameters, eps.
-TILING = ("parallel", {"l": 16.0, "d": 1.0}, 0.3)
+#: The refinement drawn as a link tiling: scene, parameters, eps, oracle.
+TILING = ("parallel", {"l": 16.0, "d": 1.0}, 0.3, "garmann")
 
+#: Exit code for usage errors, malformed claims, claims the engine can never run, and an
+#: engine that cannot be run or lists no capabilities.
 USAGE_ERROR = 2
+#: Exit code when a claim expected to hold was refuted.
 REFUTED = 1
 
 
@@ -62,6 +83,54 @@ def _parser():
     return p
 
 
+def check_claims(claims, mode, capabilities):
+    """Check claims against an engine's capabilities, before any run.
+
+    Parameters
+    ----------
+    claims : list of Claim
+    mode : {"quick", "full"}
+        Whose options to check.
+    capabilities : Capabilities
+
+    Returns
+    -------
+    errors : list of str
+        One line per claim the engine can never run: an oracle it does not list
+        (:func:`~analysis.engine.oracle_error`), or a formula name no run provides
+        (:func:`~analysis.claimfile.check_names`; checked for the claims not skipped).
+        Each line names the file, the line and the claim.
+    skipped : dict of str to str
+        Claim id to the reason the engine cannot run it now
+        (:func:`~analysis.engine.missing_capability`), in claim order.
+    """
+    errors, skipped = [], {}
+    for c in claims:
+        message = oracle_error(c, capabilities)
+        if message is not None:
+            errors.append(f"{c.path}:{c.line}: claim {c.id!r}: {message}")
+            continue
+        reason = missing_capability(c, mode, capabilities)
+        if reason is not None:
+            skipped[c.id] = reason
+            continue
+        try:
+            check_names(c, capabilities.scalar_counters,
+                        capabilities.family(c.scene).param_names)
+        except ClaimsFileError as exc:
+            errors.append(str(exc))
+    return errors, skipped
+
+
+def _tiling_iv(capabilities):
+    # Raise EngineError if the engine cannot draw the link tiling of TILING.
+    scene, _, _, oracle = TILING
+    if "links" not in capabilities.command_names:
+        raise EngineError("engine lacks the command 'links'")
+    if capabilities.family(scene) is None or capabilities.oracle(oracle) is None:
+        raise EngineError(f"engine lacks scene {scene!r} or oracle {oracle!r}")
+
+
 def main(argv=None):
     """Run the command line; return the exit code."""
     parser = _parser()
@@ -86,18 +155,24 @@ def main(argv=None):
         claims = [c for c in claims if c.id in args.claim]
     try:
         version = engine_version(args.hrbench)
-    except SweepError as exc:
+        capabilities = get_capabilities(args.hrbench)
+    except EngineError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return USAGE_ERROR
+    if capabilities.run_schema_version != SCHEMA_VERSION:
+        print(f"error: engine {args.hrbench} writes run records of schema_version "
+              f"{capabilities.run_schema_version}; this analysis reads {SCHEMA_VERSION}",
+              file=sys.stderr)
+        return USAGE_ERROR
 
-    # Skip the claims that need a scene family or an option the engine does not offer.
-    capabilities = engine_capabilities(args.hrbench)
-    skipped = {}
-    for c in claims:
-        reason = missing_capability(c, args.mode, capabilities)
-        if reason is not None:
-            skipped[c.id] = reason
-            print(f"warning: claim {c.id} skipped: {reason}", file=sys.stderr)
+    # Check the claims against the engine before any run.
+    errors, skipped = check_claims(claims, args.mode, capabilities)
+    for line in errors:
+        print(f"error: {line}", file=sys.stderr)
+    if errors:
+        return USAGE_ERROR
+    for claim_id, reason in skipped.items():
+        print(f"warning: claim {claim_id} skipped: {reason}", file=sys.stderr)
 
     # Run the sweeps, reusing the cache.
     args.results.mkdir(parents=True, exist_ok=True)
@@ -119,27 +194,28 @@ def main(argv=None):
                 outcomes.append(ClaimOutcome(c, data, skipped_assessment(c, skipped[c.id]),
                                              args.mode))
                 continue
-            data = get_claim_data(c, points[c.id], store)
+            data = get_claim_data(c, points[c.id], store, capabilities.scalar_counters)
             outcomes.append(ClaimOutcome(c, data, assess_claim(c, data), args.mode))
 
     # Draw the link tiling of one small refinement.
     links, links_title = None, ""
     if not args.no_tiling:
-        scene, params, eps = TILING
+        scene, params, eps, oracle = TILING
         name = "-".join(f"{k}{v:g}" for k, v in params.items())
         csv_path = args.results / f"links-{scene}-{name}-eps{eps:g}.csv"
         try:
-            run_links(args.hrbench, scene, params, eps, csv_path)
+            _tiling_iv(capabilities)
+            run_links(args.hrbench, scene, params, eps, csv_path, oracle)
             links = read_links_csv(csv_path)
             links_title = (f"{scene} " + " ".join(f"{k}={v:g}" for k, v in params.items())
-                           + f", eps={eps:g}, oracle garmann: {len(links)} links")
-        except (SweepError, ResultFormatError, OSError) as exc:
+                           + f", eps={eps:g}, oracle {oracle}: {len(links)} links")
+        except (EngineError, ResultFormatError, OSError) as exc:
             print(f"warning: no link tiling: {exc}", file=sys.stderr)
 
     # Write the report and print the table.
     wall = time.perf_counter() - start
     context = {
-        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "mode": args.mode,
         "engine": str(args.hrbench),
         "engine version": version,

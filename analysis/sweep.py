@@ -2,12 +2,11 @@
 
 Every run is looked up in the :class:`~analysis.store.ResultStore` first; only missing
 points are run, on a pool of worker threads (each runs one ``hrbench`` process), and
-each finished point is committed to the store as soon as it finishes.
+each finished point is committed to the store as soon as it finishes. The command lines
+and the processes themselves are :mod:`analysis.engine`'s.
 """
 
 import os
-import re
-import subprocess
 import sys
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
@@ -15,36 +14,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .engine import option_text, run_argv, run_engine
 from .loader import ResultFormatError, parse_run_json, run_environment
 from .store import PointKey, StoredPoint
 
 __all__ = [
-    "SweepError",
     "SweepPoint",
     "ClaimData",
-    "EngineCapabilities",
-    "engine_version",
-    "engine_capabilities",
-    "missing_capability",
-    "option_argv",
     "expand_claim",
     "run_points",
     "get_claim_data",
-    "format_number",
-    "run_links",
 ]
-
-
-class SweepError(RuntimeError):
-    """The engine cannot be run at all (missing, not executable, no version)."""
-
-
-def format_number(value):
-    """Format a parameter value for the command line: up to 10 significant digits, or
-    as many as it takes to give back exactly the same double."""
-    value = float(value)
-    text = f"{value:.10g}"
-    return text if float(text) == value else repr(value)
 
 
 @dataclass(frozen=True)
@@ -66,145 +46,6 @@ class SweepPoint:
     argv: tuple
 
 
-def engine_version(hrbench):
-    """The version string of an ``hrbench`` executable.
-
-    Parameters
-    ----------
-    hrbench : str or path-like
-        Path of the executable.
-
-    Returns
-    -------
-    version : str
-        First line of ``hrbench --version``.
-
-    Raises
-    ------
-    SweepError
-        If the executable is missing or ``--version`` fails.
-    """
-    hrbench = os.fspath(hrbench)
-    if not os.path.isfile(hrbench) or not os.access(hrbench, os.X_OK):
-        raise SweepError(f"engine not found or not executable: {hrbench} "
-                         "(build it first, or pass --hrbench PATH)")
-    try:
-        proc = subprocess.run([hrbench, "--version"], capture_output=True, text=True,
-                              timeout=60)
-    except OSError as exc:
-        raise SweepError(f"cannot run {hrbench}: {exc}") from None
-    lines = proc.stdout.strip().splitlines()
-    if proc.returncode != 0 or not lines:
-        raise SweepError(f"{hrbench} --version failed with exit code {proc.returncode}")
-    return lines[0].strip()
-
-
-@dataclass(frozen=True)
-class EngineCapabilities:
-    """What an engine offers, as listed by ``hrbench scenes`` and ``hrbench --help``.
-
-    Attributes
-    ----------
-    scenes : frozenset of str or None
-        Scene families (``None`` if the engine does not list them).
-    options : frozenset of str or None
-        Command-line options without the leading ``--``, e.g. ``"visibility"`` (``None``
-        if the engine has no readable ``--help``).
-    """
-
-    scenes: object = None
-    options: object = None
-
-
-def _listing(argv):
-    # Standard output of a listing command, or None when it fails.
-    try:
-        proc = subprocess.run(argv, capture_output=True, text=True, timeout=60)
-    except (OSError, subprocess.TimeoutExpired):
-        return None
-    return proc.stdout if proc.returncode == 0 and proc.stdout.strip() else None
-
-
-def engine_capabilities(hrbench):
-    """The scene families and options an ``hrbench`` executable offers.
-
-    Parameters
-    ----------
-    hrbench : str or path-like
-        Path of the executable.
-
-    Returns
-    -------
-    capabilities : EngineCapabilities
-        A field is ``None`` when the engine cannot list it; claims are then not skipped
-        for it.
-    """
-    hrbench = os.fspath(hrbench)
-    scenes = options = None
-    text = _listing([hrbench, "scenes"])
-    if text is not None:
-        # One family per unindented line, "name: description"; parameters are indented.
-        scenes = frozenset(m.group(1) for m in
-                           re.finditer(r"^([A-Za-z_][\w-]*):", text, flags=re.MULTILINE))
-    text = _listing([hrbench, "--help"])
-    if text is not None:
-        options = frozenset(re.findall(r"(?<![\w-])--([a-z][a-z0-9-]*)", text))
-    return EngineCapabilities(scenes=scenes or None, options=options or None)
-
-
-def missing_capability(claim, mode, capabilities):
-    """Why the engine cannot run a claim, or ``None`` if it can.
-
-    Parameters
-    ----------
-    claim : Claim
-    mode : {"quick", "full"}
-    capabilities : EngineCapabilities
-
-    Returns
-    -------
-    reason : str or None
-        E.g. ``"engine lacks scene 'parallel3d'"`` or ``"engine lacks option
-        --visibility"``.
-    """
-    if capabilities.scenes is not None and claim.scene not in capabilities.scenes:
-        return f"engine lacks scene {claim.scene!r}"
-    if capabilities.options is not None:
-        lacking = [f"--{name.replace('_', '-')}" for name in claim.options_for(mode)
-                   if name.replace("_", "-") not in capabilities.options]
-        if lacking:
-            return f"engine lacks option{'s' if len(lacking) > 1 else ''} {', '.join(lacking)}"
-    return None
-
-
-def _option_text(value):
-    if isinstance(value, str):
-        return value
-    if isinstance(value, int):
-        return str(value)
-    return format_number(value)
-
-
-def option_argv(options):
-    """The command-line form of engine options.
-
-    Parameters
-    ----------
-    options : dict of str to (str, int or float)
-        E.g. ``{"rays_per_side": 4, "visibility": "fraction"}``.
-
-    Returns
-    -------
-    argv : list of str
-        ``["--rays-per-side", "4", "--visibility", "fraction"]``: sorted by name, ``_``
-        in a name becomes ``-``, numbers as in :func:`format_number` (integers exactly).
-    """
-    argv = []
-    for name, value in sorted(options.items()):
-        argv += [f"--{name.replace('_', '-')}", _option_text(value)]
-    return argv
-
-
 def expand_claim(claim, mode, hrbench, version):
     """The runs a claim needs.
 
@@ -213,7 +54,7 @@ def expand_claim(claim, mode, hrbench, version):
     claim : Claim
     mode : {"quick", "full"}
         Which of the claim's ranges to sweep.
-    hrbench : str
+    hrbench : str or path-like
         Path of the engine.
     version : str
         Engine version, part of every cache key.
@@ -221,11 +62,12 @@ def expand_claim(claim, mode, hrbench, version):
     Returns
     -------
     points : list of SweepPoint
-        One per value of the swept parameter, in sweep order.
+        One per value of the swept parameter, in sweep order; command lines as in
+        :func:`analysis.engine.run_argv`.
     """
     points = []
     options = claim.options_for(mode)
-    key_options = tuple((name, _option_text(v)) for name, v in sorted(options.items()))
+    key_options = tuple((name, option_text(v)) for name, v in sorted(options.items()))
     for value in claim.range_for(mode).values():
         params = dict(claim.params)
         if claim.sweep_param == "eps":
@@ -237,52 +79,42 @@ def expand_claim(claim, mode, hrbench, version):
                        params=tuple(sorted(params.items())), eps=float(eps),
                        oracle=claim.oracle, min_area=claim.min_area,
                        max_depth=claim.max_depth, mode="count-only", options=key_options)
-        argv = [os.fspath(hrbench), "run", claim.scene]
-        argv += [f"{k}={format_number(v)}" for k, v in sorted(params.items())]
-        argv += ["--eps", format_number(eps), "--oracle", claim.oracle]
-        if claim.min_area is not None:
-            argv += ["--min-area", format_number(claim.min_area)]
-        if claim.max_depth is not None:
-            argv += ["--max-depth", str(int(claim.max_depth))]
-        argv += option_argv(options)
-        argv += ["--count-only", "--json"]
+        argv = run_argv(hrbench, claim.scene, params, eps, claim.oracle,
+                        min_area=claim.min_area, max_depth=claim.max_depth, options=options)
         points.append(SweepPoint(key=key, value=value, argv=tuple(argv)))
     return points
 
 
 def _execute(point):
     # Run one point in a worker thread; the caller stores the result.
-    start = time.perf_counter()
-    try:
-        proc = subprocess.run(point.argv, capture_output=True, text=True)
-        code, out, err = proc.returncode, proc.stdout, proc.stderr
-    except OSError as exc:
-        code, out, err = 127, "", str(exc)
-    wall = time.perf_counter() - start
-    lines = [line for line in err.splitlines() if line.strip()]
-    last = lines[-1].strip() if lines else ""
-    ok = code == 0
+    run = run_engine(point.argv)
+    ok = run.exit_code == 0
+    last = run.message
     if ok:
         try:
-            result = parse_run_json(out)
+            result = parse_run_json(run.stdout)
         except ResultFormatError as exc:
             ok, last = False, f"unreadable output: {exc}"
         else:
             last = _options_mismatch(result, point.key.options)
             ok = not last
     elif not last:
-        last = f"exited with code {code} and no message"
-    return StoredPoint(point.key, ok, code, "" if ok else last, out, wall)
+        last = f"exited with code {run.exit_code} and no message"
+    return StoredPoint(point.key, ok, run.exit_code, "" if ok else last, run.stdout,
+                       run.wall_seconds)
 
 
 def _options_mismatch(result, options):
     # An engine that reports a field named like an option (e.g. "method") must report
     # the value asked for; a mismatch means the option was not applied.
+    # Without a counter table the loader files an integer option field (rays_per_side)
+    # with the counters, so look in both.
+    fields = {**result.counters, **result.extra}
     for name, text in options:
         for field_name in (name, name.replace("_", "-")):
-            if field_name not in result.extra:
+            if field_name not in fields:
                 continue
-            got = result.extra[field_name]
+            got = fields[field_name]
             if got is None:
                 continue  # the engine says the option does not apply to this run
             if isinstance(got, (int, float)) and not isinstance(got, bool):
@@ -402,7 +234,7 @@ class ClaimData:
     engine_seconds: float = 0.0
 
 
-def get_claim_data(claim, points, store):
+def get_claim_data(claim, points, store, counters=None):
     """Read a claim's points from the store and evaluate its x and y formulas.
 
     Parameters
@@ -411,6 +243,10 @@ def get_claim_data(claim, points, store):
     points : sequence of SweepPoint
         The claim's points (from :func:`expand_claim`).
     store : ResultStore
+    counters : sequence of str, optional
+        Names of the engine's scalar counters (``Capabilities.scalar_counters``), which
+        the formulas may read; by default every integer field of a record (see
+        :func:`analysis.loader.parse_run_json`).
 
     Returns
     -------
@@ -428,7 +264,7 @@ def get_claim_data(claim, points, store):
             failures.append({"value": point.value, "exit_code": stored.exit_code,
                              "stderr": stored.stderr, "command": " ".join(point.argv[1:])})
             continue
-        result = parse_run_json(stored.output)
+        result = parse_run_json(stored.output, counters=counters)
         env = run_environment(result)
         seconds += result.counters.get("seconds", 0.0)
         x, y = claim.x(env), claim.y(env)
@@ -443,34 +279,3 @@ def get_claim_data(claim, points, store):
     return ClaimData(value=arr[:, 2], x=arr[:, 0], y=arr[:, 1], failures=failures,
                      missing=missing, engine_seconds=seconds)
 
-
-def run_links(hrbench, scene, params, eps, out, oracle="garmann"):
-    """Write the link list of one refinement with ``hrbench links``.
-
-    Parameters
-    ----------
-    hrbench : str or path-like
-        Path of the engine.
-    scene : str
-        Scene family.
-    params : dict of str to float
-        Scene parameters (scene units).
-    eps : float
-        Oracle threshold (dimensionless).
-    out : str or path-like
-        CSV file to write.
-    oracle : str, optional
-
-    Raises
-    ------
-    SweepError
-        If the run fails; the message holds its exit code and last line of standard error.
-    """
-    argv = [os.fspath(hrbench), "links", scene]
-    argv += [f"{k}={format_number(v)}" for k, v in sorted(params.items())]
-    argv += ["--eps", format_number(eps), "--oracle", oracle, "--out", os.fspath(out)]
-    proc = subprocess.run(argv, capture_output=True, text=True)
-    if proc.returncode != 0:
-        lines = [line for line in proc.stderr.splitlines() if line.strip()]
-        raise SweepError(f"{' '.join(argv[1:])} failed with exit code {proc.returncode}: "
-                         f"{lines[-1] if lines else 'no message'}")

@@ -5,8 +5,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .fit import (compare_models, fit_power_law, local_slopes, steps_block_length,
-                  theta_check, window_slopes)
+from .fit import (
+    compare_models,
+    fit_power_law,
+    local_slopes,
+    steps_block_length,
+    theta_check,
+    window_slopes,
+)
 
 __all__ = [
     "VERDICTS",

@@ -3,16 +3,20 @@
 
 usage: check_baseline.py [--hrbench PATH] [--baseline PATH] [--jobs N] [--update]
 
-Runs every entry of the baseline file as `hrbench run ARGS --json --count-only`
-and compares nodes, leaves, links, oracle_calls, max_depth, forced_links,
-culled_pairs, root_pairs and the per-depth histograms exactly. On a difference it
-prints, for each run that changed, the counters, their old and new values and
-the change. With --update it rewrites the file from the current engine instead
-(to add a run, append {"args": [...]} to the file and update); a missing file is
-created with the default runs.
+Reads the engine's counters from `hrbench capabilities --json`, runs every entry of
+the baseline file as `hrbench run ARGS --json --count-only` and compares exactly the
+counters the baseline holds (scalars exactly, per-depth histograms entry by entry).
+On a difference it prints, for each run that changed, the counters, their old and
+new values and the change. A counter the engine lists but the baseline lacks is
+mentioned once ("not in baseline") and does not fail; a counter of the baseline that
+the engine no longer lists fails. With --update it rewrites the file from the current
+engine instead, with every counter the engine lists (to add a run, append
+{"args": [...]} to the file and update); a missing file is created with the default
+runs.
 
 Exit codes: 0 every run matches (or the file was written); 1 a run differs or
-failed; 2 usage or input error (no engine, unreadable baseline).
+failed, or a baseline counter is no longer listed; 2 usage or input error (no
+engine, an engine without `capabilities --json`, unreadable baseline).
 See docs/ci.md.
 """
 
@@ -22,13 +26,22 @@ import json
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-
-from benchtools.baseline import (DEFAULT_RUNS, RunDiff, RunError, get_counter_changes,  # noqa: E402
-                                 load_baseline, make_baseline, print_baseline_report,
-                                 run_counts)
-
 _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# tools/ for benchtools, the repository root for analysis.engine (standard library only).
+sys.path[:0] = [os.path.join(_ROOT, "tools"), _ROOT]
+
+from analysis.engine import EngineError, get_capabilities  # noqa: E402
+from benchtools.baseline import (  # noqa: E402
+    DEFAULT_RUNS,
+    RunDiff,
+    RunError,
+    get_counter_changes,
+    get_counter_coverage,
+    load_baseline,
+    make_baseline,
+    print_baseline_report,
+    run_counts,
+)
 
 
 def _parse_args(argv):
@@ -50,11 +63,11 @@ def _parse_args(argv):
     return args
 
 
-def _run_all(hrbench, runs, jobs):
+def _run_all(hrbench, runs, counters, jobs):
     """Counters (or the RunError) of every run, in order."""
     def one(args):
         try:
-            return run_counts(hrbench, args)
+            return run_counts(hrbench, args, counters)
         except RunError as e:
             return e
     with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
@@ -63,10 +76,12 @@ def _run_all(hrbench, runs, jobs):
 
 def main(argv=None):
     args = _parse_args(argv)
-    if not os.access(args.hrbench, os.X_OK):
-        print(f"check_baseline.py: error: engine {args.hrbench} not found or not executable; "
-              "build it first (make build) or pass --hrbench", file=sys.stderr)
+    try:
+        capabilities = get_capabilities(args.hrbench)
+    except EngineError as e:
+        print(f"check_baseline.py: error: {e}", file=sys.stderr)
         return 2
+    counters = capabilities.scalar_counters + capabilities.histogram_counters
 
     # Read the runs of the baseline (or the default runs for a new file).
     if args.update and not os.path.exists(args.baseline):
@@ -77,10 +92,11 @@ def main(argv=None):
         except RunError as e:
             print(f"check_baseline.py: error: {e}", file=sys.stderr)
             return 2
-    results = _run_all(args.hrbench, [e["args"] for e in entries], args.jobs)
+    results = _run_all(args.hrbench, [e["args"] for e in entries], counters, args.jobs)
 
     if args.update:
-        failed = [(e, r) for e, r in zip(entries, results) if isinstance(r, RunError)]
+        failed = [(e, r) for e, r in zip(entries, results, strict=True)
+                  if isinstance(r, RunError)]
         for e, r in failed:
             print(f"check_baseline.py: error: hrbench run {' '.join(e['args'])}: {r}",
                   file=sys.stderr)
@@ -95,17 +111,19 @@ def main(argv=None):
         print(f"count baseline: wrote {len(entries)} runs to {args.baseline}")
         return 0
 
+    coverage = get_counter_coverage(entries, counters)
     diffs = []
-    for entry, result in zip(entries, results):
+    for entry, result in zip(entries, results, strict=True):
         if isinstance(result, RunError):
             diffs.append(RunDiff(entry["args"], error=str(result)))
         elif not isinstance(entry.get("counts"), dict):
             diffs.append(RunDiff(entry["args"], error="no baseline counts recorded; run "
                                                       "tools/check_baseline.py --update"))
         else:
-            diffs.append(RunDiff(entry["args"], get_counter_changes(entry["counts"], result[0])))
-    print_baseline_report(diffs, os.path.relpath(args.baseline))
-    return 0 if all(d.ok for d in diffs) else 1
+            diffs.append(RunDiff(entry["args"], get_counter_changes(
+                entry["counts"], result[0], coverage.compared)))
+    print_baseline_report(diffs, os.path.relpath(args.baseline), coverage=coverage)
+    return 0 if coverage.ok and all(d.ok for d in diffs) else 1
 
 
 if __name__ == "__main__":

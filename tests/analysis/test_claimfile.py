@@ -2,7 +2,13 @@ from pathlib import Path
 
 import pytest
 
-from analysis.claimfile import ClaimsFileError, SweepRange, load_claims, load_claims_dir
+from analysis.claimfile import (
+    ClaimsFileError,
+    SweepRange,
+    check_names,
+    load_claims,
+    load_claims_dir,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -74,12 +80,42 @@ def test_misspelt_key_is_reported(data_dir):
     assert "unknown key 'tolerence'" in str(info.value)
 
 
+def test_oracle_is_not_checked_offline(tmp_path, data_dir):
+    # Which oracles exist is the engine's to say (checked before any run, in reproduce).
+    text = (data_dir / "small_claims.toml").read_text().replace(
+        'scene = "parallel"', 'scene = "parallel"\noracle = "bf"')
+    path = tmp_path / "c.toml"
+    path.write_text(text)
+    (claim,) = load_claims(path)
+    assert claim.oracle == "bf"
+    path.write_text(text.replace('oracle = "bf"', "oracle = 3"))
+    with pytest.raises(ClaimsFileError, match="'oracle' must be a non-empty string"):
+        load_claims(path)
+
+
 def test_unknown_name_in_formula(tmp_path, data_dir):
     text = (data_dir / "small_claims.toml").read_text().replace('y = "N"', 'y = "N / volume"')
     path = tmp_path / "c.toml"
     path.write_text(text)
-    with pytest.raises(ClaimsFileError, match="unknown name.*volume"):
-        load_claims(path)
+    (claim,) = load_claims(path)  # the counters are the engine's: checked against them
+    with pytest.raises(ClaimsFileError, match="unknown name.*volume") as info:
+        check_names(claim, ["nodes", "links"])
+    assert info.value.key == "y" and info.value.line == 15 and info.value.claim_id == "T-elements"
+    assert "c.toml:15" in str(info.value)
+    check_names(claim, ["nodes", "links", "volume"])
+
+
+def test_formulas_may_read_counters_measures_aliases_and_family_params(tmp_path, data_dir):
+    text = (data_dir / "small_claims.toml").read_text().replace(
+        'y = "N"', 'y = "rays * seconds / patches + L + offset + g"')
+    path = tmp_path / "c.toml"
+    path.write_text(text)
+    (claim,) = load_claims(path)
+    with pytest.raises(ClaimsFileError, match=r"unknown name\(s\) offset, rays;"):
+        check_names(claim, ["nodes", "links"])
+    check_names(claim, ["nodes", "links", "rays"], scene_params=["l", "d", "offset"])
+    with pytest.raises(ClaimsFileError, match=r"unknown name\(s\) L;"):
+        check_names(claim, ["nodes", "rays"], scene_params=["offset"])  # no links, no L
 
 
 def test_duplicate_ids_across_files(tmp_path, data_dir):

@@ -1,7 +1,8 @@
 """The fields the analysis reads from the engine's output, checked one by one.
 
 The first tests read a record stored in ``data/`` (written by ``hrbench run parallel l=64
-d=1 --eps 0.25 --count-only --json``); the others run ``build/hrbench`` when it exists.
+d=1 --eps 0.25 --count-only --json``); the others run ``build/hrbench`` when it exists
+(the capabilities test needs an engine with ``hrbench capabilities --json``).
 """
 
 import json
@@ -11,15 +12,23 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis.loader import (ResultFormatError, parse_run_json, read_links_csv,
-                             run_environment)
-from analysis.sweep import engine_version
+from analysis.claimfile import load_claims_dir
+from analysis.engine import engine_version, get_capabilities
+from analysis.loader import (
+    COUNTERS,
+    SCHEMA_VERSION,
+    ResultFormatError,
+    parse_run_json,
+    read_links_csv,
+    run_environment,
+)
+from analysis.reproduce import check_claims
 
 ROOT = Path(__file__).resolve().parents[2]
 HRBENCH = ROOT / "build" / "hrbench"
 needs_engine = pytest.mark.skipif(not HRBENCH.exists(), reason="build/hrbench not built")
 
-# DESIGN section 2, worked example: parallel l=64 d=1, garmann, eps=0.25.
+# docs/conventions.md, worked example: parallel l=64 d=1, garmann, eps=0.25.
 REFERENCE = {"nodes": 1022, "leaves": 512, "links": 5092, "oracle_calls": 10183}
 
 
@@ -69,6 +78,48 @@ def test_reader_is_tolerant_but_checks_schema_and_counters(data_dir):
         parse_run_json(json.dumps({k: v for k, v in raw.items() if k != "links"}))
     with pytest.raises(ResultFormatError, match="not JSON"):
         parse_run_json("hrbench: oops")
+
+
+def test_counters_are_read_generically_or_from_the_engines_table(data_dir):
+    raw = json.loads((data_dir / "run_parallel_l64_d1_eps0.25.json").read_text())
+    raw.update(rays=12, rays_per_side=None, threads_used=2, max_depth_limit=30)
+    generic = parse_run_json(json.dumps(raw))
+    assert generic.counters["rays"] == 12 and generic.counters["threads_used"] == 2
+    assert generic.counters["patches"] == 2 and generic.counters["seconds"] == raw["seconds"]
+    for name in ("eps", "max_depth_limit", "rays_per_side", "schema_version"):
+        assert name not in generic.counters, name
+    assert generic.max_depth_limit == 30 and generic.extra["rays_per_side"] is None
+
+    table = (*COUNTERS, "rays", "visibility_queries")
+    listed = parse_run_json(json.dumps(raw), counters=table)
+    assert listed.counters["rays"] == 12 and "visibility_queries" not in listed.counters
+    assert "threads_used" not in listed.counters and listed.extra["threads_used"] == 2
+    assert listed.counters["patches"] == 2  # the measures are read either way
+    assert run_environment(listed)["rays"] == 12
+    with pytest.raises(ResultFormatError, match="counter 'rays' must be an integer, got 1.5"):
+        parse_run_json(json.dumps(dict(raw, rays=1.5)), counters=table)
+
+
+@needs_engine
+def test_engine_capabilities_describe_its_run_records():
+    caps = get_capabilities(HRBENCH)
+    assert engine_version(HRBENCH) == f"hrbench {caps.version}"
+    assert caps.run_schema_version == SCHEMA_VERSION
+    assert set(COUNTERS) <= set(caps.scalar_counters)
+    proc = subprocess.run([str(HRBENCH), "run", "parallel", "l=64", "d=1", "--eps", "0.25",
+                           "--count-only", "--json"], capture_output=True, text=True,
+                          timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    raw = json.loads(proc.stdout)
+    for name in caps.scalar_counters:
+        assert isinstance(raw[name], int) and not isinstance(raw[name], bool), name
+    for name in caps.histogram_counters:
+        assert isinstance(raw[name], list), name
+    result = parse_run_json(proc.stdout, counters=caps.scalar_counters)
+    assert set(result.counters) == {*caps.scalar_counters, "patches", "seconds"}
+    # Every shipped claim names an oracle and formula names this engine offers.
+    errors, _ = check_claims(load_claims_dir(ROOT / "analysis" / "claims"), "full", caps)
+    assert errors == []
 
 
 @needs_engine

@@ -1,8 +1,14 @@
 import numpy as np
 import pytest
 
-from analysis.fit import (compare_models, fit_power_law, local_slopes, steps_block_length,
-                          theta_check, window_slopes)
+from analysis.fit import (
+    compare_models,
+    fit_power_law,
+    local_slopes,
+    steps_block_length,
+    theta_check,
+    window_slopes,
+)
 
 
 def noisy_power_law(k, c=3.0, sigma=0.05, n=40, decades=3.0, seed=1):
@@ -56,7 +62,7 @@ def test_input_validation_names_the_argument():
 
 
 def step_counts(decades=3.0, per_decade=12):
-    # N of binary trees: doubles each time 1/eps crosses a power of 2, as in DESIGN.
+    # N of binary trees: doubles each time 1/eps crosses a power of 2, as in docs/conventions.md.
     inv_eps = np.logspace(0, decades, int(decades * per_decade) + 1)
     n = 2.0 ** (np.floor(np.log2(inv_eps)) + 8)
     return inv_eps, n

@@ -9,12 +9,17 @@ import pytest
 from matplotlib.figure import Figure
 
 from analysis.claimfile import ClaimsFileError, SweepRange, load_claims
+from analysis.engine import (
+    engine_version,
+    format_number,
+    get_capabilities,
+    missing_capability,
+    option_argv,
+)
 from analysis.plots import PowerLawSeries, plot_power_law_comparison
 from analysis.reproduce import main
 from analysis.store import PointKey, ResultStore, StoredPoint
-from analysis.sweep import (EngineCapabilities, engine_capabilities, engine_version,
-                            expand_claim, format_number, get_claim_data, missing_capability,
-                            option_argv, run_points)
+from analysis.sweep import expand_claim, get_claim_data, run_points
 
 HEADER = '''[source]
 key = "test"
@@ -171,15 +176,13 @@ def test_bad_binary_digits_are_named(tmp_path):
     assert info.value.key == "sweep.range.binary_digits"
 
 
-def test_capabilities_come_from_scenes_and_help(tmp_path, fake_hrbench):
-    caps = engine_capabilities(fake_hrbench)
-    assert caps.scenes == {"parallel"}
-    assert {"eps", "method", "threads", "count-only"} <= caps.options
+def test_missing_scene_or_option_is_a_reason_to_skip(tmp_path, fake_hrbench):
+    caps = get_capabilities(fake_hrbench)
     claim = load_one(tmp_path, 'options = { visibility = "fraction" }\n')
     assert missing_capability(claim, "quick", caps) == "engine lacks option --visibility"
     claim.scene = "parallel3d"
     assert missing_capability(claim, "quick", caps) == "engine lacks scene 'parallel3d'"
-    assert missing_capability(claim, "quick", EngineCapabilities()) is None
+    assert missing_capability(load_one(tmp_path, ""), "quick", caps) is None
 
 
 def test_claims_the_engine_cannot_run_are_skipped_not_failed(tmp_path, fake_hrbench,

@@ -7,10 +7,10 @@ import sys
 import time
 from pathlib import Path
 
-
 from analysis.claimfile import load_claims
+from analysis.engine import engine_version
 from analysis.store import ResultStore
-from analysis.sweep import engine_version, expand_claim, get_claim_data, run_points
+from analysis.sweep import expand_claim, get_claim_data, run_points
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -43,7 +43,8 @@ def test_sweep_stores_points_and_rerun_reuses_them(tmp_path, data_dir, fake_hrbe
         data = get_claim_data(claim, points, store)
     assert len(log.read_text().splitlines()) == 11
     assert data.x.size == 11 and not data.failures
-    # The fake engine counts exactly: the reference value of DESIGN (l=64 is elsewhere).
+    # The fake engine counts exactly, as docs/conventions.md defines (its worked example,
+    # l=64, is in test_cli_json.py).
     assert data.y[0] == 30  # l=8, d=1, eps=1: two trees of depth 3
 
 

@@ -1,10 +1,12 @@
-"""Make the tools/ package importable and locate the test data."""
+"""Make the tools/ package (and analysis.engine, which it uses) importable and locate the
+test data."""
 
 import os
 import sys
 
-TOOLS = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
-                     "tools")
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+TOOLS = os.path.join(ROOT, "tools")
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
-if TOOLS not in sys.path:
-    sys.path.insert(0, TOOLS)
+for path in (ROOT, TOOLS):
+    if path not in sys.path:
+        sys.path.insert(0, path)

@@ -8,7 +8,13 @@ import sys
 import pytest
 
 import check_baseline
-from benchtools.baseline import CounterChange, get_counter_changes
+from benchtools.baseline import (
+    CounterChange,
+    RunError,
+    get_counter_changes,
+    get_counter_coverage,
+    run_counts,
+)
 from conftest import DATA
 
 COUNTS = {"nodes": 30, "leaves": 16, "links": 80, "oracle_calls": 159, "max_depth": 3,
@@ -58,12 +64,44 @@ class TestCounterChanges:
     def test_counters_missing_from_the_baseline_are_not_compared(self):
         assert get_counter_changes({"links": 80}, dict(COUNTS, nodes=1)) == []
 
+    def test_only_the_given_counters_are_compared(self):
+        now = dict(COUNTS, links=1, nodes_per_depth=[2])
+        assert get_counter_changes(COUNTS, now, counters={"nodes", "leaves"}) == []
+        assert [c.counter for c in get_counter_changes(COUNTS, now, counters={"links"})] == [
+            "links"]
+
+    def test_counter_that_became_a_scalar_is_shown_whole(self):
+        (change,) = get_counter_changes(COUNTS, dict(COUNTS, nodes_per_depth=14))
+        assert (change.counter, change.baseline, change.current) == (
+            "nodes_per_depth", [2, 4, 8], 14)
+
     def test_change_of_a_missing_counter_is_undefined(self):
         c = CounterChange("links", 80, None)
         assert c.change is None and c.relative is None
 
 
-class TestCommandLine:
+class TestCounterCoverage:
+    def test_new_and_missing_counters(self):
+        entries = [{"args": ["a"], "counts": {"nodes": 1, "links": 2, "old": 3}},
+                   {"args": ["b"], "counts": {"nodes": 1, "links": 2}},
+                   {"args": ["c"]}]
+        coverage = get_counter_coverage(entries, ["links", "nodes", "rays"])
+        assert coverage.compared == ("links", "nodes")
+        assert coverage.not_in_baseline == ("rays",)
+        assert coverage.not_listed == ("old",) and not coverage.ok
+
+    def test_same_counters(self):
+        coverage = get_counter_coverage([{"args": [], "counts": COUNTS}], list(COUNTS))
+        assert coverage.ok and coverage.compared == tuple(COUNTS)
+        assert coverage.not_in_baseline == () and coverage.not_listed == ()
+
+    def test_run_counts_reads_the_listed_counters(self, engine):
+        counts, version = run_counts(engine, ["parallel", "--eps", "0.25"], ["links"])
+        assert counts == {"links": 40} and version == "0.0-test"
+        with pytest.raises(RunError, match="the record lacks counter.s. rays that the engine "
+                                           "lists"):
+            run_counts(engine, ["parallel", "--eps", "0.25"], ["links", "rays"])
+
     def test_update_records_every_counter(self, baseline):
         data = json.load(open(baseline))
         assert data["schema_version"] == 1 and data["engine_version"] == "0.0-test"
@@ -129,3 +167,51 @@ class TestCommandLine:
         path.write_text(content)
         assert check(engine, str(path)) == 2
         assert "error:" in capsys.readouterr().err
+
+
+class TestEngineCounters:
+    """The counters come from `hrbench capabilities --json`, not from a list in the tool."""
+
+    def test_new_counter_is_mentioned_once_and_does_not_fail(self, engine, baseline,
+                                                             monkeypatch, capsys):
+        assert check(engine, baseline, monkeypatch, FAKE_HRBENCH_NEW_COUNTER="rays") == 0
+        out = capsys.readouterr().out
+        assert out.count("not in baseline") == 1
+        assert "not in baseline: rays (listed by the engine, not compared" in out
+        assert "all 2 runs match" in out
+
+    def test_update_records_a_new_counter(self, engine, baseline, monkeypatch):
+        monkeypatch.setenv("FAKE_HRBENCH_NEW_COUNTER", "rays")
+        assert check_baseline.main(["--hrbench", engine, "--baseline", baseline,
+                                    "--update"]) == 0
+        assert json.load(open(baseline))["runs"][0]["counts"]["rays"] == 7
+
+    @pytest.mark.parametrize("name", ["culled_pairs", "links_per_depth"])
+    def test_counter_the_engine_no_longer_lists_fails(self, engine, baseline, monkeypatch,
+                                                      capsys, name):
+        assert check(engine, baseline, monkeypatch, FAKE_HRBENCH_DROP_COUNTER=name) == 1
+        out = capsys.readouterr().out
+        assert f"MISSING  counter(s) {name} of " in out and "no longer listed" in out
+        assert "CHANGED" not in out  # the other counters still match
+        assert "1 counter(s) of" in out and "all 2 runs match" not in out
+
+    def test_engine_without_capabilities_is_an_input_error(self, engine, baseline, monkeypatch,
+                                                           capsys, tmp_path):
+        log = tmp_path / "runs.log"
+        assert check(engine, baseline, monkeypatch, FAKE_HRBENCH_CAPABILITIES="missing",
+                     FAKE_HRBENCH_LOG=str(log)) == 2
+        (line,) = capsys.readouterr().err.strip().splitlines()
+        assert line.startswith(f"check_baseline.py: error: engine {engine} has no usable "
+                               "'capabilities --json' command (exit code 2")
+        assert not log.exists()  # no run started
+
+    def test_shipped_baseline_counters_are_compared_by_their_own_names(self):
+        # tests/baseline/counts.json holds the same counters in every run; the check
+        # compares exactly those (whatever else the engine lists).
+        path = os.path.join(os.path.dirname(DATA), "..", "baseline", "counts.json")
+        runs = json.load(open(path))["runs"]
+        names = set(runs[0]["counts"])
+        assert all(set(r["counts"]) == names for r in runs)
+        coverage = get_counter_coverage(runs, [*sorted(names), "some_new_counter"])
+        assert set(coverage.compared) == names and coverage.ok
+        assert coverage.not_in_baseline == ("some_new_counter",)

@@ -4,23 +4,26 @@ The baseline file (``tests/baseline/counts.json``) lists runs of ``hrbench run``
 by their arguments, each with the exact counters it produced. Checking runs
 every entry again (always ``--json --count-only``) and reports each counter that
 changed; updating rewrites the counters on purpose.
+
+The counter names are the engine's: ``hrbench capabilities --json`` lists them (its
+``counters`` table, read by :mod:`analysis.engine`; their meaning is in
+docs/conventions.md). A check compares exactly the counters the baseline holds: a
+counter the engine lists but the baseline lacks is mentioned once ("not in
+baseline") and does not fail the check; a counter the baseline holds but the engine
+no longer lists fails it. Scalars are compared exactly, histograms (lists) entry by
+entry.
 """
 
 import json
-import subprocess
 from dataclasses import dataclass, field
 
-__all__ = ["BASELINE_SCHEMA_VERSION", "COUNTERS", "HISTOGRAMS", "DEFAULT_RUNS", "RunError",
-           "CounterChange", "RunDiff", "load_baseline", "make_baseline", "run_counts",
-           "get_counter_changes", "print_baseline_report"]
+from analysis.engine import EngineError, run_engine
+
+__all__ = ["BASELINE_SCHEMA_VERSION", "DEFAULT_RUNS", "RunError", "CounterChange", "RunDiff",
+           "CounterCoverage", "load_baseline", "make_baseline", "run_counts",
+           "get_counter_coverage", "get_counter_changes", "print_baseline_report"]
 
 BASELINE_SCHEMA_VERSION = 1
-
-# Scalar counters compared exactly (DESIGN section 2 names).
-COUNTERS = ("nodes", "leaves", "links", "oracle_calls", "max_depth", "forced_links",
-            "culled_pairs", "root_pairs")
-# Per-depth histograms compared entry by entry.
-HISTOGRAMS = ("nodes_per_depth", "links_per_depth")
 
 
 def _runs(oracle, eps_scale):
@@ -186,11 +189,11 @@ def make_baseline(runs, counts, engine_version):
         "engine_version": engine_version,
         "note": "exact counters of `hrbench run ARGS --json --count-only`; checked by "
                 "tools/check_baseline.py, rewritten on purpose by `make baseline`",
-        "runs": [{"args": list(a), "counts": c} for a, c in zip(runs, counts)],
+        "runs": [{"args": list(a), "counts": c} for a, c in zip(runs, counts, strict=True)],
     }
 
 
-def run_counts(hrbench, args, timeout=120):
+def run_counts(hrbench, args, counters, timeout=120):
     """Run the engine once and return its counters.
 
     Parameters
@@ -199,58 +202,118 @@ def run_counts(hrbench, args, timeout=120):
         Path of the ``hrbench`` executable.
     args : list of str
         Arguments of ``hrbench run``; ``--json --count-only`` are added.
+    counters : sequence of str
+        Names of the counters to read: the engine's scalar counters and histograms
+        (``Capabilities.scalar_counters + Capabilities.histogram_counters``).
     timeout : float, optional
         Seconds before the run is abandoned.
 
     Returns
     -------
     counts : dict
-        The scalar counters and histograms named in `COUNTERS` and `HISTOGRAMS`.
+        Every counter of `counters`, by name.
     version : str
         The engine version it reported.
 
     Raises
     ------
     RunError
-        If the engine exits with an error or prints something else than JSON.
+        If the engine exits with an error, prints something else than a JSON object,
+        or its record lacks a counter of `counters`.
     """
-    cmd = [hrbench, "run", *args, "--json", "--count-only"]
     try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-    except (OSError, subprocess.TimeoutExpired) as e:
-        raise RunError(f"cannot run {' '.join(cmd)}: {e}") from None
-    if proc.returncode != 0:
-        raise RunError(f"exit code {proc.returncode}: {proc.stderr.strip()}")
+        run = run_engine([hrbench, "run", *args, "--json", "--count-only"], timeout=timeout)
+    except EngineError as e:
+        raise RunError(str(e)) from None
+    if run.exit_code != 0:
+        raise RunError(f"exit code {run.exit_code}: {run.stderr.strip()}")
     try:
-        record = json.loads(proc.stdout)
-        counts = {k: record[k] for k in COUNTERS + HISTOGRAMS}
-    except (json.JSONDecodeError, KeyError, TypeError) as e:
-        raise RunError(f"unexpected output ({e.__class__.__name__}: {e})") from None
-    return counts, str(record.get("version", "unknown"))
+        record = json.loads(run.stdout)
+    except json.JSONDecodeError as e:
+        raise RunError(f"unexpected output (JSONDecodeError: {e})") from None
+    if not isinstance(record, dict):
+        raise RunError("unexpected output: not a JSON object")
+    missing = [name for name in counters if name not in record]
+    if missing:
+        raise RunError(f"the record lacks counter(s) {', '.join(missing)} that the engine "
+                       "lists")
+    return {name: record[name] for name in counters}, str(record.get("version", "unknown"))
 
 
-def get_counter_changes(baseline, current):
+@dataclass(frozen=True)
+class CounterCoverage:
+    """Which counters a check compares, and which it cannot.
+
+    Attributes
+    ----------
+    compared : tuple of str
+        Counters in the baseline that the engine lists: compared run by run.
+    not_in_baseline : tuple of str
+        Counters the engine lists that a baseline entry lacks: mentioned once, not a
+        failure (`make baseline` records them).
+    not_listed : tuple of str
+        Counters in the baseline that the engine no longer lists: a failure.
+    """
+
+    compared: tuple
+    not_in_baseline: tuple
+    not_listed: tuple
+
+    @property
+    def ok(self):
+        """bool: whether every counter of the baseline is still listed by the engine."""
+        return not self.not_listed
+
+
+def get_counter_coverage(entries, counters):
+    """Match the counters of the baseline with those the engine lists.
+
+    Parameters
+    ----------
+    entries : list of dict
+        Runs of the baseline file; those without ``counts`` are ignored.
+    counters : sequence of str
+        Names of every counter the engine lists (scalars and histograms).
+
+    Returns
+    -------
+    CounterCoverage
+        Names in the order of `counters` (`not_listed` in the baseline's order).
+    """
+    recorded = [e["counts"] for e in entries if isinstance(e.get("counts"), dict)]
+    in_baseline = list(dict.fromkeys(name for counts in recorded for name in counts))
+    return CounterCoverage(
+        compared=tuple(n for n in counters if n in in_baseline),
+        not_in_baseline=tuple(n for n in counters if any(n not in c for c in recorded)),
+        not_listed=tuple(n for n in in_baseline if n not in counters))
+
+
+def get_counter_changes(baseline, current, counters=None):
     """List the counters that differ between two sets of counts.
 
     Parameters
     ----------
     baseline, current : dict
         Counters as stored in the baseline file and as from `run_counts`.
-        Scalars are compared exactly; histograms entry by entry (a missing
+        Scalars are compared exactly; histograms (lists) entry by entry (a missing
         entry counts as 0). Counters absent from the baseline are not compared.
+    counters : collection of str, optional
+        Compare only these (e.g. ``CounterCoverage.compared``); default: every counter
+        of `baseline`.
 
     Returns
     -------
     list of CounterChange
-        In the order of `COUNTERS`, then `HISTOGRAMS` by depth.
+        The scalars in the baseline's order, then the histograms by depth.
     """
-    changes = []
-    for name in COUNTERS:
-        if name in baseline and baseline[name] != current.get(name):
-            changes.append(CounterChange(name, baseline[name], current.get(name)))
-    for name in HISTOGRAMS:
-        if name not in baseline:
-            continue
+    names = [n for n in baseline if counters is None or n in counters]
+    # A histogram is a list in the baseline; it is compared by depth unless it is now a
+    # scalar (then the two values are shown as they are).
+    histograms = [n for n in names if isinstance(baseline[n], list)
+                  and isinstance(current.get(n), (list, type(None)))]
+    changes = [CounterChange(n, baseline[n], current.get(n)) for n in names
+               if n not in histograms and baseline[n] != current.get(n)]
+    for name in histograms:
         old, new = list(baseline[name]), list(current.get(name) or [])
         for depth in range(max(len(old), len(new))):
             a = old[depth] if depth < len(old) else 0
@@ -271,7 +334,8 @@ def _format_change(c):
     return text
 
 
-def print_baseline_report(diffs, baseline_path, file=None, max_histogram_lines=6):
+def print_baseline_report(diffs, baseline_path, file=None, max_histogram_lines=6,
+                          coverage=None):
     """Print which runs changed, in which counter and by how much.
 
     Parameters
@@ -284,10 +348,19 @@ def print_baseline_report(diffs, baseline_path, file=None, max_histogram_lines=6
         Where to print (default: standard output).
     max_histogram_lines : int, optional
         Histogram entries shown per run before the rest are summarised.
+    coverage : CounterCoverage, optional
+        Counters the engine lists but the baseline lacks are mentioned once ("not in
+        baseline"); counters the engine no longer lists are reported as a failure.
     """
     def out(line=""):
         print(line, file=file)
 
+    if coverage is not None and coverage.not_in_baseline:
+        out(f"not in baseline: {', '.join(coverage.not_in_baseline)} (listed by the engine, "
+            "not compared; `make baseline` records them)")
+    if coverage is not None and coverage.not_listed:
+        out(f"MISSING  counter(s) {', '.join(coverage.not_listed)} of {baseline_path} "
+            "no longer listed by the engine (hrbench capabilities --json)")
     bad = [d for d in diffs if not d.ok]
     for d in bad:
         out(f"CHANGED  {command_of(d.args)}")
@@ -304,9 +377,13 @@ def print_baseline_report(diffs, baseline_path, file=None, max_histogram_lines=6
             out(f"    {c.counter}: {c.baseline} -> {c.current}  {_format_change(c)}")
         if len(histogram) > max_histogram_lines:
             out(f"    ... and {len(histogram) - max_histogram_lines} more histogram entries")
-    if bad:
+    if bad or (coverage is not None and not coverage.ok):
         out()
-        out(f"count baseline: {len(bad)} of {len(diffs)} runs differ from {baseline_path}")
+        if bad:
+            out(f"count baseline: {len(bad)} of {len(diffs)} runs differ from {baseline_path}")
+        if coverage is not None and not coverage.ok:
+            out(f"count baseline: {len(coverage.not_listed)} counter(s) of {baseline_path} "
+                "are no longer listed by the engine")
         out("If the change is intended, rewrite the baseline with `make baseline` "
             "(tools/check_baseline.py --update) and commit it with the change.")
     else:

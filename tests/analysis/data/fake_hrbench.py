@@ -2,16 +2,21 @@
 """A stand-in for the hrbench command line, for the analysis tests only.
 
 It implements just enough of ``hrbench run parallel ... --json``, ``hrbench links``,
-``hrbench scenes``, ``hrbench --help`` and ``hrbench --version`` to exercise the sweep
-runner: the refinement of two parallel segments with the garmann oracle, counted exactly
-as DESIGN section 2 defines. Of the further engine options it knows ``--method``
-(reported back, counts unchanged) and ``--threads`` (ignored). Standard library only.
-Environment variables steer the tests:
+``hrbench capabilities --json`` and ``hrbench --version`` to exercise the sweep runner:
+the refinement of two parallel segments with the garmann oracle, counted exactly as
+docs/conventions.md defines. Of the further engine options it knows ``--method``
+(reported back, counts unchanged) and ``--threads`` (ignored). Its capabilities are its
+own: the 2D family ``parallel`` (which it runs) and the 3D family ``box3d`` (listed only),
+the oracles ``garmann`` (2D and 3D) and ``hanrahan`` (2D only), and the counters its
+records hold. Standard library only. Environment variables steer the tests:
 
 FAKE_HRBENCH_DELAY            seconds to sleep before each run
-FAKE_HRBENCH_LOG              file to which every run appends one line ("eps params")
+FAKE_HRBENCH_LOG              file to which every run or links command appends its
+                              arguments as one line, as soon as it starts
 FAKE_HRBENCH_FAIL_BELOW_EPS   exit with code 3 (limit reached) when eps is below this
 FAKE_HRBENCH_REPORT_METHOD    report this method instead of the one asked for
+FAKE_HRBENCH_CAPABILITIES     "missing": no capabilities command (like hrbench 0.2);
+                              "garbage": it prints text that is not JSON
 """
 
 import json
@@ -69,7 +74,9 @@ def refine(l, d, eps, offset=0.0, l2=None, links_out=None):
     start = time.perf_counter()
     project((0, 0.0, float(l), 0), (1, 0.0, float(l2), 0))
     seconds = time.perf_counter() - start
-    hist = lambda h: [h.get(k, 0) for k in range(max(h) + 1)] if h else []
+    def hist(h):
+        return [h.get(k, 0) for k in range(max(h) + 1)] if h else []
+
     return {
         "nodes": count["nodes"], "leaves": count["nodes"] - len(children),
         "links": count["links"], "oracle_calls": count["calls"],
@@ -84,22 +91,80 @@ def usage(message):
     sys.exit(2)
 
 
+def _param(name, default, low=0.0, low_open=True, default_from=None, doc=""):
+    return {"name": name, "default": None if default_from else default,
+            "default_from": default_from, "low": low, "high": None, "low_open": low_open,
+            "high_open": False, "integer": False, "doc": doc}
+
+
+def _option(name, value=None, choices=None, commands=("run", "links"), doc=""):
+    return {"name": name, "flag": "--" + name.replace("_", "-"), "value": value,
+            "choices": list(choices) if choices else None, "commands": list(commands),
+            "doc": doc}
+
+
+def _counter(name, kind="scalar", category="tree", unit="count"):
+    return {"name": name, "kind": kind, "category": category, "unit": unit, "doc": name}
+
+
+CAPABILITIES = {
+    "schema_version": 1,
+    "engine": "hrbench",
+    "version": VERSION.split()[-1],
+    "run_schema_version": 1,
+    "commands": [{"name": n, "doc": n} for n in ("run", "links", "capabilities")],
+    "families": [
+        {"name": "parallel", "dimension": 2, "doc": "two facing parallel segments",
+         "params": [_param("l", 1.0), _param("d", 1.0),
+                    _param("offset", 0.0, low=None, low_open=False),
+                    _param("l2", None, default_from="l")]},
+        {"name": "box3d", "dimension": 3, "doc": "listed only: the fake cannot run it",
+         "params": [_param("l", 1.0), _param("d", 1.0)]},
+    ],
+    "oracles": [
+        {"name": "garmann", "dimensions": [2, 3], "parameters": ["eps"], "doc": "form factor"},
+        {"name": "hanrahan", "dimensions": [2], "parameters": ["eps"], "doc": "listed only"},
+    ],
+    "methods": [{"name": "enumerate", "doc": "recursion"},
+                {"name": "translation", "doc": "reported back only"}],
+    "options": [
+        _option("eps", "E"), _option("oracle", "NAME", ["garmann", "hanrahan"]),
+        _option("min_area", "A"), _option("max_depth", "D"),
+        _option("count_only", commands=["run"]),
+        _option("method", "M", ["enumerate", "translation"], commands=["run"]),
+        _option("threads", "N", commands=["run"]), _option("json", commands=["run"]),
+        _option("out", "FILE", commands=["links"]),
+    ],
+    "counters": [_counter(n) for n in ("nodes", "leaves", "links", "oracle_calls",
+                                       "max_depth", "forced_links", "culled_pairs",
+                                       "root_pairs")]
+                + [_counter(n, "histogram") for n in ("nodes_per_depth", "links_per_depth")],
+}
+
+
+def capabilities():
+    how = os.environ.get("FAKE_HRBENCH_CAPABILITIES", "")
+    if how == "missing":
+        usage("unknown command 'capabilities' (commands: run, links, scenes)")
+    if how == "garbage":
+        print("commands: run links")
+        return 0
+    print(json.dumps(CAPABILITIES, indent=1))
+    return 0
+
+
 def main(argv):
     if argv[:1] == ["--version"]:
         print(VERSION)
         return 0
-    if argv[:1] == ["--help"]:
-        print("usage: hrbench <command> [arguments]\n  --eps E\n  --oracle NAME\n"
-              "  --min-area A\n  --max-depth D\n  --count-only\n  --method M\n"
-              "  --threads N\n  --json\n  --out F")
-        return 0
-    if argv[:1] == ["scenes"]:
-        print("parallel: two facing parallel plates\n  l        default 1\n"
-              "  d        default 1")
-        return 0
+    if argv == ["capabilities", "--json"]:
+        return capabilities()
     if len(argv) < 2 or argv[0] not in ("run", "links"):
-        usage("expected 'run SCENE' or 'links SCENE'")
+        usage("expected 'run SCENE', 'links SCENE' or 'capabilities --json'")
     command, scene, rest = argv[0], argv[1], argv[2:]
+    if os.environ.get("FAKE_HRBENCH_LOG"):
+        with open(os.environ["FAKE_HRBENCH_LOG"], "a") as fh:
+            fh.write(" ".join(argv) + "\n")
     if scene != "parallel":
         usage(f"unknown scene '{scene}'")
     params = {"l": 1.0, "d": 1.0, "offset": 0.0}
@@ -129,9 +194,6 @@ def main(argv):
     params.setdefault("l2", params["l"])
     if os.environ.get("FAKE_HRBENCH_DELAY"):
         time.sleep(float(os.environ["FAKE_HRBENCH_DELAY"]))
-    if os.environ.get("FAKE_HRBENCH_LOG"):
-        with open(os.environ["FAKE_HRBENCH_LOG"], "a") as fh:
-            fh.write(f"{eps!r} {json.dumps(params, sort_keys=True)}\n")
     below = os.environ.get("FAKE_HRBENCH_FAIL_BELOW_EPS")
     if below and eps < float(below):
         sys.stderr.write(f"hrbench: depth safety cap reached at eps={eps}; use --min-area\n")

@@ -1,0 +1,901 @@
+"""The one module that talks to an ``hrbench`` executable.
+
+It finds and checks the executable, reads its version (``hrbench --version``) and its
+capabilities (``hrbench capabilities --json``: the scene families, oracles, methods,
+options and counters it offers), builds the command lines of runs, checks a claim
+against the capabilities before any run starts, and runs the engine.
+
+Every other module learns what an engine offers from :class:`Capabilities`; none
+parses help text or keeps its own list of oracle or counter names. The format of
+``capabilities --json`` (capabilities ``schema_version`` 1) is the engine's contract;
+the counting conventions behind the counters are in ``docs/conventions.md``.
+
+This module uses the standard library only, so that ``tools/`` can use it too.
+"""
+
+import json
+import math
+import os
+import subprocess
+import time
+from dataclasses import dataclass
+
+__all__ = [
+    "CAPABILITIES_SCHEMA_VERSION",
+    "COUNTER_KINDS",
+    "EngineError",
+    "CapabilitiesError",
+    "Param",
+    "Family",
+    "Oracle",
+    "Method",
+    "Command",
+    "Option",
+    "Counter",
+    "Capabilities",
+    "EngineRun",
+    "find_engine",
+    "engine_version",
+    "get_capabilities",
+    "parse_capabilities",
+    "oracle_error",
+    "missing_capability",
+    "format_number",
+    "option_flag",
+    "option_text",
+    "option_argv",
+    "run_argv",
+    "links_argv",
+    "run_engine",
+    "run_links",
+]
+
+#: Version of the ``capabilities --json`` format that this module reads.
+CAPABILITIES_SCHEMA_VERSION = 1
+
+#: Kinds of counter in the capabilities' ``counters`` table: a ``"scalar"`` is one
+#: integer, a ``"histogram"`` a list of integers indexed by depth.
+COUNTER_KINDS = ("scalar", "histogram")
+
+
+class EngineError(RuntimeError):
+    """The engine cannot be used: missing, not executable, or a command of it failed."""
+
+
+class CapabilitiesError(EngineError):
+    """The engine has no ``capabilities --json`` command, or its output is not readable."""
+
+
+# ---------------------------------------------------------------------------------------
+# The capabilities, as named results.
+
+
+@dataclass(frozen=True)
+class Param:
+    """One parameter of a scene family.
+
+    Attributes
+    ----------
+    name : str
+        As on the command line (``l=64``).
+    default : float or None
+        Default value (the family's unit), or ``None`` when `default_from` is set.
+    default_from : str or None
+        Name of the parameter whose value is the default (e.g. ``l2`` defaults to ``l``).
+    low, high : float or None
+        Bounds of the valid range (``None``: unbounded on that side).
+    low_open, high_open : bool
+        Whether the bound itself is excluded.
+    integer : bool
+        Whether only integers are valid.
+    doc : str
+        One line for a reader.
+    """
+
+    name: str
+    default: object
+    default_from: object
+    low: object
+    high: object
+    low_open: bool
+    high_open: bool
+    integer: bool
+    doc: str
+
+
+@dataclass(frozen=True)
+class Family:
+    """A scene family of ``hrbench run``.
+
+    Attributes
+    ----------
+    name : str
+        E.g. ``"parallel"``.
+    dimension : int
+        2 or 3 (dimension of the scene's space).
+    doc : str
+        One line for a reader.
+    params : tuple of Param
+        In the engine's order.
+    """
+
+    name: str
+    dimension: int
+    doc: str
+    params: tuple
+
+    @property
+    def param_names(self):
+        """tuple of str: the names of `params`, in order."""
+        return tuple(p.name for p in self.params)
+
+
+@dataclass(frozen=True)
+class Oracle:
+    """A refinement oracle (``--oracle NAME``).
+
+    Attributes
+    ----------
+    name : str
+    dimensions : tuple of int
+        Dimensions of the scenes it works on, e.g. ``(2, 3)``.
+    parameters : tuple of str
+        Options it reads, e.g. ``("eps",)``.
+    doc : str
+    """
+
+    name: str
+    dimensions: tuple
+    parameters: tuple
+    doc: str
+
+
+@dataclass(frozen=True)
+class Method:
+    """A counting method (``--method NAME``).
+
+    Attributes
+    ----------
+    name : str
+    doc : str
+    """
+
+    name: str
+    doc: str
+
+
+@dataclass(frozen=True)
+class Command:
+    """A command of the engine (``run``, ``links``, ...).
+
+    Attributes
+    ----------
+    name : str
+    doc : str
+    """
+
+    name: str
+    doc: str
+
+
+@dataclass(frozen=True)
+class Option:
+    """A command-line option of the engine.
+
+    Attributes
+    ----------
+    name : str
+        With underscores, as claims files write option names (``"rays_per_side"``).
+    flag : str
+        As on the command line (``"--rays-per-side"``).
+    value : str or None
+        Metavariable of the value, or ``None`` for a switch (``--json``).
+    choices : tuple of str or None
+        The allowed values, when the option takes one of a fixed set.
+    commands : tuple of str
+        The commands that accept it.
+    doc : str
+    """
+
+    name: str
+    flag: str
+    value: object
+    choices: object
+    commands: tuple
+    doc: str
+
+    @property
+    def is_switch(self):
+        """bool: whether the option takes no value."""
+        return self.value is None
+
+
+@dataclass(frozen=True)
+class Counter:
+    """A counter of ``hrbench run --json`` records (a top-level key of the record).
+
+    Attributes
+    ----------
+    name : str
+        E.g. ``"links"``.
+    kind : {"scalar", "histogram"}
+        One integer, or a list of integers indexed by depth.
+    category : str
+        Group, e.g. ``"tree"``.
+    unit : str
+        E.g. ``"elements"``.
+    doc : str
+    """
+
+    name: str
+    kind: str
+    category: str
+    unit: str
+    doc: str
+
+
+@dataclass(frozen=True)
+class Capabilities:
+    """What an engine offers, as listed by ``hrbench capabilities --json``.
+
+    Attributes
+    ----------
+    schema_version : int
+        Version of the capabilities format (:data:`CAPABILITIES_SCHEMA_VERSION`).
+    engine : str
+        Engine name, e.g. ``"hrbench"``.
+    version : str
+        Engine version, e.g. ``"0.3.0"``.
+    run_schema_version : int
+        ``schema_version`` of the engine's ``run --json`` records.
+    commands : tuple of Command
+    families : tuple of Family
+    oracles : tuple of Oracle
+    methods : tuple of Method
+    options : tuple of Option
+    counters : tuple of Counter
+        Every table in the engine's order. The names of the scalar counters and of the
+        histograms are :attr:`scalar_counters` and :attr:`histogram_counters`.
+    """
+
+    schema_version: int
+    engine: str
+    version: str
+    run_schema_version: int
+    commands: tuple
+    families: tuple
+    oracles: tuple
+    methods: tuple
+    options: tuple
+    counters: tuple
+
+    @property
+    def scalar_counters(self):
+        """tuple of str: names of the counters of kind ``"scalar"``, in order."""
+        return tuple(c.name for c in self.counters if c.kind == "scalar")
+
+    @property
+    def histogram_counters(self):
+        """tuple of str: names of the counters of kind ``"histogram"``, in order."""
+        return tuple(c.name for c in self.counters if c.kind == "histogram")
+
+    @property
+    def command_names(self):
+        """tuple of str: names of the commands, in order."""
+        return tuple(c.name for c in self.commands)
+
+    @property
+    def family_names(self):
+        """tuple of str: names of the scene families, in order."""
+        return tuple(f.name for f in self.families)
+
+    @property
+    def oracle_names(self):
+        """tuple of str: names of the oracles, in order."""
+        return tuple(o.name for o in self.oracles)
+
+    @property
+    def method_names(self):
+        """tuple of str: names of the methods, in order."""
+        return tuple(m.name for m in self.methods)
+
+    def family(self, name):
+        """The scene family `name`, or ``None`` if the engine lacks it."""
+        return next((f for f in self.families if f.name == name), None)
+
+    def oracle(self, name):
+        """The oracle `name`, or ``None`` if the engine lacks it."""
+        return next((o for o in self.oracles if o.name == name), None)
+
+    def option(self, name):
+        """The option `name` (underscores, e.g. ``"min_area"``), or ``None``."""
+        return next((o for o in self.options if o.name == name), None)
+
+
+# ---------------------------------------------------------------------------------------
+# Reading the capabilities.
+
+_KINDS = {
+    "a string": lambda v: isinstance(v, str),
+    "an integer": lambda v: isinstance(v, int) and not isinstance(v, bool),
+    "a number": lambda v: (isinstance(v, (int, float)) and not isinstance(v, bool)
+                           and math.isfinite(v)),
+    "true or false": lambda v: isinstance(v, bool),
+    "a list": lambda v: isinstance(v, list),
+    "an object": lambda v: isinstance(v, dict),
+}
+
+
+def _value_iv(obj, key, kind, where, nullable=False):
+    # obj[key], checked to be of `kind` (a key of _KINDS), or None when `nullable`.
+    if key not in obj:
+        raise CapabilitiesError(f"{where}: missing key {key!r}")
+    value = obj[key]
+    if value is None and nullable:
+        return None
+    if not _KINDS[kind](value):
+        allowed = kind + (" or null" if nullable else "")
+        raise CapabilitiesError(f"{where}.{key} must be {allowed}, got {value!r}")
+    return value
+
+
+def _strings_iv(obj, key, where, nullable=False):
+    # A list of strings (or None when `nullable`), as a tuple.
+    values = _value_iv(obj, key, "a list", where, nullable)
+    if values is None:
+        return None
+    for n, value in enumerate(values):
+        if not isinstance(value, str):
+            raise CapabilitiesError(f"{where}.{key}[{n}] must be a string, got {value!r}")
+    return tuple(values)
+
+
+def _table_iv(obj, key, where, read_entry):
+    # A list of objects with unique "name"s, each read by read_entry(entry, where).
+    entries = _value_iv(obj, key, "a list", where)
+    out, seen = [], set()
+    for n, entry in enumerate(entries):
+        entry_where = f"{where}.{key}[{n}]"
+        if not isinstance(entry, dict):
+            raise CapabilitiesError(f"{entry_where} must be an object, got {entry!r}")
+        item = read_entry(entry, entry_where)
+        if item.name in seen:
+            raise CapabilitiesError(f"{entry_where}: duplicate name {item.name!r}")
+        seen.add(item.name)
+        out.append(item)
+    return tuple(out)
+
+
+def _kind_iv(kind, where):
+    if kind not in COUNTER_KINDS:
+        raise CapabilitiesError(f"{where}.kind must be one of "
+                                f"{', '.join(map(repr, COUNTER_KINDS))}, got {kind!r}")
+    return kind
+
+
+def _read_param(obj, where):
+    return Param(
+        name=_value_iv(obj, "name", "a string", where),
+        default=_value_iv(obj, "default", "a number", where, nullable=True),
+        default_from=_value_iv(obj, "default_from", "a string", where, nullable=True),
+        low=_value_iv(obj, "low", "a number", where, nullable=True),
+        high=_value_iv(obj, "high", "a number", where, nullable=True),
+        low_open=_value_iv(obj, "low_open", "true or false", where),
+        high_open=_value_iv(obj, "high_open", "true or false", where),
+        integer=_value_iv(obj, "integer", "true or false", where),
+        doc=_value_iv(obj, "doc", "a string", where))
+
+
+def _read_family(obj, where):
+    dimension = _value_iv(obj, "dimension", "an integer", where)
+    if dimension not in (2, 3):
+        raise CapabilitiesError(f"{where}.dimension must be 2 or 3, got {dimension!r}")
+    return Family(name=_value_iv(obj, "name", "a string", where), dimension=dimension,
+                  doc=_value_iv(obj, "doc", "a string", where),
+                  params=_table_iv(obj, "params", where, _read_param))
+
+
+def _read_oracle(obj, where):
+    dimensions = _value_iv(obj, "dimensions", "a list", where)
+    if not all(d in (2, 3) and not isinstance(d, bool) for d in dimensions):
+        raise CapabilitiesError(f"{where}.dimensions must list 2 and/or 3, got {dimensions!r}")
+    return Oracle(name=_value_iv(obj, "name", "a string", where),
+                  dimensions=tuple(dimensions),
+                  parameters=_strings_iv(obj, "parameters", where),
+                  doc=_value_iv(obj, "doc", "a string", where))
+
+
+def _read_named(cls):
+    def read(obj, where):
+        return cls(name=_value_iv(obj, "name", "a string", where),
+                   doc=_value_iv(obj, "doc", "a string", where))
+    return read
+
+
+def _read_option(obj, where):
+    return Option(name=_value_iv(obj, "name", "a string", where),
+                  flag=_value_iv(obj, "flag", "a string", where),
+                  value=_value_iv(obj, "value", "a string", where, nullable=True),
+                  choices=_strings_iv(obj, "choices", where, nullable=True),
+                  commands=_strings_iv(obj, "commands", where),
+                  doc=_value_iv(obj, "doc", "a string", where))
+
+
+def _read_counter(obj, where):
+    return Counter(name=_value_iv(obj, "name", "a string", where),
+                   kind=_kind_iv(_value_iv(obj, "kind", "a string", where), where),
+                   category=_value_iv(obj, "category", "a string", where),
+                   unit=_value_iv(obj, "unit", "a string", where),
+                   doc=_value_iv(obj, "doc", "a string", where))
+
+
+def parse_capabilities(text, engine="hrbench"):
+    """Parse the output of ``hrbench capabilities --json``.
+
+    Parameters
+    ----------
+    text : str
+        The standard output of the command.
+    engine : str, optional
+        The engine's path or name, for the error messages.
+
+    Returns
+    -------
+    capabilities : Capabilities
+
+    Raises
+    ------
+    CapabilitiesError
+        If the text is not a JSON object, its ``schema_version`` is not
+        :data:`CAPABILITIES_SCHEMA_VERSION`, or a key of the format is missing or of the
+        wrong type. The message is one line naming the engine and the key. Keys the format
+        does not define are ignored (a later engine may add some).
+    """
+    try:
+        obj = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise CapabilitiesError(f"engine {engine}: 'capabilities --json' did not print "
+                                f"JSON ({exc})") from None
+    if not isinstance(obj, dict):
+        raise CapabilitiesError(f"engine {engine}: 'capabilities --json' did not print a "
+                                "JSON object")
+    try:
+        schema = obj.get("schema_version")
+        if schema != CAPABILITIES_SCHEMA_VERSION:
+            raise CapabilitiesError(f"capabilities has schema_version {schema!r}; this "
+                                    f"analysis reads {CAPABILITIES_SCHEMA_VERSION}")
+        where = "capabilities"
+        return Capabilities(
+            schema_version=schema,
+            engine=_value_iv(obj, "engine", "a string", where),
+            version=_value_iv(obj, "version", "a string", where),
+            run_schema_version=_value_iv(obj, "run_schema_version", "an integer", where),
+            commands=_table_iv(obj, "commands", where, _read_named(Command)),
+            families=_table_iv(obj, "families", where, _read_family),
+            oracles=_table_iv(obj, "oracles", where, _read_oracle),
+            methods=_table_iv(obj, "methods", where, _read_named(Method)),
+            options=_table_iv(obj, "options", where, _read_option),
+            counters=_table_iv(obj, "counters", where, _read_counter))
+    except CapabilitiesError as exc:
+        raise CapabilitiesError(f"engine {engine}: {exc}") from None
+
+
+# ---------------------------------------------------------------------------------------
+# Finding the engine, its version and its capabilities.
+
+
+def find_engine(hrbench):
+    """Check that an engine executable exists and may be run.
+
+    Parameters
+    ----------
+    hrbench : str or path-like
+        Path of the executable.
+
+    Returns
+    -------
+    path : str
+        `hrbench` as a string.
+
+    Raises
+    ------
+    EngineError
+        If it is not an executable file.
+    """
+    path = os.fspath(hrbench)
+    if not os.path.isfile(path) or not os.access(path, os.X_OK):
+        raise EngineError(f"engine not found or not executable: {path} "
+                          "(build it first, or pass --hrbench PATH)")
+    return path
+
+
+def engine_version(hrbench):
+    """The version string of an engine: the first line of ``hrbench --version``.
+
+    Parameters
+    ----------
+    hrbench : str or path-like
+        Path of the executable.
+
+    Returns
+    -------
+    version : str
+        E.g. ``"hrbench 0.3.0"`` (part of every cache key).
+
+    Raises
+    ------
+    EngineError
+        If the executable is missing or ``--version`` fails.
+    """
+    path = find_engine(hrbench)
+    run = run_engine([path, "--version"], timeout=60)
+    lines = run.stdout.strip().splitlines()
+    if run.exit_code != 0 or not lines:
+        raise EngineError(f"{path} --version failed with exit code {run.exit_code}"
+                          + (f": {run.message}" if run.message else ""))
+    return lines[0].strip()
+
+
+def get_capabilities(hrbench, timeout=60):
+    """What an engine offers, from ``hrbench capabilities --json``.
+
+    Parameters
+    ----------
+    hrbench : str or path-like
+        Path of the executable.
+    timeout : float, optional
+        Seconds to wait for the command.
+
+    Returns
+    -------
+    capabilities : Capabilities
+
+    Raises
+    ------
+    EngineError
+        If the executable is missing.
+    CapabilitiesError
+        If the engine has no ``capabilities`` command (it exits non-zero) or prints
+        something else than the format. The message is one line naming the engine; the
+        analysis then exits with code 2.
+    """
+    path = find_engine(hrbench)
+    run = run_engine([path, "capabilities", "--json"], timeout=timeout)
+    if run.exit_code != 0:
+        raise CapabilitiesError(
+            f"engine {path} has no usable 'capabilities --json' command (exit code "
+            f"{run.exit_code}: {run.message or 'no message'}); this analysis needs an engine "
+            f"that lists its capabilities (schema_version {CAPABILITIES_SCHEMA_VERSION})")
+    return parse_capabilities(run.stdout, engine=path)
+
+
+# ---------------------------------------------------------------------------------------
+# Checking a claim against the capabilities.
+
+
+def oracle_error(claim, capabilities):
+    """Why a claim can never run on this engine, or ``None``: an oracle it does not list.
+
+    An oracle name the engine does not list can only be a typo or a claim written for
+    another engine, so it is an error (the analysis exits with code 2 before any run),
+    unlike a scene family or an option the engine lacks (see :func:`missing_capability`).
+
+    Parameters
+    ----------
+    claim : Claim
+        Reads ``claim.oracle``.
+    capabilities : Capabilities
+
+    Returns
+    -------
+    message : str or None
+        E.g. ``"oracle 'bf' is not offered by the engine; its oracles: garmann, hanrahan"``.
+    """
+    if capabilities.oracle(claim.oracle) is not None:
+        return None
+    return (f"oracle {claim.oracle!r} is not offered by the engine; its oracles: "
+            f"{', '.join(capabilities.oracle_names) or 'none'}")
+
+
+def missing_capability(claim, mode, capabilities):
+    """Why the engine cannot run a claim, or ``None`` if it can.
+
+    A claim that needs something the engine lacks is skipped, not failed: an older
+    engine may lack the 3D scenes or the visibility options, and its other claims still
+    run. What it may lack: the scene family; a scene parameter the claim sets; the
+    oracle for the family's dimension (an oracle listed for 2D scenes only, on a 3D
+    family); an option of ``run``; or, for an option with a fixed set of values (such as
+    ``method``), the value the claim asks for. An oracle the engine does not list at all
+    is an error instead (:func:`oracle_error`), checked first.
+
+    Parameters
+    ----------
+    claim : Claim
+        Reads ``scene``, ``params``, ``oracle`` and ``options_for(mode)``.
+    mode : {"quick", "full"}
+        Whose options to check.
+    capabilities : Capabilities
+
+    Returns
+    -------
+    reason : str or None
+        E.g. ``"engine lacks scene 'parallel3d'"`` or ``"engine lacks option
+        --visibility"``.
+    """
+    family = capabilities.family(claim.scene)
+    if family is None:
+        return f"engine lacks scene {claim.scene!r}"
+    unknown = [name for name in claim.params if name not in family.param_names]
+    if unknown:
+        return (f"engine's scene {claim.scene!r} lacks parameter"
+                f"{'s' if len(unknown) > 1 else ''} {', '.join(unknown)} (it has "
+                f"{', '.join(family.param_names) or 'none'})")
+    oracle = capabilities.oracle(claim.oracle)
+    if oracle is not None and family.dimension not in oracle.dimensions:
+        return (f"engine's oracle {claim.oracle!r} does not work on {family.dimension}D "
+                f"scenes such as {claim.scene!r} (dimensions "
+                f"{', '.join(map(str, oracle.dimensions))})")
+    return _missing_option(claim.options_for(mode), capabilities)
+
+
+def _missing_option(options, capabilities):
+    # The first reason an option cannot be passed to `run`, or None.
+    lacking = []
+    for name in options:
+        option = capabilities.option(name)
+        if option is None or "run" not in option.commands:
+            lacking.append(option_flag(name))
+    if lacking:
+        return f"engine lacks option{'s' if len(lacking) > 1 else ''} {', '.join(lacking)}"
+    for name, value in options.items():
+        choices = capabilities.option(name).choices
+        if choices is not None and option_text(value) not in choices:
+            return (f"engine lacks {option_flag(name)} {option_text(value)} (choices: "
+                    f"{', '.join(choices)})")
+    return None
+
+
+# ---------------------------------------------------------------------------------------
+# Command lines.
+
+
+def format_number(value):
+    """Format a number for the command line.
+
+    Parameters
+    ----------
+    value : float
+        Any finite number (in its parameter's unit).
+
+    Returns
+    -------
+    text : str
+        Up to 10 significant digits, or as many as it takes to give back exactly the same
+        double (``repr``).
+    """
+    value = float(value)
+    text = f"{value:.10g}"
+    return text if float(text) == value else repr(value)
+
+
+def option_flag(name):
+    """The command-line flag of an option name: ``"rays_per_side"`` -> ``"--rays-per-side"``.
+
+    This is the engine's rule for every option (the ``flag`` of its capabilities).
+    """
+    return "--" + name.replace("_", "-")
+
+
+def option_text(value):
+    """The command-line form of an option value.
+
+    Parameters
+    ----------
+    value : str, int or float
+
+    Returns
+    -------
+    text : str
+        A string as it is, an integer exactly, a float as in :func:`format_number`.
+    """
+    if isinstance(value, str):
+        return value
+    if isinstance(value, int) and not isinstance(value, bool):
+        return str(value)
+    return format_number(value)
+
+
+def _options_iv(options):
+    if not isinstance(options, dict):
+        raise TypeError(f"options must be a dict of option name to value, got {options!r}")
+    for name, value in options.items():
+        if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+            raise TypeError(f"options[{name!r}] must be a string, an integer or a float, "
+                            f"got {value!r}")
+    return options
+
+
+def _params_iv(params):
+    if not isinstance(params, dict):
+        raise TypeError(f"params must be a dict of parameter name to number, got {params!r}")
+    for name, value in params.items():
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise TypeError(f"params[{name!r}] must be a number, got {value!r}")
+    return params
+
+
+def option_argv(options):
+    """The command-line form of engine options.
+
+    Parameters
+    ----------
+    options : dict of str to (str, int or float)
+        E.g. ``{"rays_per_side": 4, "visibility": "fraction"}``.
+
+    Returns
+    -------
+    argv : list of str
+        ``["--rays-per-side", "4", "--visibility", "fraction"]``: sorted by name, flags as
+        in :func:`option_flag`, values as in :func:`option_text`.
+
+    Raises
+    ------
+    TypeError
+        If `options` is not a dict, or a value is not a string, integer or float.
+    """
+    argv = []
+    for name, value in sorted(_options_iv(options).items()):
+        argv += [option_flag(name), option_text(value)]
+    return argv
+
+
+def _scene_argv(scene, params):
+    # ["parallel", "d=1", "l=8"]: parameters sorted by name.
+    return [scene, *(f"{k}={format_number(v)}" for k, v in sorted(_params_iv(params).items()))]
+
+
+def run_argv(hrbench, scene, params, eps, oracle, min_area=None, max_depth=None,
+             options=None):
+    """The command line of one counting run: ``hrbench run ... --count-only --json``.
+
+    Parameters
+    ----------
+    hrbench : str or path-like
+        Path of the engine.
+    scene : str
+        Scene family.
+    params : dict of str to float
+        Scene parameters (scene units), written ``name=value`` sorted by name.
+    eps : float
+        Oracle threshold (dimensionless).
+    oracle : str
+        Oracle name.
+    min_area : float, optional
+        ``--min-area`` (scene units).
+    max_depth : int, optional
+        ``--max-depth`` (levels).
+    options : dict of str to (str, int or float), optional
+        Further options, as in :func:`option_argv`.
+
+    Returns
+    -------
+    argv : list of str
+        ``[hrbench, "run", scene, params..., "--eps", E, "--oracle", O, [--min-area A],
+        [--max-depth D], options..., "--count-only", "--json"]``.
+    """
+    argv = [os.fspath(hrbench), "run", *_scene_argv(scene, params),
+            "--eps", format_number(eps), "--oracle", oracle]
+    if min_area is not None:
+        argv += ["--min-area", format_number(min_area)]
+    if max_depth is not None:
+        argv += ["--max-depth", str(int(max_depth))]
+    argv += option_argv(options or {})
+    return argv + ["--count-only", "--json"]
+
+
+def links_argv(hrbench, scene, params, eps, out, oracle="garmann"):
+    """The command line that writes a link list: ``hrbench links ... --out FILE``.
+
+    Parameters
+    ----------
+    hrbench : str or path-like
+        Path of the engine.
+    scene : str
+        Scene family.
+    params : dict of str to float
+        Scene parameters (scene units).
+    eps : float
+        Oracle threshold (dimensionless).
+    out : str or path-like
+        CSV file to write.
+    oracle : str, optional
+        Oracle name (the claims' default, ``garmann``, by default).
+
+    Returns
+    -------
+    argv : list of str
+    """
+    return [os.fspath(hrbench), "links", *_scene_argv(scene, params),
+            "--eps", format_number(eps), "--oracle", oracle, "--out", os.fspath(out)]
+
+
+# ---------------------------------------------------------------------------------------
+# Running the engine.
+
+
+@dataclass(frozen=True)
+class EngineRun:
+    """One finished engine process.
+
+    Attributes
+    ----------
+    argv : tuple of str
+        The command line.
+    exit_code : int
+        Exit code (negative for a signal; 127 when it could not be started).
+    stdout, stderr : str
+        What it printed.
+    wall_seconds : float
+        Wall time of the process (s).
+    """
+
+    argv: tuple
+    exit_code: int
+    stdout: str
+    stderr: str
+    wall_seconds: float
+
+    @property
+    def message(self):
+        """str: the last non-empty line of standard error ("" if none)."""
+        lines = [line.strip() for line in self.stderr.splitlines() if line.strip()]
+        return lines[-1] if lines else ""
+
+
+def run_engine(argv, timeout=None):
+    """Run the engine once and wait for it.
+
+    Parameters
+    ----------
+    argv : sequence of str or path-like
+        The command line, the engine first.
+    timeout : float, optional
+        Seconds to wait (default: no limit).
+
+    Returns
+    -------
+    run : EngineRun
+        A process that could not be started has exit code 127 and the reason as its
+        standard error.
+
+    Raises
+    ------
+    EngineError
+        If it runs longer than `timeout`.
+    """
+    argv = tuple(os.fspath(a) for a in argv)
+    start = time.perf_counter()
+    try:
+        proc = subprocess.run(argv, capture_output=True, text=True, timeout=timeout)
+        code, out, err = proc.returncode, proc.stdout, proc.stderr
+    except OSError as exc:
+        code, out, err = 127, "", f"cannot run {argv[0]}: {exc}"
+    except subprocess.TimeoutExpired:
+        raise EngineError(f"{' '.join(argv)} did not finish within {timeout} s") from None
+    return EngineRun(argv, code, out, err, time.perf_counter() - start)
+
+
+def run_links(hrbench, scene, params, eps, out, oracle="garmann"):
+    """Write the link list of one refinement with ``hrbench links``.
+
+    Parameters are those of :func:`links_argv`.
+
+    Raises
+    ------
+    EngineError
+        If the run fails; the message holds its exit code and last line of standard error.
+    """
+    run = run_engine(links_argv(hrbench, scene, params, eps, out, oracle))
+    if run.exit_code != 0:
+        raise EngineError(f"{' '.join(run.argv[1:])} failed with exit code {run.exit_code}: "
+                          f"{run.message or 'no message'}")
