@@ -3,7 +3,7 @@ PYTHON := .venv/bin/python
 CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release
 
 .PHONY: setup build build-asan test test-cpp test-asan test-python reproduce reproduce-full bench \
-        baseline clean
+        baseline lint format clean
 
 setup:
 	@bash scripts/setup.sh
@@ -52,6 +52,17 @@ bench: build
 # checks it, as the CTest test count_baseline).
 baseline: build
 	$(PYTHON) tools/check_baseline.py --update
+
+# Formatting and lint: clang-format (.clang-format) on the C++ sources, ruff
+# (pyproject.toml) on the Python. `make format` rewrites the C++ in place.
+CXX_SOURCES = git ls-files --cached --others --exclude-standard '*.cpp' '*.h'
+lint: setup
+	@$(CXX_SOURCES) | xargs clang-format --dry-run --Werror
+	@.venv/bin/ruff check analysis tools tests
+	@echo "lint: clean"
+
+format: setup
+	@$(CXX_SOURCES) | xargs clang-format -i
 
 clean:
 	rm -rf build build-asan

@@ -4,8 +4,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(cmake ninja-build g++ make libeigen3-dev catch2 libcgal-dev libbenchmark-dev
-          nlohmann-json3-dev python3 python3-venv)
+packages=(cmake ninja-build g++ make git libeigen3-dev catch2 libcgal-dev libbenchmark-dev
+          nlohmann-json3-dev python3 python3-venv clang-format)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
