@@ -28,8 +28,7 @@ __all__ = [
     "Param",
     "Family",
     "Oracle",
-    "Method",
-    "Command",
+    "Named",
     "Option",
     "Counter",
     "Capabilities",
@@ -151,22 +150,9 @@ class Oracle:
 
 
 @dataclass(frozen=True)
-class Method:
-    """A counting method (``--method NAME``).
-
-    Attributes
-    ----------
-    name : str
-    doc : str
-    """
-
-    name: str
-    doc: str
-
-
-@dataclass(frozen=True)
-class Command:
-    """A command of the engine (``run``, ``links``, ...).
+class Named:
+    """An entry of the engine that is only a name and a line of doc: a command (``run``,
+    ``links``, ...) or a counting method (``--method NAME``).
 
     Attributes
     ----------
@@ -248,10 +234,10 @@ class Capabilities:
         Engine version, e.g. ``"0.3.0"``.
     run_schema_version : int
         ``schema_version`` of the engine's ``run --json`` records.
-    commands : tuple of Command
+    commands : tuple of Named
     families : tuple of Family
     oracles : tuple of Oracle
-    methods : tuple of Method
+    methods : tuple of Named
     options : tuple of Option
     counters : tuple of Counter
         Every table in the engine's order. The names of the scalar counters and of the
@@ -405,11 +391,9 @@ def _read_oracle(obj, where):
                   doc=_value_iv(obj, "doc", "a string", where))
 
 
-def _read_named(cls):
-    def read(obj, where):
-        return cls(name=_value_iv(obj, "name", "a string", where),
-                   doc=_value_iv(obj, "doc", "a string", where))
-    return read
+def _read_named(obj, where):
+    return Named(name=_value_iv(obj, "name", "a string", where),
+                 doc=_value_iv(obj, "doc", "a string", where))
 
 
 def _read_option(obj, where):
@@ -470,10 +454,10 @@ def parse_capabilities(text, engine="hrbench"):
             engine=_value_iv(obj, "engine", "a string", where),
             version=_value_iv(obj, "version", "a string", where),
             run_schema_version=_value_iv(obj, "run_schema_version", "an integer", where),
-            commands=_table_iv(obj, "commands", where, _read_named(Command)),
+            commands=_table_iv(obj, "commands", where, _read_named),
             families=_table_iv(obj, "families", where, _read_family),
             oracles=_table_iv(obj, "oracles", where, _read_oracle),
-            methods=_table_iv(obj, "methods", where, _read_named(Method)),
+            methods=_table_iv(obj, "methods", where, _read_named),
             options=_table_iv(obj, "options", where, _read_option),
             counters=_table_iv(obj, "counters", where, _read_counter))
     except CapabilitiesError as exc:

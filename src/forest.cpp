@@ -28,11 +28,11 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
 
     // Split element _i_ and check that double precision still resolves its children.
     std::array<Shape, 4> children;
-    shapes_[i].Subdivide(mode_, children);
+    int n = shapes_[i].Subdivide(mode_, children);  // == arity
     std::array<double, 4> sizes{};
-    for (int c = 0; c < arity; ++c)
+    for (int c = 0; c < n; ++c)
         sizes[c] = children[c].Measure();
-    if (!Shape::Resolves(hot_[i].size, sizes, arity))
+    if (!Shape::Resolves(hot_[i].size, sizes, n))
         throw LimitError("element " + std::to_string(i) + " of patch " +
                          std::to_string(hot_[i].root) +
                          " is too small for double precision at depth " +
@@ -42,7 +42,7 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
     uint32_t first = uint32_t(hot_.size());
     uint32_t root = hot_[i].root;
     uint8_t depth = uint8_t(depth_[i] + 1);
-    for (int c = 0; c < arity; ++c) {
+    for (int c = 0; c < n; ++c) {
         hot_.push_back({children[c].Centroid(), sizes[c], kNoChildren, root});
         shapes_.push_back(children[c]);
         depth_.push_back(depth);

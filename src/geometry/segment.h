@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -30,8 +31,14 @@ struct Segment {
     }
 
     // The two halves at the midpoint, the first starting at _a_. Segments have no
-    // quadtree rule; the refinement options refuse it before any split.
-    int Subdivide(Subdivision mode, std::array<Segment, 4> &out) const;
+    // quadtree rule; the refinement options refuse it before any split. Inline, as
+    // Resolves(): a forest splits every element it grows through them.
+    int Subdivide(Subdivision, std::array<Segment, 4> &out) const {
+        Vec2 m = Midpoint();
+        out[0] = {a, m};
+        out[1] = {m, b};
+        return 2;
+    }
 
     // _k_ points at the centres of the _k_ equal parts, from _a_ to _b_.
     void SamplePoints(int k, std::vector<Vec2> &out) const;
@@ -41,7 +48,13 @@ struct Segment {
 
     // Both halves must measure half the parent to 1e-6: midpoints of an element too small
     // for its coordinates no longer halve it.
-    static bool Resolves(double measure, const std::array<double, 4> &children, int n);
+    static bool Resolves(double measure, const std::array<double, 4> &children, int n) {
+        double half = 0.5 * measure;
+        for (int c = 0; c < n; ++c)
+            if (!(std::abs(children[c] - half) <= 1e-6 * half))
+                return false;
+        return true;
+    }
 };
 
 }  // namespace hrbench

@@ -23,7 +23,7 @@ class GarmannOracle {
     GarmannOracle(double eps, const Patches<Shape> &)
         : eps_(eps), acceptBelow_(eps * eps * (1 - 1e-12)), rejectAbove_(eps * eps * (1 + 1e-12)) {}
 
-    bool Acceptable(const ElementType &i, const ElementType &j) const {
+    [[gnu::always_inline]] bool Acceptable(const ElementType &i, const ElementType &j) const {
         double m = std::max(i.size, j.size);
         double r2 = (i.center - j.center).squaredNorm();
         if constexpr (Shape::kDimension == 3) {
@@ -41,7 +41,8 @@ class GarmannOracle {
         }
     }
 
-    bool AcceptableVisible(const ElementType &i, const ElementType &j, double visible) const {
+    [[gnu::always_inline]] bool AcceptableVisible(const ElementType &i, const ElementType &j,
+                                                  double visible) const {
         double m = visible * std::max(i.size, j.size);
         double r2 = (i.center - j.center).squaredNorm();
         if constexpr (Shape::kDimension == 3)

@@ -29,11 +29,12 @@ class HanrahanOracle {
             normals_.push_back(p.shape.Normal());
     }
 
-    bool Acceptable(const ElementType &i, const ElementType &j) const {
+    [[gnu::always_inline]] bool Acceptable(const ElementType &i, const ElementType &j) const {
         return AcceptableVisible(i, j, 1.0);
     }
 
-    bool AcceptableVisible(const ElementType &i, const ElementType &j, double visible) const {
+    [[gnu::always_inline]] bool AcceptableVisible(const ElementType &i, const ElementType &j,
+                                                  double visible) const {
         constexpr double kPi = 3.14159265358979323846;
         Vec d = j.center - i.center;
         double r2 = d.squaredNorm();
