@@ -2,11 +2,12 @@
 
 Modules
 -------
+errors      AnalysisError, the base of every error that means bad input (exit code 2)
 engine      the one module that runs the engine: version, capabilities, command lines
 claimfile   read and check the claims files (``analysis/claims/*.toml``)
 expr        the safe formula evaluator used for a claim's x and y
 loader      read the engine's output (run JSON, link CSV)
-store       the SQLite results cache
+store       the SQLite results cache: checked when opened, leases for concurrent sweeps
 sweep       expand claims into runs and run them in parallel
 fit         power-law fits, bootstrap intervals, local slopes, Theta checks, models
 verdict     the verdict of a claim

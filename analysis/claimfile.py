@@ -8,7 +8,13 @@ Adding a claim needs no code: see ``docs/analysis.md`` for the format.
 Loading checks a file offline: its syntax, keys, types and formulas. What depends on the
 engine is checked against its capabilities before any run starts: the oracle (see
 :func:`analysis.engine.oracle_error`), the names the formulas read (:func:`check_names`),
-and the scene family, parameters and options (:func:`analysis.engine.missing_capability`).
+and the scene family, parameters and options (:func:`analysis.engine.param_errors`,
+:func:`analysis.engine.missing_capability`).
+
+The work a claims file can ask for is bounded when it is loaded: a file has at most
+:data:`MAX_FILE_BYTES` bytes of UTF-8 text, a sweep range at most :data:`MAX_PER_DECADE`
+points per decade and :data:`MAX_RANGE_POINTS` points, a formula the limits of
+:mod:`analysis.expr`.
 """
 
 import math
@@ -17,6 +23,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .errors import AnalysisError
 from .expr import Expression, ExpressionError
 from .loader import environment_names
 
@@ -27,8 +34,14 @@ __all__ = [
     "load_claims",
     "load_claims_dir",
     "check_names",
+    "range_problem",
     "MODES",
     "RESERVED_OPTIONS",
+    "MAX_FILE_BYTES",
+    "MAX_PER_DECADE",
+    "MAX_RANGE_POINTS",
+    "MAX_ABS_EXPONENT",
+    "MAX_PARAMS",
 ]
 
 #: Sweep modes a claim may give ranges for.
@@ -39,11 +52,23 @@ MODES = ("quick", "full")
 RESERVED_OPTIONS = ("eps", "oracle", "min_area", "max_depth", "count_only", "json", "out",
                     "scene_file", "help", "version")
 
+#: Largest claims file, in bytes.
+MAX_FILE_BYTES = 1 << 20
+#: Most points per decade of a sweep range.
+MAX_PER_DECADE = 1000
+#: Most points of one sweep range (both ends included).
+MAX_RANGE_POINTS = 10_000
+#: Largest magnitude of a claim's expected exponent.
+MAX_ABS_EXPONENT = 100
+#: Most scene parameters of one claim.
+MAX_PARAMS = 64
+
 _OPTION_NAME = re.compile(r"[a-z][a-z0-9_]*\Z")
+_PARAM_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _OPTION_TEXT = re.compile(r"[A-Za-z0-9_.:/+][A-Za-z0-9_.:/+=-]*\Z")
 
 
-class ClaimsFileError(ValueError):
+class ClaimsFileError(AnalysisError, ValueError):
     """A claims file that cannot be read or does not follow the format.
 
     Attributes
@@ -89,6 +114,16 @@ class SweepRange:
     per_decade: float
     binary_digits: object = None
 
+    def __post_init__(self):
+        problem = range_problem(self.start, self.stop, self.per_decade)
+        if problem is not None:
+            raise ValueError(problem)
+
+    @property
+    def decades(self):
+        """float: decades (factors 10) between `start` and `stop`."""
+        return _decades(self.start, self.stop)
+
     def values(self):
         """The swept values, log-spaced from `start` to `stop` inclusive.
 
@@ -99,9 +134,9 @@ class SweepRange:
             that they print and cache identically on every run.
         """
         sign = 1.0 if self.stop > self.start else -1.0
-        decades = abs(math.log10(self.stop / self.start))
+        decades = self.decades
         n = int(math.floor(decades * self.per_decade + 1e-9)) + 1
-        raw = [self.start * 10 ** (sign * i / self.per_decade) for i in range(n)]
+        raw = [_log_step(self.start, sign * i / self.per_decade) for i in range(n)]
         if abs(math.log10(raw[-1] / self.stop)) > 1e-9:
             raw.append(self.stop)
         out = []
@@ -115,6 +150,52 @@ class SweepRange:
             if not out or v != out[-1]:
                 out.append(v)
         return out
+
+
+def _log_step(start, exponent):
+    # start * 10**exponent; through logarithms where 10**exponent leaves float64.
+    if abs(exponent) < 300:
+        return start * 10 ** exponent
+    return 10 ** (math.log10(start) + exponent)
+
+
+def _decades(start, stop):
+    # |log10(stop / start)|, without overflow for ranges such as 1e-300 .. 1e300.
+    ratio = stop / start
+    if 0 < ratio < math.inf:
+        return abs(math.log10(ratio))
+    return abs(math.log10(stop) - math.log10(start))
+
+
+def range_problem(start, stop, per_decade):
+    """Why a log-spaced range is not allowed, or ``None``.
+
+    Parameters
+    ----------
+    start, stop : float
+        Ends of the range: finite, positive, different.
+    per_decade : float
+        Points per decade: finite, positive, at most :data:`MAX_PER_DECADE`.
+
+    Returns
+    -------
+    problem : str or None
+        E.g. ``"per_decade must be at most 1000, got 1000000000"``, or a range of more
+        than :data:`MAX_RANGE_POINTS` points.
+    """
+    for name, value in (("from", start), ("to", stop), ("per_decade", per_decade)):
+        if not (_is_number(value) and value > 0):
+            return f"{name!r} must be a finite number > 0, got {value!r}"
+    if start == stop:
+        return "'from' and 'to' must differ"
+    if per_decade > MAX_PER_DECADE:
+        return f"'per_decade' must be at most {MAX_PER_DECADE}, got {per_decade!r}"
+    decades = _decades(start, stop)
+    points = math.floor(decades * per_decade + 1e-9) + 2
+    if points > MAX_RANGE_POINTS + 1:
+        return (f"the range has {points - 1} points ({decades:.3g} decades at {per_decade:g} "
+                f"per decade); at most {MAX_RANGE_POINTS} are allowed")
+    return None
 
 
 @dataclass
@@ -182,7 +263,10 @@ class Claim:
     line : int
         Line of the claim in the file.
     key_lines : dict of str to int
-        Line of the keys ``x`` and ``y``, for the messages of :func:`check_names`.
+        Line of the keys ``x``, ``y``, ``eps``, ``params.<name>`` and of the sweep ranges
+        (``sweep.quick``, ...), for the messages of the checks against the engine.
+    range_keys : dict of str to str
+        Mode to the key its range was given by (``"sweep.quick"`` or ``"sweep.range"``).
     """
 
     id: str
@@ -217,6 +301,11 @@ class Claim:
     path: str = ""
     line: int = 0
     key_lines: dict = field(default_factory=dict)
+    range_keys: dict = field(default_factory=dict)
+
+    def key_line(self, key):
+        """The line of `key` in the claims file (the claim's line when unknown)."""
+        return self.key_lines.get(key) or self.line
 
     def range_for(self, mode):
         """The sweep range for `mode`, falling back to the other mode's range."""
@@ -309,22 +398,23 @@ def load_claims(path):
     Raises
     ------
     ClaimsFileError
-        If the file is not valid TOML (the message gives tomllib's line and column),
-        or a claim misses a required key, has an unknown key, a value of the wrong type,
-        or a formula that does not parse. The message names the file, the line, the claim
-        id and the key.
+        If the file cannot be read, is larger than :data:`MAX_FILE_BYTES`, is not UTF-8
+        text or not valid TOML (the message gives the line and column), or a claim misses
+        a required key, has an unknown key, a value of the wrong type or out of its
+        bounds, or a formula that does not parse. The message names the file, the line,
+        the claim id and the key. No other exception comes out of arbitrary file content.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ClaimsFileError(path, f"cannot read: {exc.strerror}") from None
+    text = _read_text(path)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         match = re.search(r"line (\d+)", str(exc))
         line = int(match.group(1)) if match else None
         raise ClaimsFileError(path, f"not valid TOML: {exc}", line=line) from None
+    except RecursionError:
+        raise ClaimsFileError(path, "not valid TOML: arrays or tables nested too "
+                              "deeply") from None
     loc = _Locator(text)
 
     unknown = set(data) - {"source", "claim"}
@@ -342,6 +432,9 @@ def load_claims(path):
     claims = []
     seen = {}
     for index, raw in enumerate(raw_claims):
+        if not isinstance(raw, dict):
+            raise ClaimsFileError(path, f"claim #{index + 1} must be a table ([[claim]]), got "
+                                  f"{type(raw).__name__}", line=loc.claim_line(index))
         claim = _parse_claim(raw, index, path, loc, source_key, citation)
         if claim.id in seen:
             raise ClaimsFileError(path, f"duplicate id (first at line {seen[claim.id]})",
@@ -349,6 +442,26 @@ def load_claims(path):
         seen[claim.id] = claim.line
         claims.append(claim)
     return claims
+
+
+def _read_text(path):
+    # The file as text: at most MAX_FILE_BYTES bytes of UTF-8.
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_FILE_BYTES + 1)
+    except OSError as exc:
+        raise ClaimsFileError(path, f"cannot read: {exc.strerror or exc}") from None
+    if len(data) > MAX_FILE_BYTES:
+        raise ClaimsFileError(path, f"file is larger than {MAX_FILE_BYTES} bytes; a claims "
+                              "file is a short TOML text")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        raise ClaimsFileError(path, f"not UTF-8 text: byte 0x{data[exc.start]:02x} at column "
+                              f"{column} cannot be decoded; save the file as UTF-8",
+                              line=line) from None
 
 
 def _parse_claim(raw, index, path, loc, source_key, citation):
@@ -386,7 +499,13 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
     want("statement", "str")
     want("scene", "str")
     params = want("params", "table")
+    if len(params) > MAX_PARAMS:
+        fail(f"key 'params' has {len(params)} scene parameters; at most {MAX_PARAMS} are "
+             "allowed", "params")
     for name, value in params.items():
+        if not _PARAM_NAME.match(name):
+            fail(f"scene parameter name {name!r} must be a word of letters, digits and '_'",
+                 "params")
         if not _is_number(value):
             fail(f"scene parameter {name!r} must be a number, got {value!r}", f"params.{name}")
     oracle = want("oracle", "str", raw.get("oracle", "garmann"))
@@ -426,8 +545,9 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
                  "binary_digits)", key)
         for sub in _RANGE_KEYS:
             want(f"{key}.{sub}", "pos", spec[sub])
-        if spec["from"] == spec["to"]:
-            fail(f"key {key!r}: 'from' and 'to' must differ", key)
+        problem = range_problem(spec["from"], spec["to"], spec["per_decade"])
+        if problem is not None:
+            fail(f"key {key!r}: {problem}", key)
         digits = spec.get("binary_digits")
         if digits is not None and not (isinstance(digits, int) and not isinstance(digits, bool)
                                        and 1 <= digits <= 52):
@@ -435,10 +555,13 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
                  f"{key}.binary_digits")
         ranges[mode] = SweepRange(float(spec["from"]), float(spec["to"]),
                                   float(spec["per_decade"]), digits)
+    range_keys = {mode: f"sweep.{mode}" for mode in ranges}
     if "range" in ranges:
         common = ranges.pop("range")
+        del range_keys["range"]
         for mode in MODES:
             ranges.setdefault(mode, common)
+            range_keys.setdefault(mode, "sweep.range")
     if not ranges:
         fail("sweep needs a range: 'quick', 'full' or 'range' = { from, to, per_decade }",
              "sweep")
@@ -453,6 +576,9 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
             fail(f"key {key!r}: {exc}", key)
 
     k = float(want("expected_exponent", "num"))
+    if abs(k) > MAX_ABS_EXPONENT:
+        fail(f"key 'expected_exponent' must lie within +/-{MAX_ABS_EXPONENT}, got {k:g}",
+             "expected_exponent")
     tol = float(want("tolerance", "pos"))
     regime = raw.get("regime", {})
     if not isinstance(regime, dict) or set(regime) - _REGIME_KEYS:
@@ -466,12 +592,18 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
         if key in raw:
             options[key] = want(key, kind)
     if "min_points" in options:
-        options["min_points"] = int(options["min_points"])
+        value = options["min_points"]
+        if not (value == int(value) and 3 <= value <= MAX_RANGE_POINTS):
+            fail(f"key 'min_points' must be an integer from 3 to {MAX_RANGE_POINTS}, got "
+                 f"{value!r}", "min_points")
+        options["min_points"] = int(value)
     if options.get("theta_band", defaults["theta_band"].default) < 1:
         fail("key 'theta_band' must be at least 1", "theta_band")
     for key in ("min_area", "max_depth"):
         if key in raw:
             want(key, "pos")
+    if "max_depth" in raw and raw["max_depth"] != int(raw["max_depth"]):
+        fail(f"key 'max_depth' must be an integer, got {raw['max_depth']!r}", "max_depth")
     base_options = _options_iv(raw.get("options", {}), "options", fail)
     mode_options = {}
     for mode in MODES:
@@ -504,7 +636,11 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
         max_depth=int(raw["max_depth"]) if "max_depth" in raw else None,
         options=base_options, mode_options=mode_options, chart=raw.get("chart"),
         path=str(path), line=loc.claim_line(index) or 0,
-        key_lines={key: loc.key_line(index, key) for key in ("x", "y")}, **options)
+        key_lines={key: loc.key_line(index, key)
+                   for key in ("x", "y", "eps", *(f"params.{name}" for name in params),
+                               *(f"sweep.{mode}" for mode in (*MODES, "range")
+                                 if mode in sweep))},
+        range_keys=range_keys, **options)
 
 
 def check_names(claim, counters, scene_params=()):
@@ -539,7 +675,7 @@ def check_names(claim, counters, scene_params=()):
             raise ClaimsFileError(
                 claim.path, f"key {key!r} reads unknown name(s) {', '.join(sorted(unknown))}; "
                 f"known: {', '.join(sorted(known))}",
-                line=claim.key_lines.get(key) or claim.line, claim_id=claim.id, key=key)
+                line=claim.key_line(key), claim_id=claim.id, key=key)
 
 
 def _options_iv(options, where, fail):

@@ -10,6 +10,10 @@ parses help text or keeps its own list of oracle or counter names. The format of
 ``capabilities --json`` (capabilities ``schema_version`` 1) is the engine's contract;
 the counting conventions behind the counters are in ``docs/conventions.md``.
 
+Exit codes of the engine (README.md): 0 success, 1 internal error, 2 usage or input
+error (:data:`INPUT_ERROR`), 3 a limit reached during refinement (:data:`LIMIT_REACHED`).
+A run that could not be started has exit code 127 (:data:`NOT_STARTED`).
+
 This module uses the standard library only, so that ``tools/`` can use it too.
 """
 
@@ -20,9 +24,14 @@ import subprocess
 import time
 from dataclasses import dataclass
 
+from .errors import AnalysisError
+
 __all__ = [
     "CAPABILITIES_SCHEMA_VERSION",
     "COUNTER_KINDS",
+    "INPUT_ERROR",
+    "LIMIT_REACHED",
+    "NOT_STARTED",
     "EngineError",
     "CapabilitiesError",
     "Param",
@@ -38,6 +47,8 @@ __all__ = [
     "get_capabilities",
     "parse_capabilities",
     "oracle_error",
+    "param_errors",
+    "param_range_text",
     "missing_capability",
     "format_number",
     "option_flag",
@@ -56,8 +67,17 @@ CAPABILITIES_SCHEMA_VERSION = 1
 #: integer, a ``"histogram"`` a list of integers indexed by depth.
 COUNTER_KINDS = ("scalar", "histogram")
 
+#: Exit code of an engine run refused as a usage or input error (bad parameter value,
+#: touching patches without a recursion limit, ...): the analysis exits with 2 as well.
+INPUT_ERROR = 2
+#: Exit code of an engine run that reached a limit during refinement (the safety depth,
+#: the memory budget): a failed point of the sweep, left out of the fit.
+LIMIT_REACHED = 3
+#: Exit code of :func:`run_engine` for a process that could not be started.
+NOT_STARTED = 127
 
-class EngineError(RuntimeError):
+
+class EngineError(AnalysisError, RuntimeError):
     """The engine cannot be used: missing, not executable, or a command of it failed."""
 
 
@@ -581,16 +601,125 @@ def oracle_error(claim, capabilities):
             f"{', '.join(capabilities.oracle_names) or 'none'}")
 
 
+def param_range_text(param):
+    """The valid range of a scene parameter, in words.
+
+    Parameters
+    ----------
+    param : Param
+
+    Returns
+    -------
+    text : str
+        E.g. ``"d > 0"``, ``"0 < angle < 180"``, ``"3 <= n <= 100000, an integer"`` or
+        ``"any number"``.
+    """
+    low = None if param.low is None else format_number(param.low)
+    high = None if param.high is None else format_number(param.high)
+    below = "<" if param.low_open else "<="
+    above = "<" if param.high_open else "<="
+    if low is not None and high is not None:
+        text = f"{low} {below} {param.name} {above} {high}"
+    elif low is not None:
+        text = f"{param.name} {'>' if param.low_open else '>='} {low}"
+    elif high is not None:
+        text = f"{param.name} {above} {high}"
+    else:
+        text = "any number"
+    if param.integer:
+        text = "an integer" if text == "any number" else f"{text}, an integer"
+    return text
+
+
+def _in_range(param, value):
+    # Whether `value` lies in the declared range of `param`.
+    if not math.isfinite(value):
+        return False
+    if param.integer and value != int(value):
+        return False
+    if param.low is not None and (value < param.low or (param.low_open and value == param.low)):
+        return False
+    if param.high is not None and (value > param.high
+                                   or (param.high_open and value == param.high)):
+        return False
+    return True
+
+
+def param_errors(claim, capabilities, modes=("quick", "full")):
+    """Why a claim's scene parameters can never run on this engine: the problems found.
+
+    Checked before any run, for a claim whose scene family the engine has (a family it
+    lacks is a reason to skip, :func:`missing_capability`): every parameter in
+    ``claim.params`` must be one of the family's, and its value, and every value the
+    sweep gives the swept parameter in each of `modes`, must lie in the family's declared
+    range (``low``, ``high``, ``low_open``, ``high_open``, ``integer`` of
+    ``capabilities --json``). Such a claim would only collect runs refused with exit
+    code 2, so it is an error (the analysis exits with code 2), not a skip.
+
+    Parameters
+    ----------
+    claim : Claim
+        Reads ``scene``, ``params``, ``sweep_param``, ``range_for(mode)``, ``path``,
+        ``id`` and the lines of its keys (``key_line``, ``range_keys``).
+    capabilities : Capabilities
+    modes : sequence of str, optional
+        Whose sweep ranges to check (default both).
+
+    Returns
+    -------
+    errors : list of str
+        One line each, naming the file, the line, the claim, the key, the parameter, the
+        value and the range, e.g. ``"x.toml:12: claim 'C9': key 'params.d': scene
+        parameter d = -1 is out of range for scene 'parallel': d > 0"``. Empty when all is
+        well or the engine lacks the family.
+    """
+    family = capabilities.family(claim.scene)
+    if family is None:
+        return []
+    params = {p.name: p for p in family.params}
+
+    def where(key):
+        return f"{claim.path}:{claim.key_line(key)}: claim {claim.id!r}: key {key!r}"
+
+    errors = []
+    for name, value in claim.params.items():
+        key = f"params.{name}"
+        if name not in params:
+            errors.append(f"{where(key)}: scene {claim.scene!r} has no parameter {name!r} "
+                          f"(its parameters: {', '.join(family.param_names) or 'none'})")
+        elif not _in_range(params[name], value):
+            errors.append(f"{where(key)}: scene parameter {name} = {format_number(value)} is "
+                          f"out of range for scene {claim.scene!r}: "
+                          f"{param_range_text(params[name])}")
+    param = params.get(claim.sweep_param)
+    if param is None:
+        return errors
+    seen = set()
+    for mode in modes:
+        key = claim.range_keys.get(mode, f"sweep.{mode}")
+        sweep = claim.range_for(mode)
+        if sweep in seen:
+            continue
+        seen.add(sweep)
+        bad = [v for v in sweep.values() if not _in_range(param, v)]
+        if bad:
+            errors.append(f"{where(key)}: the sweep gives scene parameter {param.name} "
+                          f"{len(bad)} value(s) out of range for scene {claim.scene!r}, first "
+                          f"{format_number(bad[0])}: {param_range_text(param)}")
+    return errors
+
+
 def missing_capability(claim, mode, capabilities):
     """Why the engine cannot run a claim, or ``None`` if it can.
 
     A claim that needs something the engine lacks is skipped, not failed: an older
     engine may lack the 3D scenes or the visibility options, and its other claims still
-    run. What it may lack: the scene family; a scene parameter the claim sets; the
+    run. What it may lack: the scene family; the
     oracle for the family's dimension (an oracle listed for 2D scenes only, on a 3D
     family); an option of ``run``; or, for an option with a fixed set of values (such as
     ``method``), the value the claim asks for. An oracle the engine does not list at all
-    is an error instead (:func:`oracle_error`), checked first.
+    is an error instead (:func:`oracle_error`), checked first, and so is a scene
+    parameter the family lacks or a value out of its range (:func:`param_errors`).
 
     Parameters
     ----------
@@ -609,11 +738,6 @@ def missing_capability(claim, mode, capabilities):
     family = capabilities.family(claim.scene)
     if family is None:
         return f"engine lacks scene {claim.scene!r}"
-    unknown = [name for name in claim.params if name not in family.param_names]
-    if unknown:
-        return (f"engine's scene {claim.scene!r} lacks parameter"
-                f"{'s' if len(unknown) > 1 else ''} {', '.join(unknown)} (it has "
-                f"{', '.join(family.param_names) or 'none'})")
     oracle = capabilities.oracle(claim.oracle)
     if oracle is not None and family.dimension not in oracle.dimensions:
         return (f"engine's oracle {claim.oracle!r} does not work on {family.dimension}D "
@@ -849,8 +973,9 @@ def run_engine(argv, timeout=None):
     Returns
     -------
     run : EngineRun
-        A process that could not be started has exit code 127 and the reason as its
-        standard error.
+        A process that could not be started has exit code 127 (:data:`NOT_STARTED`) and
+        the reason as its standard error. Output that is not UTF-8 is decoded with
+        replacement characters.
 
     Raises
     ------
@@ -860,10 +985,11 @@ def run_engine(argv, timeout=None):
     argv = tuple(os.fspath(a) for a in argv)
     start = time.perf_counter()
     try:
-        proc = subprocess.run(argv, capture_output=True, text=True, timeout=timeout)
+        proc = subprocess.run(argv, capture_output=True, text=True, encoding="utf-8",
+                              errors="replace", timeout=timeout)
         code, out, err = proc.returncode, proc.stdout, proc.stderr
-    except OSError as exc:
-        code, out, err = 127, "", f"cannot run {argv[0]}: {exc}"
+    except (OSError, ValueError) as exc:
+        code, out, err = NOT_STARTED, "", f"cannot run {argv[0]}: {exc}"
     except subprocess.TimeoutExpired:
         raise EngineError(f"{' '.join(argv)} did not finish within {timeout} s") from None
     return EngineRun(argv, code, out, err, time.perf_counter() - start)

@@ -14,6 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .errors import AnalysisError
+
 __all__ = [
     "COUNTERS",
     "MEASURES",
@@ -54,7 +56,7 @@ _RECORD_FIELDS = ("schema_version", "version", "scene", "params", "eps", "oracle
                   "min_area", "max_depth_limit", "nodes_per_depth", "links_per_depth")
 
 
-class ResultFormatError(ValueError):
+class ResultFormatError(AnalysisError, ValueError):
     """Output of ``hrbench run --json`` that cannot be read."""
 
 
@@ -109,7 +111,16 @@ def _number(obj, key, where):
     value = obj.get(key)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ResultFormatError(f"{where}: field {key!r} must be a number, got {value!r}")
+    _float_iv(value, f"{where}: field {key!r}")
     return value
+
+
+def _float_iv(value, where):
+    # float(value), or a ResultFormatError for an integer beyond float64.
+    try:
+        return float(value)
+    except OverflowError:
+        raise ResultFormatError(f"{where} is too large for float64") from None
 
 
 def _is_integer(value):
@@ -168,13 +179,17 @@ def parse_run_json(text, counters=None):
     ------
     ResultFormatError
         If the text is not a JSON object, its ``schema_version`` is not
-        :data:`SCHEMA_VERSION`, a counter is not an integer, or a counter of
-        :data:`COUNTERS` is missing.
+        :data:`SCHEMA_VERSION`, a counter is not an integer, a counter of
+        :data:`COUNTERS` is missing, or a number does not fit in float64. No other
+        exception comes out of arbitrary text.
     """
     try:
         obj = json.loads(text)
     except json.JSONDecodeError as exc:
         raise ResultFormatError(f"run output is not JSON: {exc}") from None
+    except (ValueError, RecursionError) as exc:   # 5000-digit integers, deep nesting
+        raise ResultFormatError(f"run output is not readable JSON: "
+                                f"{type(exc).__name__}") from None
     if not isinstance(obj, dict):
         raise ResultFormatError("run output is not a JSON object")
     schema = obj.get("schema_version")
@@ -189,7 +204,7 @@ def parse_run_json(text, counters=None):
     return RunResult(
         version=str(obj.get("version", "")),
         scene=str(obj.get("scene", "")),
-        params={k: float(v) for k, v in params.items()
+        params={k: _float_iv(v, f"run output: parameter {k!r}") for k, v in params.items()
                 if isinstance(v, (int, float)) and not isinstance(v, bool)},
         eps=float(_number(obj, "eps", "run output")),
         oracle=str(obj.get("oracle", "")),

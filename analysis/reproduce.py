@@ -6,15 +6,21 @@ directory.
 
 Before any run, the claims are checked against the engine's capabilities
 (``hrbench capabilities --json``, see :mod:`analysis.engine`). A claim whose oracle the
-engine does not list, or whose formulas read a name no run provides, is an error. A
-claim that needs a scene family, scene parameter, option or option value the engine
-lacks, or an oracle the engine lists only for scenes of another dimension, is skipped
-(reported, not failed), so that an older engine still judges the claims it can run.
+engine does not list, whose scene parameters the family lacks or has out of their range
+(the swept values included), or whose formulas read a name no run provides, is an error.
+A claim that needs a scene family, option or option value the engine lacks, or an oracle
+the engine lists only for scenes of another dimension, is skipped (reported, not
+failed), so that an older engine still judges the claims it can run.
 
-Exit codes: 0 when no claim that is expected to hold is refuted; 1 when one is; 2 for
-usage errors, malformed claims files, claims the engine can never run (unknown oracle or
-formula name), an engine that cannot be run or has no ``capabilities --json`` command;
-130 when interrupted (finished points stay cached). See ``docs/analysis.md``.
+Exit codes (:data:`EXIT_CODES`): 0 when every claim came out as expected (no claim that
+is expected to hold is refuted); 1 when one that is expected to hold is refuted; 2 for
+bad input or environment: usage errors, unreadable or malformed claims files, bad
+formulas, absurd ranges, parameters out of the family's range, claims the engine can
+never run, an engine that cannot be run, lists no capabilities or refuses runs as input
+errors (its exit code 2), and a results cache that is not ours or is corrupt; 70 for an
+internal error of the analysis (a bug: the traceback is printed); 130 when interrupted
+(finished points stay cached). Every error but a bug is one line on standard error. See
+``docs/analysis.md``.
 """
 
 import argparse
@@ -23,6 +29,7 @@ import os
 import platform
 import sys
 import time
+import traceback
 from pathlib import Path
 
 import matplotlib
@@ -30,31 +37,55 @@ import numpy as np
 
 from .claimfile import ClaimsFileError, check_names, load_claims, load_claims_dir
 from .engine import (
+    INPUT_ERROR,
+    NOT_STARTED,
     EngineError,
     engine_version,
+    format_number,
     get_capabilities,
     missing_capability,
     oracle_error,
+    param_errors,
     run_links,
 )
+from .errors import AnalysisError, one_line
 from .loader import SCHEMA_VERSION, ResultFormatError, read_links_csv
 from .report import ClaimOutcome, get_claims_table, get_figures, print_claims_table, write_report
 from .store import ResultStore
 from .sweep import ClaimData, expand_claim, get_claim_data, run_points
 from .verdict import assess_claim, skipped_assessment
 
-__all__ = ["main", "check_claims", "USAGE_ERROR", "REFUTED"]
+__all__ = ["main", "check_claims", "engine_refusals", "EXIT_CODES", "AS_EXPECTED", "REFUTED",
+           "USAGE_ERROR", "INTERNAL_ERROR", "INTERRUPTED"]
 
 ROOT = Path(__file__).resolve().parent.parent
 
 #: The refinement drawn as a link tiling: scene, parameters, eps, oracle.
 TILING = ("parallel", {"l": 16.0, "d": 1.0}, 0.3, "garmann")
 
-#: Exit code for usage errors, malformed claims, claims the engine can never run, and an
-#: engine that cannot be run or lists no capabilities.
-USAGE_ERROR = 2
+#: Exit code when every claim came out as expected.
+AS_EXPECTED = 0
 #: Exit code when a claim expected to hold was refuted.
 REFUTED = 1
+#: Exit code for bad input or environment: usage errors, malformed claims files, bad
+#: formulas or ranges, parameters out of range, claims the engine can never run, an
+#: engine that cannot be run or refuses runs as input errors, an unusable cache. Every
+#: :class:`~analysis.errors.AnalysisError` ends the command with it.
+USAGE_ERROR = 2
+#: Exit code for an internal error of the analysis, a bug (``EX_SOFTWARE`` of
+#: sysexits.h); its traceback is printed.
+INTERNAL_ERROR = 70
+#: Exit code when interrupted (Ctrl-C, SIGINT); finished points stay in the cache.
+INTERRUPTED = 130
+
+#: Every exit code of the command and its meaning.
+EXIT_CODES = {
+    AS_EXPECTED: "every claim came out as expected",
+    REFUTED: "a claim expected to hold was refuted",
+    USAGE_ERROR: "bad input or environment",
+    INTERNAL_ERROR: "internal error of the analysis (a bug)",
+    INTERRUPTED: "interrupted",
+}
 
 
 def _parser():
@@ -70,6 +101,9 @@ def _parser():
                    help="concurrent engine runs (default: number of cores, %(default)s)")
     p.add_argument("--results", type=Path, default=ROOT / "results", metavar="DIR",
                    help="results directory: cache, report, plots (default: results/)")
+    p.add_argument("--cache", type=Path, default=None, metavar="FILE",
+                   help="the results cache, which sweeps running at the same time may "
+                   "share (default: DIR/hrbench.sqlite of --results)")
     p.add_argument("--hrbench", type=Path, default=ROOT / "build" / "hrbench",
                    metavar="PATH", help="the engine executable (default: build/hrbench)")
     p.add_argument("--claims", type=Path, default=ROOT / "analysis" / "claims",
@@ -96,8 +130,10 @@ def check_claims(claims, mode, capabilities):
     Returns
     -------
     errors : list of str
-        One line per claim the engine can never run: an oracle it does not list
-        (:func:`~analysis.engine.oracle_error`), or a formula name no run provides
+        One line per problem that means the engine can never run a claim: an oracle it
+        does not list (:func:`~analysis.engine.oracle_error`), a scene parameter the
+        family lacks or a value (fixed or swept, in either mode) out of its range
+        (:func:`~analysis.engine.param_errors`), or a formula name no run provides
         (:func:`~analysis.claimfile.check_names`; checked for the claims not skipped).
         Each line names the file, the line and the claim.
     skipped : dict of str to str
@@ -109,6 +145,10 @@ def check_claims(claims, mode, capabilities):
         message = oracle_error(c, capabilities)
         if message is not None:
             errors.append(f"{c.path}:{c.line}: claim {c.id!r}: {message}")
+            continue
+        problems = param_errors(c, capabilities)
+        if problems:
+            errors.extend(problems)
             continue
         reason = missing_capability(c, mode, capabilities)
         if reason is not None:
@@ -122,6 +162,39 @@ def check_claims(claims, mode, capabilities):
     return errors, skipped
 
 
+def engine_refusals(claim, data):
+    """The error line of a claim whose runs the engine refused, or ``None``.
+
+    A run that exits with the engine's input-error code (2: a value the engine refuses,
+    touching patches without a recursion limit, ...) or that could not be started (127)
+    is not a measurement that failed but bad input or environment: the command exits
+    with code 2 instead of judging the claim. Runs that reached a limit (exit code 3) or
+    crashed stay failed points of the claim.
+
+    Parameters
+    ----------
+    claim : Claim
+    data : ClaimData
+
+    Returns
+    -------
+    line : str or None
+        E.g. ``"x.toml:6: claim 'T': the engine refused 11 of 11 runs as input errors
+        (exit code 2), first at eps=1: hrbench: ..."``.
+    """
+    refused = [f for f in data.failures if f["exit_code"] in (INPUT_ERROR, NOT_STARTED)]
+    if not refused:
+        return None
+    total = data.x.size + len(data.failures) + data.missing
+    first = refused[0]
+    what = ("could not start the engine for" if first["exit_code"] == NOT_STARTED
+            else "the engine refused")
+    return one_line(f"{claim.path}:{claim.line}: claim {claim.id!r}: {what} {len(refused)} "
+                    f"of {total} runs (exit code {first['exit_code']}), first at "
+                    f"{claim.sweep_param}={format_number(first['value'])}: "
+                    f"{first['stderr'] or 'no message'} (command: {first['command']})")
+
+
 def _tiling_iv(capabilities):
     # Raise EngineError if the engine cannot draw the link tiling of TILING.
     scene, _, _, oracle = TILING
@@ -132,7 +205,30 @@ def _tiling_iv(capabilities):
 
 
 def main(argv=None):
-    """Run the command line; return the exit code."""
+    """Run the command line; return the exit code (see :data:`EXIT_CODES`).
+
+    Any :class:`~analysis.errors.AnalysisError` (bad input or environment) becomes one
+    line on standard error and exit code 2, an interrupt exit code 130, and any other
+    exception, a bug, its traceback and exit code 70. Usage errors of the options exit
+    with code 2 through :class:`SystemExit` (argparse).
+    """
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:
+        print("\ninterrupted: finished points are kept in the results cache; run again to "
+              "resume", file=sys.stderr)
+        return INTERRUPTED
+    except AnalysisError as exc:
+        print(f"error: {one_line(exc)}", file=sys.stderr)
+        return USAGE_ERROR
+    except Exception:
+        traceback.print_exc()
+        print("internal error of the analysis (a bug, please report it with the traceback "
+              f"above); exit code {INTERNAL_ERROR}", file=sys.stderr)
+        return INTERNAL_ERROR
+
+
+def _main(argv):
     parser = _parser()
     args = parser.parse_args(argv)
     if args.jobs < 1:
@@ -140,12 +236,8 @@ def main(argv=None):
     start = time.perf_counter()
 
     # Load the claims and check the engine.
-    try:
-        claims = (load_claims_dir(args.claims) if args.claims.is_dir()
-                  else load_claims(args.claims))
-    except ClaimsFileError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return USAGE_ERROR
+    claims = (load_claims_dir(args.claims) if args.claims.is_dir()
+              else load_claims(args.claims))
     if args.claim:
         unknown = set(args.claim) - {c.id for c in claims}
         if unknown:
@@ -153,12 +245,8 @@ def main(argv=None):
                   f"{', '.join(c.id for c in claims)}", file=sys.stderr)
             return USAGE_ERROR
         claims = [c for c in claims if c.id in args.claim]
-    try:
-        version = engine_version(args.hrbench)
-        capabilities = get_capabilities(args.hrbench)
-    except EngineError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return USAGE_ERROR
+    version = engine_version(args.hrbench)
+    capabilities = get_capabilities(args.hrbench)
     if capabilities.run_schema_version != SCHEMA_VERSION:
         print(f"error: engine {args.hrbench} writes run records of schema_version "
               f"{capabilities.run_schema_version}; this analysis reads {SCHEMA_VERSION}",
@@ -168,15 +256,20 @@ def main(argv=None):
     # Check the claims against the engine before any run.
     errors, skipped = check_claims(claims, args.mode, capabilities)
     for line in errors:
-        print(f"error: {line}", file=sys.stderr)
+        print(f"error: {one_line(line)}", file=sys.stderr)
     if errors:
         return USAGE_ERROR
     for claim_id, reason in skipped.items():
         print(f"warning: claim {claim_id} skipped: {reason}", file=sys.stderr)
 
-    # Run the sweeps, reusing the cache.
-    args.results.mkdir(parents=True, exist_ok=True)
-    with ResultStore(args.results / "hrbench.sqlite") as store:
+    # Run the sweeps, reusing the cache (shared with any other sweep running on it).
+    try:
+        args.results.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise AnalysisError(f"--results {args.results}: cannot create the directory "
+                            f"({exc.strerror or exc})") from None
+    cache = args.cache if args.cache is not None else args.results / "hrbench.sqlite"
+    with ResultStore(cache) as store:
         points = {c.id: expand_claim(c, args.mode, args.hrbench, version) for c in claims
                   if c.id not in skipped}
         try:
@@ -185,8 +278,8 @@ def main(argv=None):
         except KeyboardInterrupt:
             print(f"\ninterrupted: finished points are kept in {store.path}; "
                   "run again to resume", file=sys.stderr)
-            return 130
-        outcomes = []
+            return INTERRUPTED
+        outcomes, refusals = [], []
         for c in claims:
             if c.id in skipped:
                 empty = np.zeros(0)
@@ -195,7 +288,15 @@ def main(argv=None):
                                              args.mode))
                 continue
             data = get_claim_data(c, points[c.id], store, capabilities.scalar_counters)
+            line = engine_refusals(c, data)
+            if line is not None:
+                refusals.append(line)
+                continue
             outcomes.append(ClaimOutcome(c, data, assess_claim(c, data), args.mode))
+    for line in refusals:
+        print(f"error: {line}", file=sys.stderr)
+    if refusals:
+        return USAGE_ERROR
 
     # Draw the link tiling of one small refinement.
     links, links_title = None, ""
@@ -210,7 +311,7 @@ def main(argv=None):
             links_title = (f"{scene} " + " ".join(f"{k}={v:g}" for k, v in params.items())
                            + f", eps={eps:g}, oracle {oracle}: {len(links)} links")
         except (EngineError, ResultFormatError, OSError) as exc:
-            print(f"warning: no link tiling: {exc}", file=sys.stderr)
+            print(f"warning: no link tiling: {one_line(exc)}", file=sys.stderr)
 
     # Write the report and print the table.
     wall = time.perf_counter() - start
@@ -229,7 +330,11 @@ def main(argv=None):
                    f"matplotlib {matplotlib.__version__}"),
     }
     figures = get_figures(outcomes, links, links_title)
-    paths = write_report(args.results, outcomes, context, figures)
+    try:
+        paths = write_report(args.results, outcomes, context, figures)
+    except OSError as exc:
+        raise AnalysisError(f"--results {args.results}: cannot write the report "
+                            f"({exc.strerror or exc}: {exc.filename or ''})") from None
     print_claims_table(get_claims_table(outcomes))
     print(f"\nreport: {paths['markdown']}, {paths['html']}, {paths['json']} "
           f"({wall:.1f} s)")
@@ -238,7 +343,7 @@ def main(argv=None):
     if refuted:
         print(f"refuted although expected to hold: {', '.join(refuted)}", file=sys.stderr)
         return REFUTED
-    return 0
+    return AS_EXPECTED
 
 
 if __name__ == "__main__":

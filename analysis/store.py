@@ -6,19 +6,84 @@ options (``--visibility``, ``--method``, ...) and the mode. A
 finished point is committed the moment it finishes (WAL journal), so a rerun reuses it
 and an interrupted sweep resumes without losing any point. A failed point is stored
 too, with its exit code and the last line of its standard error.
+
+The file is checked when it is opened: a file that is not a SQLite database, fails
+SQLite's ``quick_check``, or holds tables or an application id that are not this
+cache's is refused with a :class:`StoreError` naming the file (the command line exits
+with code 2). A cache of an older layout of this analysis is migrated in place.
+
+Several sweeps may share one cache at the same time and share its work: before running
+a point a sweep takes a *lease* on it (a row of the table ``leases``, written in a
+``BEGIN IMMEDIATE`` transaction), other sweeps skip leased points and read their results
+when they are stored. A lease lapses when its owner, a process on the same host, is
+gone, or when its owner has not renewed it for :data:`LEASE_TIMEOUT` seconds (owners
+renew every :data:`LEASE_RENEW` seconds while the point runs); then another sweep takes
+the point over.
 """
 
 import json
+import os
+import socket
 import sqlite3
 import time
+import uuid
+from contextlib import contextmanager
 from dataclasses import dataclass
 
-__all__ = ["PointKey", "StoredPoint", "ResultStore", "CACHED_FAILURES"]
+from .errors import AnalysisError, one_line
+
+__all__ = [
+    "PointKey",
+    "StoredPoint",
+    "Lease",
+    "ResultStore",
+    "StoreError",
+    "CACHED_FAILURES",
+    "APPLICATION_ID",
+    "STORE_SCHEMA_VERSION",
+    "LEASE_TIMEOUT",
+    "LEASE_RENEW",
+    "BUSY_TIMEOUT",
+    "ACQUIRED",
+    "DONE",
+    "BUSY",
+]
 
 #: Exit codes of ``hrbench`` whose failures are deterministic and therefore cached:
 #: 2 (usage or input error) and 3 (a refinement limit was reached). Any other failure
 #: (a crash, a signal) is tried again on the next sweep.
 CACHED_FAILURES = (2, 3)
+
+#: SQLite ``application_id`` of a results cache ("hrbc"). A cache written before the id
+#: existed has 0 and is recognised by its tables.
+APPLICATION_ID = 0x68726263
+#: SQLite ``user_version`` of the current layout: 2 = table ``points`` with ``options``
+#: and table ``leases``. 0 is a cache written before the layout had a number (``points``
+#: with or without ``options``), migrated when opened.
+STORE_SCHEMA_VERSION = 2
+
+#: Seconds after which a lease that its owner has not renewed lapses.
+LEASE_TIMEOUT = 120.0
+#: Seconds between two renewals of the leases of the points a sweep is running.
+LEASE_RENEW = 15.0
+#: Seconds to wait for another process's write transaction before giving up.
+BUSY_TIMEOUT = 60.0
+
+#: Results of :meth:`ResultStore.acquire`: the point is this sweep's to run,
+ACQUIRED = "acquired"
+#: ... it needs no run (final, or stored by another sweep since this one started),
+DONE = "done"
+#: ... or another live sweep holds its lease.
+BUSY = "busy"
+
+_SQLITE_MAGIC = b"SQLite format 3\x00"
+
+
+class StoreError(AnalysisError):
+    """A results cache that cannot be used: not SQLite, corrupt, foreign, unwritable.
+
+    The message is one line naming the file and what to do.
+    """
 
 
 @dataclass(frozen=True)
@@ -92,6 +157,8 @@ class StoredPoint:
         Standard output (the JSON record when ok).
     wall_seconds : float
         Wall time of the whole process (s).
+    finished_at : float or None
+        When it was stored (seconds since the epoch); ``None`` before it is stored.
     """
 
     key: PointKey
@@ -100,6 +167,39 @@ class StoredPoint:
     stderr: str
     output: str
     wall_seconds: float
+    finished_at: object = None
+
+    @property
+    def final(self):
+        """bool: whether the point needs no new run (it succeeded, or failed
+        deterministically, see :data:`CACHED_FAILURES`)."""
+        return self.ok or self.exit_code in CACHED_FAILURES
+
+
+@dataclass(frozen=True)
+class Lease:
+    """A sweep's claim on a point it is running.
+
+    Attributes
+    ----------
+    key : str
+        Canonical key text of the point (:meth:`PointKey.text`).
+    host : str
+        Host name of the owner.
+    pid : int
+        Process id of the owner.
+    token : str
+        Identifies the owning :class:`ResultStore` (one per sweep).
+    started_at, renewed_at : float
+        When it was taken and last renewed (seconds since the epoch).
+    """
+
+    key: str
+    host: str
+    pid: int
+    token: str
+    started_at: float
+    renewed_at: float
 
 
 _SCHEMA = """
@@ -122,40 +222,208 @@ CREATE TABLE IF NOT EXISTS points (
     options TEXT NOT NULL DEFAULT '{}'
 )
 """
+_LEASES = """
+CREATE TABLE IF NOT EXISTS leases (
+    key TEXT PRIMARY KEY,
+    host TEXT NOT NULL,
+    pid INTEGER NOT NULL,
+    token TEXT NOT NULL,
+    started_at REAL NOT NULL,
+    renewed_at REAL NOT NULL
+)
+"""
 _COLUMNS = ("key", "version", "scene", "params", "eps", "oracle", "min_area", "max_depth",
             "mode", "ok", "exit_code", "stderr", "output", "wall_seconds", "finished_at",
             "options")
+_LEASE_COLUMNS = ("key", "host", "pid", "token", "started_at", "renewed_at")
+#: Tables of a results cache; any other table makes a database foreign.
+_TABLES = ("points", "leases")
+
+
+def _pid_alive(pid):
+    # Whether a process of this host with id `pid` still runs (a zombie does not).
+    if not isinstance(pid, int) or pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True  # exists, owned by someone else
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as fh:
+            state = fh.read().rsplit(b")", 1)[1].split()[0]
+        return state != b"Z"
+    except (OSError, IndexError):
+        return True
 
 
 class ResultStore:
-    """A SQLite database of finished runs.
+    """A SQLite database of finished runs, shared safely by concurrent sweeps.
 
     Parameters
     ----------
     path : str or path-like
         Database file, created if missing (e.g. ``results/hrbench.sqlite``).
+    lease_timeout : float, optional
+        Seconds after which an unrenewed lease of another sweep lapses (default
+        :data:`LEASE_TIMEOUT`).
+
+    Raises
+    ------
+    StoreError
+        If the file is not a SQLite database, is corrupt (``PRAGMA quick_check``), holds
+        tables or an application id of something else, was written by a newer layout,
+        or cannot be opened or written. The message is one line naming the file.
 
     Notes
     -----
     The database uses the WAL journal and commits every point on its own, so a process
     killed in the middle of a sweep leaves every finished point behind and no partial
-    one. Use it from one thread; the sweep runner writes from its main thread only.
+    one. Writes run in ``BEGIN IMMEDIATE`` transactions and wait up to
+    :data:`BUSY_TIMEOUT` seconds for another process's. Use one store from one thread;
+    the sweep runner writes from its main thread only.
     """
 
-    def __init__(self, path):
-        self.path = str(path)
-        self._db = sqlite3.connect(self.path, timeout=30.0)
-        self._db.execute("PRAGMA journal_mode=WAL")
-        self._db.execute("PRAGMA synchronous=NORMAL")
-        self._db.execute(_SCHEMA)
-        columns = {row[1] for row in self._db.execute("PRAGMA table_info(points)")}
-        if "options" not in columns:
-            # A cache written before engine options existed: add the column, keep the rows.
-            self._db.execute("ALTER TABLE points ADD COLUMN options TEXT NOT NULL DEFAULT '{}'")
-        self._db.commit()
+    def __init__(self, path, lease_timeout=LEASE_TIMEOUT):
+        self.path = os.fspath(path)
+        self.lease_timeout = float(lease_timeout)
+        self.host = socket.gethostname()
+        self.pid = os.getpid()
+        self.token = uuid.uuid4().hex
+        self._file_iv()
+        try:
+            self._db = sqlite3.connect(self.path, timeout=BUSY_TIMEOUT, isolation_level=None)
+        except sqlite3.Error as exc:
+            raise self._error(exc) from None
+        try:
+            self._open()
+        except BaseException as exc:
+            self._db.close()
+            if isinstance(exc, sqlite3.Error):
+                raise self._error(exc) from None
+            raise
+
+    # -- opening and checking -----------------------------------------------------------
+
+    def _fail(self, what, remove=True):
+        # A StoreError naming the file, with advice.
+        advice = (f"; remove it (rm {self.path}) or pass another --results directory"
+                  if remove else "")
+        return StoreError(one_line(f"results cache {self.path} {what}{advice}"))
+
+    def _error(self, exc):
+        # Translate a sqlite3 error into a StoreError with advice.
+        message = str(exc)
+        lower = message.lower()
+        if "not a database" in lower:
+            return self._fail(f"is not a SQLite database ({message})")
+        if "malformed" in lower or "corrupt" in lower:
+            return self._fail(f"is corrupt ({message})")
+        if "locked" in lower or "busy" in lower:
+            return self._fail(f"is locked by another process for more than {BUSY_TIMEOUT:g} s "
+                              f"({message})", remove=False)
+        if "unable to open" in lower or "readonly" in lower or "read-only" in lower \
+                or "disk i/o" in lower or "full" in lower:
+            return self._fail(f"cannot be opened or written ({message}); check the "
+                              "permissions and free space of its directory", remove=False)
+        return self._fail(f"cannot be used ({message})")
+
+    def _file_iv(self):
+        # Refuse what is not a file, or a file that does not start like SQLite.
+        if not os.path.exists(self.path):
+            return
+        if not os.path.isfile(self.path):
+            raise self._fail("is not a regular file", remove=False)
+        try:
+            with open(self.path, "rb") as fh:
+                head = fh.read(len(_SQLITE_MAGIC))
+        except OSError as exc:
+            raise self._fail(f"cannot be read ({exc.strerror or exc})", remove=False) from None
+        if head and head != _SQLITE_MAGIC:
+            raise self._fail(f"is not a SQLite database (it starts with {head[:8]!r})")
+
+    def _open(self):
+        db = self._db
+        db.execute(f"PRAGMA busy_timeout = {int(BUSY_TIMEOUT * 1000)}")
+        problems = [row[0] for row in db.execute("PRAGMA quick_check")]
+        if problems != ["ok"]:
+            raise self._fail(f"is corrupt (quick_check: {'; '.join(map(str, problems[:3]))})")
+        app = db.execute("PRAGMA application_id").fetchone()[0]
+        if app not in (0, APPLICATION_ID):
+            raise self._fail(f"belongs to another program (SQLite application_id {app:#x}, "
+                             f"a results cache has {APPLICATION_ID:#x})")
+        db.execute("PRAGMA journal_mode=WAL")
+        db.execute("PRAGMA synchronous=NORMAL")
+        with self._write():
+            version = db.execute("PRAGMA user_version").fetchone()[0]
+            if version > STORE_SCHEMA_VERSION:
+                raise self._fail(f"was written by a newer analysis (layout {version}, this one "
+                                 f"reads up to {STORE_SCHEMA_VERSION})")
+            tables = {row[0] for row in db.execute(
+                "SELECT name FROM sqlite_master WHERE type = 'table' "
+                "AND name NOT LIKE 'sqlite%'")}
+            foreign = sorted(tables - set(_TABLES))
+            if foreign:
+                raise self._fail(f"is not a results cache: it holds the table(s) "
+                                 f"{', '.join(foreign)}")
+            if tables and "points" not in tables:
+                raise self._fail("is not a results cache: it has no table 'points'")
+            self._columns_iv("points", _COLUMNS, optional=("options",))
+            self._columns_iv("leases", _LEASE_COLUMNS)
+            db.execute(_SCHEMA)
+            columns = {row[1] for row in db.execute("PRAGMA table_info(points)")}
+            if "options" not in columns:
+                # A cache written before engine options existed: add the column, keep the rows.
+                db.execute("ALTER TABLE points ADD COLUMN options TEXT NOT NULL DEFAULT '{}'")
+            db.execute(_LEASES)
+            db.execute(f"PRAGMA application_id = {APPLICATION_ID}")
+            db.execute(f"PRAGMA user_version = {STORE_SCHEMA_VERSION}")
+
+    def _columns_iv(self, table, expected, optional=()):
+        # A table of ours, if present, must have our columns (extra ones are a foreign
+        # layout too, since rows are written with our columns only).
+        columns = {row[1] for row in self._db.execute(f"PRAGMA table_info({table})")}
+        if not columns:
+            return
+        missing = sorted(set(expected) - columns - set(optional))
+        extra = sorted(columns - set(expected))
+        if missing or extra:
+            detail = ", ".join(([f"lacks {', '.join(missing)}"] if missing else [])
+                               + ([f"has {', '.join(extra)}"] if extra else []))
+            raise self._fail(f"is not a results cache: its table {table!r} {detail}")
+
+    @contextmanager
+    def _write(self):
+        # One write transaction, taken at once (BEGIN IMMEDIATE) so that two sweeps never
+        # interleave a read and a write of the same rows.
+        self._db.execute("BEGIN IMMEDIATE")
+        try:
+            yield
+        except BaseException:
+            try:
+                self._db.execute("ROLLBACK")
+            except sqlite3.Error:
+                pass
+            raise
+        self._db.execute("COMMIT")
+
+    @contextmanager
+    def _guard(self):
+        # Report any sqlite3 error of a method as a StoreError.
+        try:
+            yield
+        except sqlite3.Error as exc:
+            raise self._error(exc) from None
+
+    # -- life cycle ---------------------------------------------------------------------
 
     def close(self):
-        """Close the database."""
+        """Release this store's leases and close the database."""
+        try:
+            self.release()
+        except StoreError:
+            pass
         self._db.close()
 
     def __enter__(self):
@@ -163,6 +431,8 @@ class ResultStore:
 
     def __exit__(self, *exc):
         self.close()
+
+    # -- points -------------------------------------------------------------------------
 
     def get(self, key):
         """The cached run for `key`, or ``None``.
@@ -175,39 +445,133 @@ class ResultStore:
         -------
         point : StoredPoint or None
         """
-        row = self._db.execute(
-            "SELECT ok, exit_code, stderr, output, wall_seconds FROM points WHERE key = ?",
-            (key.text(),)).fetchone()
+        with self._guard():
+            row = self._db.execute(
+                "SELECT ok, exit_code, stderr, output, wall_seconds, finished_at FROM points "
+                "WHERE key = ?", (key.text(),)).fetchone()
         if row is None:
             return None
-        return StoredPoint(key, bool(row[0]), row[1], row[2], row[3], row[4])
+        return StoredPoint(key, bool(row[0]), row[1], row[2], row[3], row[4], row[5])
 
     def is_final(self, key):
         """Whether `key` needs no new run: it succeeded, or failed deterministically."""
         point = self.get(key)
-        return point is not None and (point.ok or point.exit_code in CACHED_FAILURES)
+        return point is not None and point.final
 
     def put(self, point):
         """Store a run and commit at once (a rerun of the same key replaces it).
+
+        This store's lease on the point, if any, is released in the same transaction.
 
         Parameters
         ----------
         point : StoredPoint
         """
         k = point.key
-        self._db.execute(
-            f"INSERT OR REPLACE INTO points ({', '.join(_COLUMNS)}) "
-            f"VALUES ({', '.join('?' * len(_COLUMNS))})",
-            (k.text(), k.version, k.scene, json.dumps(dict(k.params), sort_keys=True),
-             float(k.eps), k.oracle, k.min_area, k.max_depth, k.mode, int(point.ok),
-             int(point.exit_code), point.stderr, point.output, float(point.wall_seconds),
-             time.time(), json.dumps(dict(k.options), sort_keys=True)))
-        self._db.commit()
+        text = k.text()
+        with self._guard(), self._write():
+            self._db.execute(
+                f"INSERT OR REPLACE INTO points ({', '.join(_COLUMNS)}) "
+                f"VALUES ({', '.join('?' * len(_COLUMNS))})",
+                (text, k.version, k.scene, json.dumps(dict(k.params), sort_keys=True),
+                 float(k.eps), k.oracle, k.min_area, k.max_depth, k.mode, int(point.ok),
+                 int(point.exit_code), point.stderr, point.output, float(point.wall_seconds),
+                 time.time(), json.dumps(dict(k.options), sort_keys=True)))
+            self._db.execute("DELETE FROM leases WHERE key = ? AND token = ?",
+                             (text, self.token))
 
     def count(self):
         """Number of stored runs."""
-        return self._db.execute("SELECT COUNT(*) FROM points").fetchone()[0]
+        with self._guard():
+            return self._db.execute("SELECT COUNT(*) FROM points").fetchone()[0]
 
     def keys(self):
         """Canonical key strings of every stored run (see :meth:`PointKey.text`)."""
-        return [row[0] for row in self._db.execute("SELECT key FROM points")]
+        with self._guard():
+            return [row[0] for row in self._db.execute("SELECT key FROM points")]
+
+    # -- leases -------------------------------------------------------------------------
+
+    def _lease(self, text):
+        row = self._db.execute(f"SELECT {', '.join(_LEASE_COLUMNS)} FROM leases WHERE key = ?",
+                               (text,)).fetchone()
+        return None if row is None else Lease(*row)
+
+    def _settled(self, text, since):
+        # Whether the point needs no run by this sweep: final, or stored since `since`.
+        row = self._db.execute("SELECT ok, exit_code, finished_at FROM points WHERE key = ?",
+                               (text,)).fetchone()
+        if row is None:
+            return False
+        return bool(row[0]) or row[1] in CACHED_FAILURES or (
+            since is not None and row[2] >= since)
+
+    def _held(self, lease, now):
+        # Whether another sweep's lease still counts.
+        if lease is None or lease.token == self.token:
+            return False
+        if now - lease.renewed_at > self.lease_timeout:
+            return False
+        return not (lease.host == self.host and lease.pid != self.pid
+                    and not _pid_alive(lease.pid))
+
+    def acquire(self, key, since=None):
+        """Take the lease on a point before running it.
+
+        Parameters
+        ----------
+        key : PointKey
+        since : float, optional
+            Start of the calling sweep (seconds since the epoch): a point stored since
+            then, even as a failure that is otherwise retried, needs no second run.
+
+        Returns
+        -------
+        state : {ACQUIRED, DONE, BUSY}
+            :data:`ACQUIRED`: the lease is this store's, run the point and :meth:`put`
+            it. :data:`DONE`: the point is final or was stored since `since`.
+            :data:`BUSY`: another live sweep holds the lease; ask again later. A lease
+            whose owner process on this host is gone, or that was not renewed for
+            `lease_timeout` seconds, is taken over.
+        """
+        text = key.text()
+        with self._guard():
+            # Look first without the write lock: most answers need none.
+            now = time.time()
+            if self._settled(text, since):
+                return DONE
+            if self._held(self._lease(text), now):
+                return BUSY
+            with self._write():
+                now = time.time()
+                if self._settled(text, since):
+                    return DONE
+                if self._held(self._lease(text), now):
+                    return BUSY
+                self._db.execute(
+                    f"INSERT OR REPLACE INTO leases ({', '.join(_LEASE_COLUMNS)}) "
+                    "VALUES (?, ?, ?, ?, ?, ?)",
+                    (text, self.host, self.pid, self.token, now, now))
+        return ACQUIRED
+
+    def renew(self):
+        """Renew every lease of this store (call it at least every :data:`LEASE_RENEW` s)."""
+        with self._guard(), self._write():
+            self._db.execute("UPDATE leases SET renewed_at = ? WHERE token = ?",
+                             (time.time(), self.token))
+
+    def release(self):
+        """Give up every lease of this store (its points were stored or will not run)."""
+        with self._guard(), self._write():
+            self._db.execute("DELETE FROM leases WHERE token = ?", (self.token,))
+
+    def leases(self):
+        """Every lease in the cache, of any sweep.
+
+        Returns
+        -------
+        leases : list of Lease
+        """
+        with self._guard():
+            return [Lease(*row) for row in self._db.execute(
+                f"SELECT {', '.join(_LEASE_COLUMNS)} FROM leases ORDER BY key")]

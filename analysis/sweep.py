@@ -2,21 +2,26 @@
 
 Every run is looked up in the :class:`~analysis.store.ResultStore` first; only missing
 points are run, on a pool of worker threads (each runs one ``hrbench`` process), and
-each finished point is committed to the store as soon as it finishes. The command lines
-and the processes themselves are :mod:`analysis.engine`'s.
+each finished point is committed to the store as soon as it finishes. Before a point
+runs, the sweep takes its lease in the store, so that sweeps sharing one cache run each
+point once: a point another sweep is running is skipped and its result read when it is
+stored. The command lines and the processes themselves are :mod:`analysis.engine`'s.
 """
 
+import math
 import os
 import sys
 import time
-from concurrent.futures import ThreadPoolExecutor, as_completed
+from collections import deque
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .engine import option_text, run_argv, run_engine
+from .claimfile import ClaimsFileError
+from .engine import format_number, option_text, run_argv, run_engine
 from .loader import ResultFormatError, parse_run_json, run_environment
-from .store import PointKey, StoredPoint
+from .store import ACQUIRED, DONE, LEASE_RENEW, PointKey, StoredPoint, StoreError
 
 __all__ = [
     "SweepPoint",
@@ -24,7 +29,11 @@ __all__ = [
     "expand_claim",
     "run_points",
     "get_claim_data",
+    "POLL_SECONDS",
 ]
+
+#: Seconds between two looks at the points another sweep is running.
+POLL_SECONDS = 0.2
 
 
 @dataclass(frozen=True)
@@ -120,7 +129,7 @@ def _options_mismatch(result, options):
             if isinstance(got, (int, float)) and not isinstance(got, bool):
                 try:
                     same = float(text) == float(got)
-                except ValueError:
+                except (ValueError, OverflowError):
                     same = False
             else:
                 same = str(got) == text
@@ -161,7 +170,7 @@ class _Progress:
         self.stream.flush()
 
 
-def run_points(points, store, jobs=None, progress=sys.stderr):
+def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS):
     """Run every point that the store does not hold yet, in parallel.
 
     Parameters
@@ -174,38 +183,86 @@ def run_points(points, store, jobs=None, progress=sys.stderr):
         Number of concurrent runs; default ``os.cpu_count()``.
     progress : text stream or None
         Where to draw the progress bar (standard error by default; ``None`` for silence).
+    poll : float, optional
+        Seconds between two looks at points that another sweep is running.
 
     Returns
     -------
     summary : dict
         ``{"total": ..., "cached": ..., "ran": ..., "failed": ...}`` (counts of points).
+        ``cached`` counts the points this sweep did not run: found in the store, or
+        stored meanwhile by another sweep sharing it; ``ran`` and ``failed`` count the
+        runs of this sweep.
+
+    Notes
+    -----
+    A point is run only after :meth:`ResultStore.acquire` gave this sweep its lease, and
+    at most `jobs` leases are held at a time. A point leased by another live sweep waits
+    until that sweep stores it (it is then read back, even if it failed) or its lease
+    lapses (the owner died or stopped renewing; then this sweep runs it). Leases are
+    renewed every :data:`~analysis.store.LEASE_RENEW` seconds while their points run, and
+    released when the sweep ends, normally or not.
     """
+    since = time.time()
     unique = {}
     for point in points:
         unique.setdefault(point.key, point)
     todo = [p for p in unique.values() if not store.is_final(p.key)]
     cached = len(unique) - len(todo)
     bar = _Progress(len(unique), cached, progress)
-    failed = 0
+    ran = failed = 0
     if todo:
         # Start the most expensive runs first (sweeps are listed cheap to dear).
         todo.reverse()
-        pool = ThreadPoolExecutor(max_workers=jobs or os.cpu_count() or 1)
+        jobs = jobs or os.cpu_count() or 1
+        pending, waiting, running = deque(todo), [], {}
+        pool = ThreadPoolExecutor(max_workers=jobs)
+        renewed = time.monotonic()
         try:
-            futures = [pool.submit(_execute, p) for p in todo]
-            for future in as_completed(futures):
-                result = future.result()
-                store.put(result)
-                failed += not result.ok
-                bar.done += 1
-                bar.update(failed=not result.ok)
+            while pending or waiting or running:
+                while pending and len(running) < jobs:
+                    point = pending.popleft()
+                    state = store.acquire(point.key, since=since)
+                    if state == ACQUIRED:
+                        running[pool.submit(_execute, point)] = point
+                    elif state == DONE:
+                        cached += 1
+                        bar.cached += 1
+                        bar.done += 1
+                        bar.update()
+                    else:
+                        waiting.append(point)
+                if running:
+                    timeout = poll if waiting else LEASE_RENEW
+                    finished, _ = wait(running, timeout=timeout, return_when=FIRST_COMPLETED)
+                    for future in finished:
+                        del running[future]
+                        result = future.result()
+                        store.put(result)
+                        ran += 1
+                        failed += not result.ok
+                        bar.done += 1
+                        bar.update(failed=not result.ok)
+                    if running and time.monotonic() - renewed >= LEASE_RENEW:
+                        store.renew()
+                        renewed = time.monotonic()
+                elif waiting:
+                    time.sleep(poll)
+                # Ask again for the points other sweeps hold: stored, lapsed or still busy.
+                pending.extend(waiting)
+                waiting.clear()
         except BaseException:
             # Interrupted: start no new run; the finished ones are already stored.
             pool.shutdown(wait=True, cancel_futures=True)
+            try:
+                store.release()
+            except StoreError:
+                pass  # the leases lapse when this process is gone
             raise
         pool.shutdown()
+        store.release()
     bar.update(final=True)
-    return {"total": len(unique), "cached": cached, "ran": len(todo), "failed": failed}
+    return {"total": len(unique), "cached": cached, "ran": ran, "failed": failed}
 
 
 @dataclass
@@ -251,8 +308,17 @@ def get_claim_data(claim, points, store, counters=None):
     Returns
     -------
     data : ClaimData
-        Points whose x or y is not a finite positive number are dropped (they cannot
-        enter a log-log fit) and reported as failures.
+        Points whose x or y is ``nan`` (undefined arithmetic, such as ``log(0)``) or not
+        positive are dropped (they cannot enter a log-log fit) and reported as failures.
+
+    Raises
+    ------
+    ClaimsFileError
+        If x or y overflows float64 (``inf``) for a run: the formula can never give a
+        measurement (counts are below 1e19), so it is an error of the claims file,
+        naming the file, the line, the claim, the key and the run.
+    StoreError
+        If a point stored as successful holds a record that cannot be read.
     """
     rows, failures, missing, seconds = [], [], 0, 0.0
     for point in points:
@@ -260,18 +326,35 @@ def get_claim_data(claim, points, store, counters=None):
         if stored is None:
             missing += 1
             continue
+        command = " ".join(point.argv[1:])
         if not stored.ok:
             failures.append({"value": point.value, "exit_code": stored.exit_code,
-                             "stderr": stored.stderr, "command": " ".join(point.argv[1:])})
+                             "stderr": stored.stderr, "command": command})
             continue
-        result = parse_run_json(stored.output, counters=counters)
+        try:
+            result = parse_run_json(stored.output, counters=counters)
+        except ResultFormatError as exc:
+            raise StoreError(f"results cache {store.path} holds an unreadable record for "
+                             f"'{command}' ({exc}); remove it (rm {store.path}) to start "
+                             "afresh") from None
         env = run_environment(result)
         seconds += result.counters.get("seconds", 0.0)
-        x, y = claim.x(env), claim.y(env)
-        if not (np.isfinite(x) and np.isfinite(y) and x > 0 and y > 0):
+        values = {}
+        for key, expr in (("x", claim.x), ("y", claim.y)):
+            value = expr(env)
+            if math.isinf(value):
+                raise ClaimsFileError(
+                    claim.path, f"key {key!r}: formula {expr.text!r} overflows float64 "
+                    f"({value}) for the run at {claim.sweep_param}="
+                    f"{format_number(point.value)}; a formula must stay finite for counts "
+                    "(formulas are evaluated in float64)",
+                    line=claim.key_line(key), claim_id=claim.id, key=key)
+            values[key] = value
+        x, y = values["x"], values["y"]
+        if not (x > 0 and y > 0):
             failures.append({"value": point.value, "exit_code": 0,
                              "stderr": f"x={x!r}, y={y!r} not positive",
-                             "command": " ".join(point.argv[1:])})
+                             "command": command})
             continue
         rows.append((x, y, point.value))
     rows.sort()

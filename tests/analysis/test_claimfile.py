@@ -123,3 +123,115 @@ def test_duplicate_ids_across_files(tmp_path, data_dir):
         (tmp_path / name).write_text((data_dir / "small_claims.toml").read_text())
     with pytest.raises(ClaimsFileError, match="already used"):
         load_claims_dir(tmp_path)
+
+
+# --- Hostile files: every problem is a ClaimsFileError naming file, line, claim and key ---
+
+
+def variant(tmp_path, data_dir, old, new, name="c.toml"):
+    text = (data_dir / "small_claims.toml").read_text()
+    assert old in text
+    path = tmp_path / name
+    path.write_text(text.replace(old, new))
+    return path
+
+
+def test_non_utf8_file_names_the_line_and_column(tmp_path):
+    path = tmp_path / "latin1.toml"
+    path.write_bytes(b'[source]\nkey = "caf\xe9"\n')
+    with pytest.raises(ClaimsFileError) as info:
+        load_claims(path)
+    assert info.value.line == 2
+    assert str(info.value) == (f"{path}:2: not UTF-8 text: byte 0xe9 at column 11 cannot be "
+                               "decoded; save the file as UTF-8")
+
+
+def test_unreadable_and_oversized_files(tmp_path):
+    with pytest.raises(ClaimsFileError, match="cannot read"):
+        load_claims(tmp_path / "missing.toml")
+    with pytest.raises(ClaimsFileError, match="cannot read"):
+        load_claims(tmp_path)                      # a directory
+    big = tmp_path / "big.toml"
+    big.write_bytes(b"# " + b"x" * (1 << 20) + b"\n")
+    with pytest.raises(ClaimsFileError, match="larger than 1048576 bytes"):
+        load_claims(big)
+
+
+def test_deeply_nested_toml_is_an_error_not_a_crash(tmp_path):
+    path = tmp_path / "deep.toml"
+    path.write_text("a = " + "[" * 5000 + "]" * 5000 + "\n")
+    with pytest.raises(ClaimsFileError, match="not valid TOML"):
+        load_claims(path)
+
+
+def test_a_claim_that_is_not_a_table(tmp_path):
+    path = tmp_path / "c.toml"
+    path.write_text("claim = [1, 2]\n")
+    with pytest.raises(ClaimsFileError, match=r"claim #1 must be a table"):
+        load_claims(path)
+
+
+@pytest.mark.parametrize("new, key, line, match", [
+    ("per_decade = 1000000000", "sweep.range", 13,
+     "'per_decade' must be at most 1000, got 1000000000"),
+    ("per_decade = 5 }\nsweep.quick = { from = 1e-300, to = 1e300, per_decade = 20",
+     "sweep.quick", 14, "the range has 12001 points .* at most 10000 are allowed"),
+    ("per_decade = 5e-324", None, None, None),
+])
+def test_absurd_ranges_are_refused_when_loaded(tmp_path, data_dir, new, key, line, match):
+    path = variant(tmp_path, data_dir, "per_decade = 5", new)
+    if match is None:       # a tiny per_decade is allowed: it gives the two ends only
+        (claim,) = load_claims(path)
+        assert claim.range_for("quick").values() == [1.0, 0.01]
+        return
+    with pytest.raises(ClaimsFileError, match=match) as info:
+        load_claims(path)
+    assert info.value.key == key and info.value.line == line
+    assert info.value.claim_id == "T-elements"
+
+
+def test_range_limits():
+    from analysis.claimfile import MAX_PER_DECADE, MAX_RANGE_POINTS
+    assert len(SweepRange(1.0, 1e-9, MAX_PER_DECADE).values()) == 9001
+    assert len(SweepRange(1.0, 10.0 ** (-MAX_RANGE_POINTS / 1000 + 1e-3), 1000).values()) \
+        <= MAX_RANGE_POINTS
+    with pytest.raises(ValueError, match="at most 10000 are allowed"):
+        SweepRange(1.0, 1e-11, MAX_PER_DECADE)
+    with pytest.raises(ValueError, match="finite number > 0"):
+        SweepRange(1.0, float("inf"), 5)
+    with pytest.raises(ValueError, match="must differ"):
+        SweepRange(2.0, 2.0, 5)
+    # Ends far apart do not overflow the ratio.
+    assert len(SweepRange(1e-300, 1e300, 1).values()) == 601
+
+
+@pytest.mark.parametrize("old, new, key, match", [
+    ("min_points = 8", "min_points = 2", "min_points", "integer from 3 to 10000"),
+    ("min_points = 8", "min_points = 8.5", "min_points", "integer from 3 to 10000"),
+    ("expected_exponent = 1", "expected_exponent = 1e300", "expected_exponent",
+     r"within \+/-100"),
+    ("params = { l = 8, d = 1 }", 'params = { l = 8, "d 2" = 1 }', "params",
+     "letters, digits and '_'"),
+    ("min_points = 8", "min_points = 8\nmax_depth = 2.5", "max_depth", "must be an integer"),
+])
+def test_values_out_of_their_bounds(tmp_path, data_dir, old, new, key, match):
+    path = variant(tmp_path, data_dir, old, new)
+    with pytest.raises(ClaimsFileError, match=match) as info:
+        load_claims(path)
+    assert info.value.key == key
+
+
+def test_key_lines_of_parameters_and_ranges(data_dir):
+    (claim,) = load_claims(data_dir / "small_claims.toml")
+    assert claim.key_line("params.l") == 11 and claim.key_line("sweep.range") == 13
+    assert claim.range_keys == {"quick": "sweep.range", "full": "sweep.range"}
+
+
+def test_many_parameters_are_refused_before_any_line_search(tmp_path, data_dir):
+    import time
+    params = ", ".join(f"p{n} = 1" for n in range(20000))
+    path = variant(tmp_path, data_dir, "params = { l = 8, d = 1 }", f"params = {{ {params} }}")
+    start = time.perf_counter()
+    with pytest.raises(ClaimsFileError, match="20000 scene parameters; at most 64"):
+        load_claims(path)
+    assert time.perf_counter() - start < 5

@@ -14,6 +14,7 @@ FAKE_HRBENCH_DELAY            seconds to sleep before each run
 FAKE_HRBENCH_LOG              file to which every run or links command appends its
                               arguments as one line, as soon as it starts
 FAKE_HRBENCH_FAIL_BELOW_EPS   exit with code 3 (limit reached) when eps is below this
+FAKE_HRBENCH_REFUSE_BELOW_EPS exit with code 2 (input error) when eps is below this
 FAKE_HRBENCH_REPORT_METHOD    report this method instead of the one asked for
 FAKE_HRBENCH_CAPABILITIES     "missing": no capabilities command (like hrbench 0.2);
                               "garbage": it prints text that is not JSON
@@ -194,6 +195,9 @@ def main(argv):
     params.setdefault("l2", params["l"])
     if os.environ.get("FAKE_HRBENCH_DELAY"):
         time.sleep(float(os.environ["FAKE_HRBENCH_DELAY"]))
+    refuse = os.environ.get("FAKE_HRBENCH_REFUSE_BELOW_EPS")
+    if refuse and eps < float(refuse):
+        usage(f"the patches touch at eps={eps}; give --min-area or --max-depth")
     below = os.environ.get("FAKE_HRBENCH_FAIL_BELOW_EPS")
     if below and eps < float(below):
         sys.stderr.write(f"hrbench: depth safety cap reached at eps={eps}; use --min-area\n")
