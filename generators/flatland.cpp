@@ -89,7 +89,8 @@ Patches<Segment> Random(const ParamMap &p) {
     std::mt19937_64 rng(uint64_t(p.at("seed")));
     Patches<Segment> segments;
     std::vector<K::Segment_2> placed;
-    const int64_t maxDraws = 1000 * int64_t(n);  // then the box is too crowded
+    PlacementGrid<2> grid(length, size + 2 * length);
+    const int64_t maxDraws = MaxDraws(n);
     for (int64_t draw = 0; int(segments.size()) < n; ++draw) {
         if (draw == maxDraws)
             throw InputError("scene random: cannot place " + std::to_string(n) +
@@ -100,14 +101,12 @@ Patches<Segment> Random(const ParamMap &p) {
         Vec2 half = 0.5 * length * Vec2(std::cos(angle), std::sin(angle));
         Segment s{c - half, c + half};
         K::Segment_2 candidate({s.a.x(), s.a.y()}, {s.b.x(), s.b.y()});
-        bool crosses = false;
-        for (const K::Segment_2 &other : placed)
-            if (CGAL::do_intersect(candidate, other)) {
-                crosses = true;
-                break;
-            }
-        if (crosses)
+        std::array<double, 2> lo{std::min(s.a.x(), s.b.x()), std::min(s.a.y(), s.b.y())};
+        std::array<double, 2> hi{std::max(s.a.x(), s.b.x()), std::max(s.a.y(), s.b.y())};
+        if (grid.AnyNear(lo, hi,
+                         [&](uint32_t k) { return CGAL::do_intersect(candidate, placed[k]); }))
             continue;
+        grid.Insert(uint32_t(placed.size()), lo, hi);
         segments.push_back({s, {}});
         placed.push_back(candidate);
     }

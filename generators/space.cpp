@@ -135,7 +135,8 @@ Patches<Polygon> Random(const ParamMap &p) {
     std::mt19937_64 rng(uint64_t(p.at("seed")));
     Patches<Polygon> faces;
     std::vector<K::Triangle_3> placed;
-    const int64_t maxDraws = 1000 * int64_t(n);  // then the box is too crowded
+    PlacementGrid<3> grid(length, size + 2 * length);
+    const int64_t maxDraws = MaxDraws(n);
     for (int64_t draw = 0; int(faces.size()) < n; ++draw) {
         if (draw == maxDraws)
             throw InputError("scene random3d: cannot place " + std::to_string(n) +
@@ -152,14 +153,15 @@ Patches<Polygon> Random(const ParamMap &p) {
             continue;
         auto point = [](const Vec3 &x) { return K::Point_3(x.x(), x.y(), x.z()); };
         K::Triangle_3 candidate(point(corner[0]), point(corner[1]), point(corner[2]));
-        bool meets = false;
-        for (const K::Triangle_3 &other : placed)
-            if (CGAL::do_intersect(candidate, other)) {
-                meets = true;
-                break;
-            }
-        if (meets)
+        std::array<double, 3> lo, hi;
+        for (int d = 0; d < 3; ++d) {
+            lo[d] = std::min({corner[0][d], corner[1][d], corner[2][d]});
+            hi[d] = std::max({corner[0][d], corner[1][d], corner[2][d]});
+        }
+        if (grid.AnyNear(lo, hi,
+                         [&](uint32_t k) { return CGAL::do_intersect(candidate, placed[k]); }))
             continue;
+        grid.Insert(uint32_t(placed.size()), lo, hi);
         faces.push_back({t, {}});
         placed.push_back(candidate);
     }

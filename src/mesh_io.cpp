@@ -3,10 +3,17 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <map>
-#include <sstream>
+#include <set>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -22,8 +29,9 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point3 = Kernel::Point_3;
 using PolygonIndices = std::vector<std::size_t>;
+using LibraryReader = std::function<std::string(const std::string &mtlName)>;
 
-enum class MeshFormat { Off, Obj };
+const Material kDefaultMaterial{kMeshDefaultReflectance, kMeshDefaultEmission};
 
 MeshFormat FormatOf(const std::string &path) {
     size_t dot = path.find_last_of('.');
@@ -37,158 +45,669 @@ MeshFormat FormatOf(const std::string &path) {
     throw InputError("mesh file '" + path + "' must end in .off or .obj");
 }
 
-// Silences std::cerr while CGAL's readers run: they print their own diagnostics,
-// and an error must be one line of ours.
-class QuietCerr {
-  public:
-    QuietCerr() : saved_(std::cerr.rdbuf(sink_.rdbuf())) {}
-    ~QuietCerr() { std::cerr.rdbuf(saved_); }
-
-  private:
-    std::ostringstream sink_;
-    std::streambuf *saved_;
-};
-
-double Mean(const std::array<double, 3> &rgb) { return (rgb[0] + rgb[1] + rgb[2]) / 3; }
-
-double CappedReflectance(double rho) { return std::min(std::max(rho, 0.0), kMeshMaxReflectance); }
-
 std::string Directory(const std::string &path) {
     size_t slash = path.find_last_of('/');
     return slash == std::string::npos ? "" : path.substr(0, slash + 1);
 }
 
-// Reads `newmtl`, `Kd` and `Ke` of an MTL file into _materials_; a missing file adds nothing.
-void ReadMaterialLibrary(const std::string &path, std::map<std::string, Material> &materials) {
-    std::ifstream in(path);
-    std::string line, current;
-    while (std::getline(in, line)) {
-        std::istringstream words(line);
-        std::string key;
-        if (!(words >> key))
-            continue;
-        if (key == "newmtl") {
-            words >> current;
-            materials[current] = {kMeshDefaultReflectance, kMeshDefaultEmission};
-        } else if ((key == "Kd" || key == "Ke") && !current.empty()) {
-            std::array<double, 3> rgb{};
-            if (!(words >> rgb[0]))
-                continue;
-            if (!(words >> rgb[1] >> rgb[2]))
-                rgb[1] = rgb[2] = rgb[0];  // one value stands for all three channels
-            if (key == "Kd")
-                materials[current].reflectance = CappedReflectance(Mean(rgb));
-            else
-                materials[current].emission = Mean(rgb);
+double CappedReflectance(double rho) { return std::min(std::max(rho, 0.0), kMeshMaxReflectance); }
+
+// ---------------------------------------------------------------------------------------
+// Lines, words and numbers
+
+// _word_ for a message: at most 40 bytes, every byte outside printable ASCII escaped, so
+// that a message stays one short line whatever the file holds.
+std::string Shown(std::string_view word) {
+    constexpr size_t kMaxShown = 40;
+    std::string out;
+    for (unsigned char c : word.substr(0, kMaxShown)) {
+        if (c >= 0x20 && c < 0x7f) {
+            out += char(c);
+        } else {
+            char hex[8];
+            std::snprintf(hex, sizeof hex, "\\x%02x", unsigned(c));
+            out += hex;
         }
+    }
+    return word.size() > kMaxShown ? out + "..." : out;
+}
+
+std::string Quoted(std::string_view word) { return "'" + Shown(word) + "'"; }
+
+bool IsBlank(char c) { return c == ' ' || c == '\t'; }
+
+// The statements of one file's text, line by line, numbered from 1; errors name the file
+// and the line. A statement line is one that is neither blank nor only a comment.
+class Lines {
+  public:
+    // _file_ names the file in messages: "mesh file 'PATH'".
+    Lines(std::string_view text, std::string file) : text_(text), file_(std::move(file)) {
+        // Skip a UTF-8 byte order mark, which some editors write before the first line.
+        if (text_.substr(0, 3) == "\xEF\xBB\xBF")
+            pos_ = 3;
+    }
+
+    // Moves to the next statement line, without its line ending and its `#` comment;
+    // false at the end of the text.
+    bool Next() {
+        while (pos_ < text_.size()) {
+            size_t end = std::min(text_.find('\n', pos_), text_.size());
+            std::string_view line = text_.substr(pos_, end - pos_);
+            pos_ = std::min(end + 1, text_.size());
+            ++number_;
+            if (!line.empty() && line.back() == '\r')
+                line.remove_suffix(1);
+            if (line.find('\r') != std::string_view::npos)
+                Fail("carriage return inside a line (line endings must be \\n or \\r\\n)");
+            line = line.substr(0, line.find('#'));
+            if (!std::all_of(line.begin(), line.end(), IsBlank)) {
+                line_ = line;
+                return true;
+            }
+        }
+        return false;
+    }
+
+    std::string_view Line() const { return line_; }
+    size_t Number() const { return number_; }
+    // The bytes after the current line.
+    size_t BytesLeft() const { return text_.size() - pos_; }
+
+    [[noreturn]] void Fail(const std::string &what) const { FailAt(number_, what); }
+    [[noreturn]] void FailAt(size_t line, const std::string &what) const {
+        throw InputError(file_ + ", line " + std::to_string(line) + ": " + what);
+    }
+    // Fails at the line after the last one (line 1 of an empty file): where a truncated
+    // file ends. Call once Next() has returned false.
+    [[noreturn]] void FailAtEnd(const std::string &what) const { FailAt(number_ + 1, what); }
+
+  private:
+    std::string_view text_;
+    std::string file_;
+    size_t pos_ = 0;
+    size_t number_ = 0;
+    std::string_view line_;
+};
+
+// The words of a line, separated by spaces and tabs.
+class Words {
+  public:
+    explicit Words(std::string_view line) : rest_(line) {}
+
+    // Reads the next word into _word_; false when none is left.
+    bool Next(std::string_view &word) {
+        // Plain loops: find_first_of with a set costs a memchr per character.
+        size_t start = 0, size = rest_.size();
+        while (start < size && IsBlank(rest_[start]))
+            ++start;
+        size_t end = start;
+        while (end < size && !IsBlank(rest_[end]))
+            ++end;
+        word = rest_.substr(start, end - start);
+        rest_.remove_prefix(end);
+        return !word.empty();
+    }
+
+    // The number of words not read yet.
+    size_t Left() const {
+        Words copy = *this;
+        std::string_view word;
+        size_t n = 0;
+        while (copy.Next(word))
+            ++n;
+        return n;
+    }
+
+  private:
+    std::string_view rest_;
+};
+
+bool AllDigits(std::string_view word) {
+    return !word.empty() &&
+           std::all_of(word.begin(), word.end(), [](unsigned char c) { return std::isdigit(c); });
+}
+
+// Parses _word_ as a number into _value_; returns "" or why it is not a finite number.
+// As everywhere in hrbench (util/args.h), a number beyond the doubles overflows and one
+// that would lose precision as a subnormal (or 0) underflows.
+std::string NumberProblem(std::string_view word, double &value) {
+    std::string_view text = word;
+    if (text.size() > 1 && text[0] == '+' && text[1] != '+' && text[1] != '-')
+        text.remove_prefix(1);  // files and strtod take a leading '+', from_chars does not
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec == std::errc::invalid_argument || end != text.data() + text.size())
+        return "is not a number";
+    const char *overflows = "overflows double precision (largest 1.8e308)";
+    const char *underflows = "underflows double precision (smallest normal 2.2e-308)";
+    if (ec == std::errc::result_out_of_range) {
+        // from_chars reports underflow and overflow alike; strtod tells them apart.
+        return std::isinf(std::strtod(std::string(text).c_str(), nullptr)) ? overflows : underflows;
+    }
+    if (!std::isfinite(value))
+        return "is not finite";
+    return value == 0 || std::isnormal(value) ? "" : underflows;
+}
+
+// Reads _word_ as a finite number, or fails at the current line of _lines_ saying what
+// (_what_) is wrong: "coordinate '1e400' overflows".
+double Finite(const Lines &lines, std::string_view word, const std::string &what) {
+    double value = 0;
+    std::string problem = NumberProblem(word, value);
+    if (!problem.empty())
+        lines.Fail(what + " " + Quoted(word) + " " + problem);
+    return value;
+}
+
+// Reads _word_ as a non-negative integer written in digits, or fails saying why not.
+uint64_t Count(const Lines &lines, std::string_view word, const std::string &what) {
+    uint64_t value = 0;
+    if (AllDigits(word)) {
+        if (std::from_chars(word.data(), word.data() + word.size(), value).ec == std::errc())
+            return value;
+        lines.Fail(what + " " + Quoted(word) + " is too large");
+    }
+    double number = 0;
+    std::string problem = NumberProblem(word, number);
+    if (problem.empty())
+        problem = number < 0 ? "is negative" : "is not an integer";
+    lines.Fail(what + " " + Quoted(word) + " " + problem);
+}
+
+// Reads the _count_ (3 or 4) components r g b [a] of a colour: integers in 0..255, or,
+// when any is written otherwise (0.5, 1e-1), numbers in [0, 1]. Returns mean(r,g,b)
+// scaled to [0, 1].
+double ReadColour(const Lines &lines, Words &words, size_t count, const std::string &what) {
+    std::array<std::string_view, 4> components;
+    bool integers = true;
+    for (size_t k = 0; k < count; ++k) {
+        words.Next(components[k]);
+        integers = integers && AllDigits(components[k]);
+    }
+    double sum = 0;
+    for (size_t k = 0; k < count; ++k) {
+        std::string_view word = components[k];
+        double value = 0;
+        if (integers) {
+            uint64_t byte = 256;
+            std::from_chars(word.data(), word.data() + word.size(), byte);
+            if (byte > 255)
+                lines.Fail(what + " " + Quoted(word) + " is outside 0..255");
+            value = double(byte);
+        } else {
+            value = Finite(lines, word, what);
+            if (!(value >= 0 && value <= 1))
+                lines.Fail(what + " " + Quoted(word) +
+                           " is outside [0, 1] (a colour written with fractions is read in 0..1)");
+        }
+        if (k < 3)  // the alpha is checked, not used
+            sum += value;
+    }
+    return integers ? sum / (3 * 255.0) : sum / 3;
+}
+
+// Reads the coordinates x y z of a vertex.
+Vec3 ReadPoint(const Lines &lines, Words &words) {
+    std::array<double, 3> xyz;
+    std::string_view word;
+    for (double &c : xyz) {
+        words.Next(word);
+        c = Finite(lines, word, "coordinate");
+    }
+    return Vec3(xyz[0], xyz[1], xyz[2]);
+}
+
+// Appends the face with _n_ (3 or 4) _corners_ to _patches_, or fails at the current line
+// when it cannot be a patch (Polygon::Problem): errors come in file order.
+void AddFace(const Lines &lines, const std::array<Vec3, 4> &corners, int n,
+             const Material &material, Patches<Polygon> &patches) {
+    Polygon polygon{corners, n};
+    if (n == 3)
+        polygon.v[3] = polygon.v[2];
+    std::string problem = polygon.Problem();
+    if (!problem.empty())
+        lines.Fail("face " + std::to_string(patches.size() + 1) + " " + problem);
+    patches.push_back({polygon, material});
+}
+
+// ---------------------------------------------------------------------------------------
+// OFF
+
+// Reads an OFF or COFF file: the keyword, the counts, the vertex lines, the face lines.
+class OffReader {
+  public:
+    OffReader(std::string_view text, const std::string &source)
+        : lines_(text, "mesh file '" + source + "'") {}
+
+    Patches<Polygon> Read() {
+        ReadHeader();
+        ReadVertices();
+        ReadFaces();
+        if (lines_.Next())
+            lines_.Fail("unexpected text after the last of the " + std::to_string(numFaces_) +
+                        " faces");
+        return std::move(patches_);
+    }
+
+  private:
+    // Reads the keyword (OFF or COFF) and the counts, on its line or the next.
+    void ReadHeader() {
+        if (!lines_.Next())
+            lines_.FailAtEnd(lines_.Number() == 0
+                                 ? "the file is empty"
+                                 : "no OFF header: the file holds only comments and blank lines");
+        Words words(lines_.Line());
+        std::string_view keyword, next;
+        words.Next(keyword);
+        CheckKeyword(keyword);
+        if (Words(words).Next(next) && next == "BINARY")
+            lines_.Fail("binary OFF files are not supported");
+        coff_ = keyword == "COFF";
+        if (words.Left() == 0) {
+            if (!lines_.Next())
+                lines_.FailAtEnd("truncated: the file ends before the counts of vertices, faces "
+                                 "and edges");
+            words = Words(lines_.Line());
+        }
+        ReadCounts(words);
+    }
+
+    // Refuses every keyword but OFF and COFF, the other variants of OFF by name.
+    void CheckKeyword(std::string_view keyword) const {
+        if (keyword == "OFF" || keyword == "COFF")
+            return;
+        if (keyword.size() > 3 && keyword.substr(keyword.size() - 3) == "OFF")
+            lines_.Fail(Quoted(keyword) + " files are not supported (only OFF and COFF)");
+        lines_.Fail("not an OFF file: it starts with " + Quoted(keyword) +
+                    " instead of OFF or COFF");
+    }
+
+    // Reads `nv nf ne`, and refuses a vertex count that the rest of the file cannot hold
+    // before anything is stored.
+    void ReadCounts(Words &words) {
+        size_t n = words.Left();
+        if (n != 3)
+            lines_.Fail("the counts line needs 3 numbers (vertices faces edges), not " +
+                        std::to_string(n));
+        std::string_view word;
+        words.Next(word);
+        numVertices_ = Count(lines_, word, "vertex count");
+        words.Next(word);
+        numFaces_ = Count(lines_, word, "face count");
+        words.Next(word);
+        Count(lines_, word, "edge count");  // checked, not used
+        if (numFaces_ == 0)
+            lines_.Fail("the header announces no faces");
+        countsLine_ = lines_.Number();
+        // Each vertex line takes at least 6 bytes, "0 0 0\n".
+        if (numVertices_ > lines_.BytesLeft() / 6)
+            lines_.Fail("truncated: announces " + std::to_string(numVertices_) +
+                        " vertices but has only " + std::to_string(lines_.BytesLeft()) +
+                        " bytes left");
+    }
+
+    // Reads the vertex lines, then refuses a face count that the rest cannot hold.
+    void ReadVertices() {
+        for (uint64_t k = 0; k < numVertices_; ++k) {
+            if (!lines_.Next())
+                lines_.FailAtEnd("truncated: the file ends after " + std::to_string(k) +
+                                 " of the " + std::to_string(numVertices_) + " vertices");
+            ReadVertex();
+        }
+        // Each face line takes at least 8 bytes, "3 0 1 2\n" (the last one 7).
+        if (numFaces_ > (lines_.BytesLeft() + 1) / 8)
+            lines_.FailAt(countsLine_, "truncated: announces " + std::to_string(numFaces_) +
+                                           " faces but has only " +
+                                           std::to_string(lines_.BytesLeft()) +
+                                           " bytes left after the vertices");
+    }
+
+    // Reads `x y z`, and in a COFF file an optional vertex colour (checked, not used).
+    void ReadVertex() {
+        Words words(lines_.Line());
+        size_t n = words.Left();
+        if (!coff_ && n != 3)
+            lines_.Fail("a vertex needs 3 coordinates, this line has " + std::to_string(n) +
+                        " values (vertex colours need the COFF keyword)");
+        if (coff_ && n != 3 && n != 6 && n != 7)
+            lines_.Fail("a COFF vertex needs 3 coordinates and optionally a colour of 3 or 4 "
+                        "values, this line has " +
+                        std::to_string(n) + " values");
+        vertices_.push_back(ReadPoint(lines_, words));
+        if (n > 3)
+            ReadColour(lines_, words, n - 3, "vertex colour component");
+    }
+
+    // Reads the face lines; a missing one means the file is truncated.
+    void ReadFaces() {
+        for (uint64_t k = 0; k < numFaces_; ++k) {
+            if (!lines_.Next())
+                lines_.FailAtEnd("truncated: the file ends after " + std::to_string(k) +
+                                 " of the " + std::to_string(numFaces_) + " faces");
+            ReadFace();
+        }
+    }
+
+    // Reads `k i1 .. ik [colour]`: indices count from 0, the colour gives the reflectance.
+    void ReadFace() {
+        std::string face = "face " + std::to_string(patches_.size() + 1);
+        Words words(lines_.Line());
+        std::string_view word;
+        words.Next(word);
+        uint64_t n = Count(lines_, word, face + ": corner count");
+        if (n != 3 && n != 4)
+            lines_.Fail(face + " has " + std::to_string(n) +
+                        " corners (only triangles and quads are supported)");
+        if (words.Left() < n)
+            lines_.Fail(face + " announces " + std::to_string(n) + " corners but lists only " +
+                        std::to_string(words.Left()));
+        std::array<Vec3, 4> corners;
+        for (uint64_t k = 0; k < n; ++k) {
+            words.Next(word);
+            uint64_t index = Count(lines_, word, face + ": vertex index");
+            if (index >= vertices_.size())
+                lines_.Fail(face + " refers to vertex " + std::to_string(index) + " of " +
+                            std::to_string(vertices_.size()) + " (OFF vertices count from 0)");
+            corners[k] = vertices_[index];
+        }
+        size_t rest = words.Left();
+        if (rest != 0 && rest != 3 && rest != 4)
+            lines_.Fail(face + " has " + std::to_string(rest) +
+                        " values after its corners; expected none or a colour of 3 or 4");
+        Material material = kDefaultMaterial;
+        if (rest > 0)
+            material.reflectance =
+                CappedReflectance(ReadColour(lines_, words, rest, face + ": colour component"));
+        AddFace(lines_, corners, int(n), material, patches_);
+    }
+
+    Lines lines_;
+    bool coff_ = false;
+    uint64_t numVertices_ = 0;
+    uint64_t numFaces_ = 0;
+    size_t countsLine_ = 0;
+    std::vector<Vec3> vertices_;
+    Patches<Polygon> patches_;
+};
+
+// ---------------------------------------------------------------------------------------
+// MTL
+
+// A material of an OBJ's libraries, with where it was defined, for duplicates.
+struct DefinedMaterial {
+    Material material;
+    std::string library;  // "material library 'PATH'"
+    size_t line;
+};
+using Materials = std::map<std::string, DefinedMaterial, std::less<>>;
+
+// The standard MTL statements that say nothing about reflectance or emission.
+bool IgnoredMtlStatement(std::string_view key) {
+    static const std::set<std::string_view> kIgnored = {
+        "Ka",   "Ks", "Ns", "Ni", "d",  "Tr",  "Tf",    "illum",  "bump", "disp",     "decal",
+        "refl", "Pr", "Pm", "Ps", "Pc", "Pcr", "aniso", "anisor", "norm", "sharpness"};
+    return kIgnored.count(key) > 0 || key.substr(0, 4) == "map_";
+}
+
+// Reads `newmtl NAME`: adds NAME, once, with the default surface.
+DefinedMaterial &NewMaterial(const Lines &lines, Words &words, const std::string &library,
+                             Materials &materials) {
+    if (words.Left() != 1)
+        lines.Fail("newmtl needs one material name (one word)");
+    std::string_view name;
+    words.Next(name);
+    auto [it, added] = materials.try_emplace(
+        std::string(name), DefinedMaterial{kDefaultMaterial, library, lines.Number()});
+    if (!added) {
+        const DefinedMaterial &first = it->second;
+        std::string where = first.library == library ? "" : " in " + first.library + ",";
+        lines.Fail("material " + Quoted(name) + " is defined twice (first" + where + " on line " +
+                   std::to_string(first.line) + ")");
+    }
+    return it->second;
+}
+
+// Reads `Kd r g b` (reflectance, capped) or `Ke r g b` (emission) of _current_; one value
+// stands for all three.
+void ReadMtlColour(const Lines &lines, Words &words, std::string_view keyword,
+                   DefinedMaterial *current) {
+    std::string key(keyword);
+    if (current == nullptr)
+        lines.Fail(key + " before any newmtl");
+    size_t n = words.Left();
+    if (n != 1 && n != 3)
+        lines.Fail(key + " needs r g b (or one value for all three), this line has " +
+                   std::to_string(n) + " values");
+    std::array<double, 3> rgb;
+    std::string_view word;
+    for (size_t c = 0; c < n; ++c) {
+        words.Next(word);
+        rgb[c] = Finite(lines, word, key + " value");
+    }
+    if (n == 1)
+        rgb[1] = rgb[2] = rgb[0];
+    double mean = (rgb[0] + rgb[1] + rgb[2]) / 3;
+    if (key == "Kd") {
+        current->material.reflectance = CappedReflectance(mean);
+        return;
+    }
+    if (!std::isfinite(mean))
+        lines.Fail("Ke values overflow: their mean is not finite");
+    if (mean < 0)
+        lines.Fail("Ke gives a negative emission: the mean of its values is below 0");
+    current->material.emission = mean;
+}
+
+// Reads the MTL _text_ of _library_ ("material library 'PATH'") into _materials_.
+void ReadMaterials(std::string_view text, const std::string &library, Materials &materials) {
+    Lines lines(text, library);
+    DefinedMaterial *current = nullptr;
+    while (lines.Next()) {
+        Words words(lines.Line());
+        std::string_view key;
+        words.Next(key);
+        if (key == "newmtl")
+            current = &NewMaterial(lines, words, library, materials);
+        else if (key == "Kd" || key == "Ke")
+            ReadMtlColour(lines, words, key, current);
+        else if (!IgnoredMtlStatement(key))
+            lines.Fail("unsupported statement " + Quoted(key) +
+                       " (hrbench reads newmtl, Kd and Ke, and ignores the other standard "
+                       "statements)");
     }
 }
 
-// The material of every `f` line of an OBJ file, in order: the one its last `usemtl`
-// names, looked up in the `mtllib` files next to it.
-std::vector<Material> ObjFaceMaterials(const std::string &path) {
-    std::ifstream in(path);
-    std::map<std::string, Material> library;
-    std::vector<Material> faces;
-    Material current{kMeshDefaultReflectance, kMeshDefaultEmission};
-    std::string line;
-    while (std::getline(in, line)) {
-        std::istringstream words(line);
-        std::string key;
-        if (!(words >> key))
-            continue;
-        if (key == "mtllib") {
-            for (std::string file; words >> file;)
-                ReadMaterialLibrary(Directory(path) + file, library);
-        } else if (key == "usemtl") {
-            std::string name;
-            words >> name;
-            auto it = library.find(name);
-            current = it != library.end() ? it->second
-                                          : Material{kMeshDefaultReflectance, kMeshDefaultEmission};
-        } else if (key == "f") {
-            faces.push_back(current);
+// ---------------------------------------------------------------------------------------
+// OBJ
+
+// Reads an OBJ file: v, f, usemtl and mtllib statements; vt and vn counted for the
+// references of faces; vp, o, g and s ignored.
+class ObjReader {
+  public:
+    ObjReader(std::string_view text, const std::string &source, const LibraryReader &readLibrary)
+        : lines_(text, "mesh file '" + source + "'"), source_(source), readLibrary_(readLibrary) {}
+
+    Patches<Polygon> Read() {
+        while (lines_.Next())
+            ReadStatement();
+        if (patches_.empty())
+            lines_.FailAtEnd(lines_.Number() == 0 ? "the file is empty" : "the file has no faces");
+        return std::move(patches_);
+    }
+
+  private:
+    // Reads the statement on the current line, by its keyword.
+    void ReadStatement() {
+        Words words(lines_.Line());
+        std::string_view keyword;
+        words.Next(keyword);
+        if (keyword == "v")
+            ReadVertex(words);
+        else if (keyword == "f")
+            ReadFace(words);
+        else if (keyword == "vt")
+            ++numTextures_;
+        else if (keyword == "vn")
+            ++numNormals_;
+        else if (keyword == "usemtl")
+            UseMaterial(words);
+        else if (keyword == "mtllib")
+            ReadLibraries(words);
+        else if (keyword != "vp" && keyword != "o" && keyword != "g" && keyword != "s")
+            lines_.Fail("unsupported statement " + Quoted(keyword) +
+                        " (hrbench reads v, f, usemtl and mtllib, and ignores vt, vn, vp, o, g "
+                        "and s)");
+    }
+
+    // Reads `v x y z [w]`; the weight is checked, not used.
+    void ReadVertex(Words &words) {
+        size_t n = words.Left();
+        if (n != 3 && n != 4)
+            lines_.Fail("a vertex needs 3 coordinates and an optional weight, this line has " +
+                        std::to_string(n) + " values");
+        vertices_.push_back(ReadPoint(lines_, words));
+        std::string_view weight;
+        if (words.Next(weight))
+            Finite(lines_, weight, "weight");
+    }
+
+    // Reads `f c1 c2 c3 [c4]` with the current material.
+    void ReadFace(Words &words) {
+        std::string face = "face " + std::to_string(patches_.size() + 1);
+        size_t n = words.Left();
+        if (n != 3 && n != 4)
+            lines_.Fail(face + " has " + std::to_string(n) +
+                        " corners (only triangles and quads are supported)");
+        std::array<Vec3, 4> corners;
+        std::string_view word;
+        for (size_t k = 0; k < n; ++k) {
+            words.Next(word);
+            corners[k] = vertices_[ReadCorner(word, face)];
+        }
+        AddFace(lines_, corners, int(n), current_, patches_);
+    }
+
+    // Reads a corner of _face_, `i`, `i/t`, `i/t/n` or `i//n`, and returns the index of
+    // its vertex; t and n must refer to texture coordinates and normals defined so far.
+    size_t ReadCorner(std::string_view word, const std::string &face) {
+        std::array<std::string_view, 3> parts;
+        size_t count = 0;
+        for (std::string_view rest = word;; ++count) {
+            size_t slash = rest.find('/');
+            if (count < parts.size())
+                parts[count] = rest.substr(0, slash);
+            if (slash == std::string_view::npos)
+                break;
+            rest.remove_prefix(slash + 1);
+        }
+        bool wellFormed = count < 3 && !parts[0].empty() && (count != 1 || !parts[1].empty()) &&
+                          (count != 2 || !parts[2].empty());
+        size_t vertex = wellFormed ? Resolve(parts[0], vertices_.size(), "vertex", face) : 0;
+        if (wellFormed && count >= 1 && !parts[1].empty())
+            wellFormed = Resolve(parts[1], numTextures_, "texture coordinate", face) != kBad;
+        if (wellFormed && count == 2)
+            wellFormed = Resolve(parts[2], numNormals_, "normal", face) != kBad;
+        if (!wellFormed || vertex == kBad)
+            lines_.Fail(face + ": " + Quoted(word) +
+                        " is not a corner: i, i/t, i/t/n or i//n with integers counting from 1 "
+                        "(or back from -1)");
+        return vertex;
+    }
+
+    // The index that _ref_ (1-based, or negative: back from the last of the _defined_
+    // elements so far) resolves to; kBad when _ref_ is not a non-zero integer.
+    size_t Resolve(std::string_view ref, size_t defined, const char *kind,
+                   const std::string &face) const {
+        bool negative = ref[0] == '-';
+        std::string_view digits = negative ? ref.substr(1) : ref;
+        if (!AllDigits(digits) || digits.find_first_not_of('0') == std::string_view::npos)
+            return kBad;
+        uint64_t magnitude = 0;
+        bool fits = std::from_chars(digits.data(), digits.data() + digits.size(), magnitude).ec ==
+                        std::errc() &&
+                    magnitude <= defined;
+        if (!fits)
+            lines_.Fail(face + " refers to " + kind + " " + Shown(ref) + " of " +
+                        std::to_string(defined) + " defined so far");
+        return negative ? defined - magnitude : magnitude - 1;
+    }
+
+    // Reads `usemtl NAME`: the material of the libraries read so far, or the defaults.
+    void UseMaterial(Words &words) {
+        if (words.Left() != 1)
+            lines_.Fail("usemtl needs one material name (one word)");
+        std::string_view name;
+        words.Next(name);
+        auto it = materials_.find(name);
+        current_ = it != materials_.end() ? it->second.material : kDefaultMaterial;
+    }
+
+    // Reads `mtllib FILE...`: each library once; a library that cannot be read ends the
+    // run with this line named.
+    void ReadLibraries(Words &words) {
+        if (words.Left() == 0)
+            lines_.Fail("mtllib needs at least one file name");
+        std::string_view name;
+        while (words.Next(name)) {
+            std::string file(name);
+            if (!readLibrary_ || !librariesRead_.insert(file).second)
+                continue;
+            std::string text;
+            try {
+                text = readLibrary_(file);
+            } catch (const InputError &e) {
+                lines_.Fail(e.what());
+            }
+            ReadMaterials(text, "material library '" + Directory(source_) + file + "'", materials_);
         }
     }
-    return faces;
-}
+
+    static constexpr size_t kBad = size_t(-1);
+
+    Lines lines_;
+    std::string source_;
+    const LibraryReader &readLibrary_;
+    std::vector<Vec3> vertices_;
+    size_t numTextures_ = 0;
+    size_t numNormals_ = 0;
+    std::set<std::string> librariesRead_;
+    Materials materials_;
+    Material current_ = kDefaultMaterial;
+    Patches<Polygon> patches_;
+};
 
 }  // namespace
 
-Scene LoadMesh(const std::string &path) {
-    MeshFormat format = FormatOf(path);
-    std::ifstream in(path, std::ios::binary);
-    if (!in)
-        throw InputError("cannot read mesh file '" + path + "'");
-
-    // Read the polygon soup with CGAL, and the face colours of an OFF file.
-    std::vector<Point3> points;
-    std::vector<PolygonIndices> polygons;
-    std::vector<CGAL::IO::Color> colors;
-    bool ok;
-    {
-        QuietCerr quiet;
-        if (format == MeshFormat::Off)
-            ok = CGAL::IO::read_OFF(
-                in, points, polygons,
-                CGAL::parameters::face_color_output_iterator(std::back_inserter(colors))
-                    .verbose(false));
-        else
-            ok = CGAL::IO::read_OBJ(in, points, polygons, CGAL::parameters::verbose(false));
-    }
-    std::string name = format == MeshFormat::Off ? "OFF" : "OBJ";
-    if (!ok && polygons.empty())
-        throw InputError("mesh file '" + path + "' is empty, has no faces or is not an " + name +
-                         " file");
-    if (!ok)
-        throw InputError("mesh file '" + path + "' is truncated or malformed (CGAL's " + name +
-                         " reader failed)");
-    if (polygons.empty())
-        throw InputError("mesh file '" + path + "' has no faces");
-
-    // Check every face before building the scene.
-    std::vector<Material> materials(polygons.size(),
-                                    Material{kMeshDefaultReflectance, kMeshDefaultEmission});
-    if (format == MeshFormat::Obj) {
-        std::vector<Material> fromFile = ObjFaceMaterials(path);
-        if (fromFile.size() == polygons.size())
-            materials = fromFile;
-    } else if (colors.size() == polygons.size()) {
-        for (size_t f = 0; f < polygons.size(); ++f) {
-            const CGAL::IO::Color &c = colors[f];
-            materials[f].reflectance = CappedReflectance(
-                (double(c.red()) + double(c.green()) + double(c.blue())) / (3 * 255.0));
-        }
-    }
+Scene ParseMesh(const std::string &text, MeshFormat format, const std::string &source,
+                const LibraryReader &readMaterialLibrary) {
     Scene scene;
     scene.family = "mesh";
-    scene.file = path;
-    Patches<Polygon> &faces = scene.patches.emplace<Patches<Polygon>>();
-    for (size_t f = 0; f < polygons.size(); ++f) {
-        const PolygonIndices &indices = polygons[f];
-        std::string where = "mesh file '" + path + "': face " + std::to_string(f);
-        if (indices.size() != 3 && indices.size() != 4)
-            throw InputError(where + " has " + std::to_string(indices.size()) +
-                             " corners (only triangles and quads are supported)");
-        Polygon polygon;
-        polygon.n = int(indices.size());
-        for (size_t k = 0; k < indices.size(); ++k) {
-            if (indices[k] >= points.size())
-                throw InputError(where + " refers to vertex " + std::to_string(indices[k] + 1) +
-                                 " of " + std::to_string(points.size()));
-            const Point3 &p = points[indices[k]];
-            polygon.v[k] = Vec3(p.x(), p.y(), p.z());
-        }
-        if (polygon.n == 3)
-            polygon.v[3] = polygon.v[2];
-        faces.push_back({polygon, materials[f]});
-    }
+    scene.file = source;
+    if (format == MeshFormat::Off)
+        scene.patches = OffReader(text, source).Read();
+    else
+        scene.patches = ObjReader(text, source, readMaterialLibrary).Read();
+    // The readers check each face where they read it; this keeps the scene contract
+    // should ValidateScene come to check more.
     try {
         ValidateScene(scene);
     } catch (const InputError &e) {
-        throw InputError("mesh file '" + path + "': " + e.what());
+        throw InputError("mesh file '" + source + "': " + e.what());
     }
     return scene;
+}
+
+Scene LoadMesh(const std::string &path, size_t maxInputBytes) {
+    MeshFormat format = FormatOf(path);
+    std::string text = ReadInputFile(path, "mesh file", maxInputBytes);
+    auto readLibrary = [&](const std::string &name) -> std::string {
+        std::string libraryPath = Directory(path) + name;
+        std::error_code error;
+        if (std::filesystem::status(libraryPath, error).type() ==
+            std::filesystem::file_type::not_found)
+            return "";  // a missing library leaves its faces at the defaults (docs/3d.md)
+        return ReadInputFile(libraryPath, "material library", maxInputBytes);
+    };
+    return ParseMesh(text, format, path, readLibrary);
 }
 
 void SaveMesh(const Scene &scene, const std::string &path) {

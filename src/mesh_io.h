@@ -1,10 +1,13 @@
-// Polygon meshes as 3D scenes: OFF and OBJ files through CGAL's readers and writers
-// (docs/3d.md, "Mesh input").
+// Polygon meshes as 3D scenes: OFF and OBJ files read by our own strict readers, written
+// by CGAL's writers (docs/3d.md, "Mesh input").
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <string>
 
 #include "scene.h"
+#include "util/input_file.h"
 
 namespace hrbench {
 
@@ -14,17 +17,29 @@ constexpr double kMeshDefaultEmission = 0.0;
 // Largest reflectance taken from a file's colours: the radiosity system needs rho < 1.
 constexpr double kMeshMaxReflectance = 0.99;
 
+// The two mesh formats, chosen by a file's extension (.off or .obj).
+enum class MeshFormat { Off, Obj };
+
 // Reads the OFF or OBJ file at _path_ (chosen by its extension, .off or .obj) as a 3D
-// scene with one patch per face, in file order. Faces must be triangles or planar
-// convex quads, counter-clockwise seen from the front. Materials:
-//  - OFF: a face colour (r g b after the indices; CGAL reads them from COFF files)
-//    gives reflectance mean(r,g,b) / 255;
-//  - OBJ: `usemtl NAME` selects the material NAME of the `mtllib` file(s): reflectance
-//    mean(Kd), emission mean(Ke);
-// reflectance capped at kMeshMaxReflectance; defaults otherwise (0.5 and 0, also when
-// the material library is missing). Throws InputError with one line naming the file
-// for an unreadable, truncated or empty file, a bad index or face, or bad coordinates.
-Scene LoadMesh(const std::string &path);
+// scene: the file and its OBJ material libraries (relative to the OBJ's folder, a missing
+// one meaning defaults) are read with ReadInputFile within _maxInputBytes_ each, then
+// parsed by ParseMesh. Throws InputError with one line.
+Scene LoadMesh(const std::string &path, size_t maxInputBytes = kDefaultMaxInputBytes);
+
+// Parses the text of a mesh file as a 3D scene with one patch per face, in file order.
+// Faces must be triangles or planar convex quads, counter-clockwise seen from the front.
+// Materials:
+//  - OFF: a face colour (r g b [a] after the indices: integers 0..255, or numbers in
+//    [0, 1]) gives reflectance mean(r,g,b);
+//  - OBJ: `usemtl NAME` selects the material NAME of the `mtllib` libraries read so far:
+//    reflectance mean(Kd), emission mean(Ke);
+// reflectance capped at kMeshMaxReflectance; defaults otherwise (0.5 and 0, also for an
+// unknown material name). _source_ names the file in messages and in Scene::file.
+// _readMaterialLibrary_ returns the text of the library an OBJ's `mtllib` names ("" for
+// none); an empty function reads no library. Throws InputError with one line,
+// "mesh file 'SOURCE', line N: what is wrong" (docs/3d.md lists what is refused).
+Scene ParseMesh(const std::string &text, MeshFormat format, const std::string &source,
+                const std::function<std::string(const std::string &mtlName)> &readMaterialLibrary);
 
 // Writes the geometry of the 3D _scene_ to _path_ as OFF or OBJ (by extension), with
 // 17 significant digits so that it reads back exactly. Materials are not written.

@@ -1,11 +1,14 @@
 #include "scene_io.h"
 
-#include <fstream>
-#include <sstream>
+#include <algorithm>
+#include <initializer_list>
+#include <set>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "util/error.h"
+#include "util/output.h"
 
 namespace hrbench {
 
@@ -46,6 +49,49 @@ std::string SceneToJson(const Scene &scene) {
 
 namespace {
 
+// Nesting deeper than this is refused while parsing: no scene needs more than 5 levels,
+// and very deep documents would exhaust the stack when they are destroyed.
+constexpr int kMaxJsonDepth = 32;
+
+// Parses _text_, refusing malformed JSON, nesting deeper than kMaxJsonDepth and an
+// object with a key given twice (the library would keep the last one silently).
+json ParseStrict(const std::string &text, const std::string &source) {
+    std::vector<std::set<std::string>> keys;  // the keys seen in each open object
+    auto check = [&](int depth, json::parse_event_t event, json &parsed) {
+        if (depth > kMaxJsonDepth)
+            throw InputError(source + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                             " levels");
+        if (event == json::parse_event_t::object_start)
+            keys.emplace_back();
+        else if (event == json::parse_event_t::object_end)
+            keys.pop_back();
+        else if (event == json::parse_event_t::key &&
+                 !keys.back().insert(parsed.get<std::string>()).second)
+            throw InputError(source + ": key \"" + parsed.get<std::string>() +
+                             "\" appears twice in one object");
+        return true;
+    };
+    try {
+        return json::parse(text, check);
+    } catch (const json::exception &e) {
+        // Drop the library's "[json.exception.parse_error.101] " tag, keep its line and column.
+        std::string what = e.what();
+        size_t tag = what.find("] ");
+        throw InputError(source + ": malformed JSON: " +
+                         (tag == std::string::npos ? what : what.substr(tag + 2)));
+    }
+}
+
+// Refuses a key of _object_ that is not in _known_ (a misspelt key would be ignored).
+void CheckKeys(const json &object, std::initializer_list<const char *> known,
+               const std::string &where) {
+    for (const auto &item : object.items()) {
+        const std::string &key = item.key();
+        if (std::none_of(known.begin(), known.end(), [&](const char *k) { return key == k; }))
+            throw InputError(where + " has an unknown key \"" + key + "\"");
+    }
+}
+
 double Number(const json &value, const std::string &where) {
     if (!value.is_number())
         throw InputError(where + " must be a number");
@@ -85,21 +131,23 @@ Polygon Corners(const json &patch, const std::string &where) {
 }  // namespace
 
 Scene SceneFromJson(const std::string &text, const std::string &source) {
-    json doc;
-    try {
-        doc = json::parse(text);
-    } catch (const json::exception &e) {
-        // Drop the library's "[json.exception.parse_error.101] " tag, keep its line and column.
-        std::string what = e.what();
-        size_t tag = what.find("] ");
-        throw InputError(source + ": malformed JSON: " +
-                         (tag == std::string::npos ? what : what.substr(tag + 2)));
-    }
-    if (!doc.is_object() || doc.value("format", "") != "hrbench-scene")
+    json doc = ParseStrict(text, source);
+    if (!doc.is_object())
+        throw InputError(source + ": not an hrbench scene (the document is not an object)");
+    CheckKeys(doc, {"format", "schema_version", "dimension", "family", "params", "patches"},
+              source + ":");
+    if (!doc.contains("format") || doc["format"] != "hrbench-scene")
         throw InputError(source + ": not an hrbench scene (\"format\": \"hrbench-scene\" missing)");
-    if (doc.value("schema_version", 0) != kSceneSchemaVersion)
-        throw InputError(source + ": unsupported schema_version (expected " +
-                         std::to_string(kSceneSchemaVersion) + ")");
+    if (!doc.contains("schema_version") || !doc["schema_version"].is_number_integer())
+        throw InputError(source + ": \"schema_version\" must be the integer " +
+                         std::to_string(kSceneSchemaVersion));
+    if (doc["schema_version"] != kSceneSchemaVersion)
+        throw InputError(source + ": unsupported schema_version " + doc["schema_version"].dump() +
+                         " (expected " + std::to_string(kSceneSchemaVersion) + ")");
+    if (doc.contains("family") && !doc["family"].is_string())
+        throw InputError(source + ": \"family\" must be a string");
+    if (doc.contains("params") && !doc["params"].is_object())
+        throw InputError(source + ": \"params\" must be an object of numbers");
 
     Scene scene;
     scene.family = "file";
@@ -110,7 +158,7 @@ Scene SceneFromJson(const std::string &text, const std::string &source) {
         if (dimension == 3)
             scene.patches = Patches<Polygon>();
     }
-    if (doc.contains("params") && doc["params"].is_object())
+    if (doc.contains("params"))
         for (const auto &[key, value] : doc["params"].items())
             scene.params[key] = Number(value, source + ": params." + key);
     if (!doc.contains("patches") || !doc["patches"].is_array())
@@ -121,6 +169,7 @@ Scene SceneFromJson(const std::string &text, const std::string &source) {
         const json &p = patches[k];
         if (!p.is_object())
             throw InputError(where + " must be an object");
+        CheckKeys(p, {"a", "b", "vertices", "reflectance", "emission"}, where);
         Material material;
         if (p.contains("reflectance"))
             material.reflectance = Number(p["reflectance"], where + ".reflectance");
@@ -140,22 +189,14 @@ Scene SceneFromJson(const std::string &text, const std::string &source) {
     return scene;
 }
 
-Scene LoadScene(const std::string &path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in)
-        throw InputError("cannot read scene file '" + path + "'");
-    std::stringstream text;
-    text << in.rdbuf();
-    Scene scene = SceneFromJson(text.str(), path);
+Scene LoadScene(const std::string &path, size_t maxBytes) {
+    Scene scene = SceneFromJson(ReadInputFile(path, "scene file", maxBytes), path);
     scene.file = path;
     return scene;
 }
 
 void SaveScene(const Scene &scene, const std::string &path) {
-    std::ofstream out(path, std::ios::binary);
-    out << SceneToJson(scene);
-    if (!out)
-        throw InputError("cannot write scene file '" + path + "'");
+    WriteOutputFile(path, "scene file", SceneToJson(scene));
 }
 
 }  // namespace hrbench

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "scene.h"
+#include "util/input_file.h"
 
 namespace hrbench {
 
@@ -16,8 +17,8 @@ std::string SceneToJson(const Scene &scene);
 // with one line that says what is wrong and where.
 Scene SceneFromJson(const std::string &text, const std::string &source);
 
-// Reads and parses the scene file at _path_.
-Scene LoadScene(const std::string &path);
+// Reads and parses the scene file at _path_, refusing files over _maxBytes_.
+Scene LoadScene(const std::string &path, size_t maxBytes = kDefaultMaxInputBytes);
 
 // Writes _scene_ to _path_; throws InputError when the file cannot be written.
 void SaveScene(const Scene &scene, const std::string &path);

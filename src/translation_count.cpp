@@ -159,7 +159,17 @@ TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &opt
     // Start from the root pair: offset c = 0, one column (P element) and one row (Q element).
     std::vector<PairState> pairs{{0, 1, 0, 0}}, nextPairs;
     std::vector<ElementState> columns{{0, 0, 1}}, rows{{0, 0, 1}}, nextColumns, nextRows;
+    const size_t budget = EffectiveBudget(options);
     for (int level = 0; !pairs.empty(); ++level) {
+        // Refuse a level whose states could outgrow the memory budget: each state has at
+        // most two children, and the current and the next level are held together.
+        size_t bound = 3 * (pairs.size() * sizeof(PairState) +
+                            (columns.size() + rows.size()) * sizeof(ElementState));
+        if (bound > budget)
+            throw LimitError("--method translation would exceed the memory budget (" +
+                             std::to_string(pairs.size()) + " pair states at level " +
+                             std::to_string(level) + "); raise --max-memory or eps");
+
         // At level n = depth_i + depth_j, P is halved on even levels (equal sizes: ties go
         // to the first argument), Q on odd ones.
         const int depthI = (level + 1) / 2, depthJ = level / 2;

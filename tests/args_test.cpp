@@ -11,6 +11,11 @@ TEST_CASE("Numbers parse strictly", "[args]") {
     for (const char *bad : {"", "abc", "1.5x", "nan", "inf", "-inf", "1e999"})
         CHECK_THROWS_AS(ParseDouble(bad, "x"), InputError);
     CHECK_THROWS_WITH(ParseDouble("abc", "--eps"), Catch::Contains("--eps"));
+    // Out of double precision, each end named for what it is.
+    CHECK_THROWS_WITH(ParseDouble("1e400", "l"), Catch::Contains("'1e400' overflows double"));
+    CHECK_THROWS_WITH(ParseDouble("1e-320", "d"), Catch::Contains("'1e-320' underflows double"));
+    CHECK_THROWS_WITH(ParseDouble("nan", "d"), Catch::Contains("not a finite number"));
+    CHECK(ParseDouble("2.3e-308", "d") == 2.3e-308);  // the smallest normals still parse
     CHECK(ParseInt("12", "n") == 12);
     for (const char *bad : {"-1", "1.5", "1e20"})
         CHECK_THROWS_AS(ParseInt(bad, "n"), InputError);

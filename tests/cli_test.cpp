@@ -322,11 +322,11 @@ TEST_CASE("Bad input gives one line on stderr and exit code 2", "[cli][errors]")
 }
 
 TEST_CASE("Bad 3D input gives one line on stderr and exit code 2", "[cli][errors][3d]") {
-    std::string nonPlanar = Scratch("nonplanar.obj"), truncated = Scratch("truncated.off");
+    std::string nonPlanar = Scratch("nonplanar.obj"), truncated = Scratch("short.off");
     std::ofstream(nonPlanar) << "v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0\nf 1 2 3 4\n";
     std::ofstream(truncated) << "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n";
     CheckError("run --mesh " + nonPlanar + " --eps 0.1", 2, "not planar");
-    CheckError("run --mesh " + truncated + " --eps 0.1", 2, "truncated");
+    CheckError("run --mesh " + truncated + " --eps 0.1", 2, "line 2: truncated");
     CheckError("run --mesh /no/such.obj --eps 0.1", 2, "cannot read");
     CheckError("run --mesh " + kData + "/two_plates.obj parallel --eps 0.1", 2, "either");
     CheckError("run --mesh " + kData + "/two_plates.obj l=2 --eps 0.1", 2, "apply to a family");
@@ -340,7 +340,26 @@ TEST_CASE("Bad 3D input gives one line on stderr and exit code 2", "[cli][errors
     CheckError("run occluded3d h=2 --eps 0.1", 2, "between the plates");
 }
 
+TEST_CASE("Hostile command lines and outputs give one line and exit code 2", "[cli][errors]") {
+    CheckError("run parallel --eps 0.3 --eps 0.2", 2, "option --eps is given twice");
+    CheckError("run parallel --eps 0.3 --json --json", 2, "option --json is given twice");
+    CheckError("run parallel d=1e-320 --eps 0.3", 2, "parameter d: '1e-320' underflows double");
+    CheckError("run parallel l=1e400 --eps 0.3", 2, "parameter l: '1e400' overflows double");
+    CheckError("run parallel l=1e155 --eps 0.3", 2, "too long for double precision");
+    CheckError("run --scene-file /tmp --eps 0.3", 2, "it is a directory");
+    CheckError("run --scene-file /dev/zero --eps 0.3 --max-input 1", 2,
+               "larger than the input limit of 1 MiB");
+    CheckError("run parallel --eps 0.3 --max-input 0", 2, "--max-input must be between");
+    CheckError("run parallel --eps 0.3 --max-memory 99999999999999", 2,
+               "--max-memory must be between");
+    CheckError("save parallel --out /dev/full", 2, "cannot write scene file '/dev/full'");
+    CheckError("save parallel --out /no/such/folder/s.json", 2, "cannot write scene file");
+    CheckError("links parallel --eps 0.3 --out /dev/full", 2, "cannot write links file");
+}
+
 TEST_CASE("Limits reached during refinement give exit code 3", "[cli][errors]") {
     CheckError("run parallel l=1024 --eps 0.01 --max-memory 1", 3, "memory budget");
+    CheckError("run parallel l=1024 --eps 1e-8 --count-only --method translation --max-memory 1", 3,
+               "--method translation would exceed the memory budget");
     CheckError("run perpendicular gap=0 --eps 0.5 --min-area 1e-300", 3, "safety depth");
 }

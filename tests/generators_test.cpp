@@ -144,6 +144,23 @@ TEST_CASE("Random scenes depend only on their seed and never cross", "[generator
                       Catch::Contains("enlarge size"));
 }
 
+TEST_CASE("Random scenes are placed on a grid and stay what testing every pair gives",
+          "[generators]") {
+    // The last of 400 crowded segments and of 200 crowded triangles, as an earlier
+    // engine placed them by testing every placed shape (hrbench 0.2.0).
+    auto segments = MakeScene("random", {{"n", 400}, {"size", 12}, {"seed", 3}}).Get<Segment>();
+    CHECK(segments.back().shape.a.x() == 7.083335141130152);
+    CHECK(segments.back().shape.b.y() == 10.037097433110024);
+    auto triangles = MakeScene("random3d", {{"n", 200}, {"size", 6}, {"seed", 2}}).Get<Polygon>();
+    CHECK(triangles.back().shape.v[0].x() == 3.3875922369481275);
+    CHECK(triangles.back().shape.v[2].z() == 5.615755075078493);
+    for (size_t i = 0; i < segments.size(); ++i)
+        for (size_t j = i + 1; j < segments.size(); ++j)
+            REQUIRE(ClassifyPair(segments[i].shape, segments[j].shape) != PairRelation::Touching);
+    // 100,000 shapes build in linear time (a few seconds before, minutes with every pair).
+    CHECK(MakeScene("random", {{"n", 100000}, {"size", 1000}}).NumPatches() == 100000);
+}
+
 TEST_CASE("The occluded family puts two back-to-back blockers between the plates",
           "[generators][2d]") {
     std::vector<Segment> o2 = ShapesOf<Segment>(MakeScene("occluded", {}));

@@ -1,10 +1,11 @@
-// Mesh input and output through CGAL's OFF and OBJ readers: round trips, materials,
-// and every kind of bad file.
+// Mesh input and output: our strict OFF, OBJ and MTL readers, CGAL's writers; round
+// trips, materials, and every kind of bad or hostile file with its one-line message.
 #include <catch2/catch.hpp>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include <unistd.h>
 
@@ -38,17 +39,88 @@ void CheckBadMesh(const std::string &name, const std::string &text, const std::s
         LoadMesh(file.path);
         FAIL("no error");
     } catch (const InputError &e) {
-        CHECK_THAT(e.what(), Catch::Contains(fragment));
-        CHECK_THAT(e.what(), Catch::Contains(file.path));
-        CHECK(std::string(e.what()).find('\n') == std::string::npos);
+        std::string message = e.what();
+        size_t at = message.find(file.path);
+        REQUIRE(at != std::string::npos);
+        // What follows the path, which may hold the fragment itself ("truncated.off").
+        CHECK_THAT(message.substr(at + file.path.size()), Catch::Contains(fragment));
+        CHECK(message.find('\n') == std::string::npos);
     }
 }
 
 const char *kSquareObj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
 
+// Lines 1 to 5 of an OFF file with one triangle: its face line is line 6.
+const std::string kTriangleOff = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n";
+// Lines 1 to 3 of an OBJ file with one triangle: its face line is line 4.
+const std::string kTriangleObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+
+// ParseMesh on _text_ as _format_ from 't.off' or 't.obj', with the material libraries
+// _libraries_ by name (a name not there reads as a missing library).
+Scene Parse(const std::string &text, MeshFormat format,
+            const std::map<std::string, std::string> &libraries = {}) {
+    auto read = [&](const std::string &name) {
+        auto it = libraries.find(name);
+        return it == libraries.end() ? std::string() : it->second;
+    };
+    return ParseMesh(text, format, format == MeshFormat::Off ? "t.off" : "t.obj", read);
+}
+
+// The one-line error of Parse, or "no error".
+std::string ParseError(const std::string &text, MeshFormat format,
+                       const std::map<std::string, std::string> &libraries = {}) {
+    try {
+        Parse(text, format, libraries);
+    } catch (const InputError &e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+std::string OffError(const std::string &text) { return ParseError(text, MeshFormat::Off); }
+std::string ObjError(const std::string &text) { return ParseError(text, MeshFormat::Obj); }
+
+// The one-line error of LoadMesh, or "no error".
+std::string LoadError(const std::string &path, size_t maxInputBytes = kDefaultMaxInputBytes) {
+    try {
+        LoadMesh(path, maxInputBytes);
+    } catch (const InputError &e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+// Expects _a_ and _b_ to hold the same faces: corners and materials, exactly.
+void CheckSameFaces(const Scene &a, const Scene &b) {
+    const Patches<Polygon> &p = a.Get<Polygon>(), &q = b.Get<Polygon>();
+    REQUIRE(p.size() == q.size());
+    for (size_t k = 0; k < p.size(); ++k) {
+        REQUIRE(p[k].shape.n == q[k].shape.n);
+        for (int v = 0; v < 4; ++v)
+            CHECK(p[k].shape.v[v] == q[k].shape.v[v]);
+        CHECK(p[k].material.reflectance == q[k].material.reflectance);
+        CHECK(p[k].material.emission == q[k].material.emission);
+    }
+}
+
+// A folder in the temporary folder of this test process, removed with its files.
+struct ScratchFolder {
+    std::string path;
+    explicit ScratchFolder(const std::string &name)
+        : path((std::filesystem::temp_directory_path() /
+                ("hrbench_mesh_io_test_" + std::to_string(getpid()) + "_" + name))
+                   .string()) {
+        std::filesystem::create_directories(path);
+    }
+    ~ScratchFolder() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path, ignored);
+    }
+};
+
 }  // namespace
 
-TEST_CASE("Meshes round-trip through CGAL's OFF and OBJ writers and readers", "[mesh]") {
+TEST_CASE("Meshes round-trip through CGAL's OFF and OBJ writers and our readers", "[mesh]") {
     Scene scene = MakeScene("random3d", {{"n", 12}, {"seed", 3}});
     scene.Get<Polygon>().push_back(MakeScene("cornell", {}).Get<Polygon>()[0]);  // a quad too
     const Patches<Polygon> &faces = scene.Get<Polygon>();
@@ -121,18 +193,21 @@ TEST_CASE("Bad mesh files are rejected with one line naming the file", "[mesh]")
         CheckBadMesh("truncated.obj", std::string(kSquareObj) + "f 1 2", "2 corners");
     }
     SECTION("not a mesh") {
-        CheckBadMesh("garbage.obj", "hello world\n", "not an OBJ");
+        CheckBadMesh("garbage.obj", "hello world\n", "unsupported statement 'hello'");
         CheckBadMesh("garbage.off", "solid ascii\n", "OFF");
     }
     SECTION("bad indices") {
         CheckBadMesh("index.obj", std::string(kSquareObj) + "f 1 2 5\n", "vertex 5 of 4");
-        CheckBadMesh("index0.obj", std::string(kSquareObj) + "f 0 1 2\n", "");
+        CheckBadMesh("index0.obj", std::string(kSquareObj) + "f 0 1 2\n", "'0' is not a corner");
         CheckBadMesh("index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", "OFF");
     }
     SECTION("coordinates that are not finite") {
-        CheckBadMesh("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "OBJ");
-        CheckBadMesh("inf.obj", "v 1e999 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "");
-        CheckBadMesh("nan.off", "OFF\n3 1 0\nnan 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "");
+        CheckBadMesh("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+                     "line 1: coordinate 'nan' is not finite");
+        CheckBadMesh("inf.obj", "v 1e999 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+                     "line 1: coordinate '1e999' overflows double precision (largest 1.8e308)");
+        CheckBadMesh("nan.off", "OFF\n3 1 0\nnan 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                     "line 3: coordinate 'nan' is not finite");
     }
     SECTION("bad faces") {
         CheckBadMesh("nonplanar.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.3\nv 0 1 0\nf 1 2 3 4\n",
@@ -144,4 +219,322 @@ TEST_CASE("Bad mesh files are rejected with one line naming the file", "[mesh]")
                      "v 0 0 0\nv 1 0 0\nv 1.5 1 0\nv 0.5 2 0\nv -0.5 1 0\nf 1 2 3 4 5\n",
                      "5 corners");
     }
+}
+
+TEST_CASE("The data files parse to the same scenes as CGAL's readers gave", "[mesh]") {
+    // Recorded from the CGAL-based reader before ours replaced it.
+    Scene tetra;
+    Vec3 o(0, 0, 0), x(1, 0, 0), y(0, 1, 0), z(0, 0, 1);
+    double third = 255 / (3 * 255.0);
+    tetra.patches = Patches<Polygon>{{Polygon::Triangle(o, y, x), {third, 0}},
+                                     {Polygon::Triangle(o, x, z), {third, 0}},
+                                     {Polygon::Triangle(o, z, y), {third, 0}},
+                                     {Polygon::Triangle(x, y, z), {kMeshMaxReflectance, 0}}};
+    CheckSameFaces(LoadMesh(kData + "/tetra_colours.off"), tetra);
+
+    Scene plates;
+    plates.patches =
+        Patches<Polygon>{{Polygon::Quad(o, x, Vec3(1, 1, 0), y), {0.5, 0}},
+                         {Polygon::Quad(Vec3(0, 1, 1), Vec3(1, 1, 1), Vec3(1, 0, 1), z),
+                          {(0.8 + 0.8 + 0.8) / 3, 4}}};
+    Scene read = LoadMesh(kData + "/two_plates.obj");
+    CheckSameFaces(read, plates);
+    CHECK(read.file == kData + "/two_plates.obj");
+}
+
+TEST_CASE("OFF comments, blank lines and CRLF line endings read like the plain file", "[mesh]") {
+    Scene plain = Parse(kTriangleOff + "3 0 1 2\n", MeshFormat::Off);
+    CheckSameFaces(Parse("# a triangle\n\nOFF # keyword\n# counts next\n3 1 0\n0 0 0 # origin\n"
+                         "\n1 0 0\n  # indented comment\n0 1 0\n\t3 0 1 2\t# face\n# end\n",
+                         MeshFormat::Off),
+                   plain);
+    CheckSameFaces(Parse("OFF\r\n3 1 0\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n", MeshFormat::Off),
+                   plain);
+    CheckSameFaces(Parse("OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2", MeshFormat::Off), plain);
+    CheckSameFaces(Parse("\xEF\xBB\xBF" + kTriangleOff + "3 0 1 2\n", MeshFormat::Off), plain);
+}
+
+TEST_CASE("OBJ comments, ignored statements and CRLF line endings read like the plain file",
+          "[mesh]") {
+    Scene plain = Parse(kTriangleObj + "f 1 2 3\n", MeshFormat::Obj);
+    CheckSameFaces(Parse("# a triangle\no thing\ng group\ns off\nv 0 0 0 # origin\n\nv 1 0 0\n"
+                         "vt 0 0\nvn 0 0 1\nvp 0.5\nv 0 1 0 1\n\tf 1 2 3\t# face\n",
+                         MeshFormat::Obj),
+                   plain);
+    CheckSameFaces(Parse("v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n", MeshFormat::Obj), plain);
+    CheckSameFaces(Parse(kTriangleObj + "vt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/-1\n",
+                         MeshFormat::Obj),
+                   plain);
+    CheckSameFaces(Parse(kTriangleObj + "vn 0 0 1\nf 1//1 2//1 3//1\n", MeshFormat::Obj), plain);
+}
+
+TEST_CASE("OBJ negative references count back from the last vertex read so far", "[mesh]") {
+    Patches<Polygon> s =
+        Parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 0 0 5\nv 1 0 5\nv 0 1 5\nf -3 -2 -1\n"
+              "f 1 -2 -1\n",
+              MeshFormat::Obj)
+            .Get<Polygon>();
+    REQUIRE(s.size() == 3);
+    CHECK(s[0].shape.v[0] == Vec3(0, 0, 0));
+    CHECK(s[1].shape.v[0] == Vec3(0, 0, 5));
+    CHECK(s[1].shape.v[2] == Vec3(0, 1, 5));
+    CHECK(s[2].shape.v[0] == Vec3(0, 0, 0));
+    CHECK(s[2].shape.v[1] == Vec3(1, 0, 5));
+    CHECK(ObjError(kTriangleObj + "f -1 -2 -4\n") ==
+          "mesh file 't.obj', line 4: face 1 refers to vertex -4 of 3 defined so far");
+}
+
+TEST_CASE("OFF face colours: integers 0..255 or fractions in [0, 1], with an alpha", "[mesh]") {
+    auto rho = [](const std::string &colour) {
+        return Parse(kTriangleOff + "3 0 1 2 " + colour + "\n", MeshFormat::Off)
+            .Get<Polygon>()[0]
+            .material.reflectance;
+    };
+    CHECK(rho("255 0 0") == 255 / (3 * 255.0));
+    CHECK(rho("255 0 0 128") == 255 / (3 * 255.0));
+    CHECK(rho("0.2 0.4 0.6") == (0.2 + 0.4 + 0.6) / 3);
+    CHECK(rho("1 0 0.5 1") == (1 + 0 + 0.5) / 3);
+    CHECK(rho("1 1 1.0") == kMeshMaxReflectance);
+    CHECK(rho("1 0 0") == 1 / (3 * 255.0));  // integers only: 0..255
+    CHECK(Parse("COFF\n3 1 0\n0 0 0 1 2 3\n1 0 0 0.5 0.5 0.5 1\n0 1 0\n3 0 1 2\n", MeshFormat::Off)
+              .NumPatches() == 1);
+}
+
+TEST_CASE("Hostile OFF files are refused with one line naming the file and line", "[mesh]") {
+    const std::string at = "mesh file 't.off', ";
+    SECTION("header") {
+        CHECK(OffError("") == at + "line 1: the file is empty");
+        CHECK(OffError("# nothing\n\n") ==
+              at + "line 3: no OFF header: the file holds only comments and blank lines");
+        CHECK(OffError("solid ascii\n") ==
+              at + "line 1: not an OFF file: it starts with 'solid' instead of OFF or COFF");
+        CHECK(OffError("NOFF\n3 1 0\n") ==
+              at + "line 1: 'NOFF' files are not supported (only OFF and COFF)");
+        CHECK(OffError("STOFF\n3 1 0\n") ==
+              at + "line 1: 'STOFF' files are not supported (only OFF and COFF)");
+        CHECK(OffError("OFF BINARY\n\x03\x01") ==
+              at + "line 1: binary OFF files are not supported");
+        CHECK(OffError("OFF\n") == at + "line 2: truncated: the file ends before the counts of "
+                                        "vertices, faces and edges");
+        CHECK(OffError("OFF\n3 1\n") ==
+              at + "line 2: the counts line needs 3 numbers (vertices faces edges), not 2");
+        CHECK(OffError(kTriangleOff.substr(0, 4) + "3 0 0\n0 0 0\n1 0 0\n0 1 0\n") ==
+              at + "line 2: the header announces no faces");
+    }
+    SECTION("counts") {
+        CHECK(OffError("COFF\n4 4 1e400\n0 0 0 128 128 128\n") ==
+              at + "line 2: edge count '1e400' overflows double precision (largest 1.8e308)");
+        CHECK(OffError("OFF\n-3 1 0\n") == at + "line 2: vertex count '-3' is negative");
+        CHECK(OffError("OFF\n3 1.5 0\n") == at + "line 2: face count '1.5' is not an integer");
+        CHECK(OffError("OFF\n3 99999999999999999999 0\n") ==
+              at + "line 2: face count '99999999999999999999' is too large");
+        CHECK(OffError("OFF\n1000000000 1 0\n0 0 0\n") ==
+              at + "line 2: truncated: announces 1000000000 vertices but has only 6 bytes left");
+        CHECK(OffError("OFF\n3 1000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n") ==
+              at + "line 2: truncated: announces 1000000 faces but has only 8 bytes left after the "
+                   "vertices");
+    }
+    SECTION("vertices") {
+        CHECK(OffError("OFF\n3 1 0\n1e400 0 0\n1 0 0\n0 1 0\n3 0 1 2\n") ==
+              at + "line 3: coordinate '1e400' overflows double precision (largest 1.8e308)");
+        CHECK(OffError("OFF\n3 1 0\n0 0 0\n1 0 x\n0 1 0\n3 0 1 2\n") ==
+              at + "line 4: coordinate 'x' is not a number");
+        CHECK(OffError("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 inf\n3 0 1 2\n") ==
+              at + "line 5: coordinate 'inf' is not finite");
+        CHECK(OffError("OFF\n3 1 0\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n") ==
+              at + "line 4: a vertex needs 3 coordinates, this line has 2 values (vertex colours "
+                   "need the COFF keyword)");
+        CHECK(OffError("OFF\n3 1 0\n0 0 0 255 0 0\n1 0 0\n0 1 0\n3 0 1 2\n") ==
+              at + "line 3: a vertex needs 3 coordinates, this line has 6 values (vertex colours "
+                   "need the COFF keyword)");
+        CHECK(OffError("COFF\n3 1 0\n0 0 0 255 0\n1 0 0\n0 1 0\n3 0 1 2\n") ==
+              at + "line 3: a COFF vertex needs 3 coordinates and optionally a colour of 3 or 4 "
+                   "values, this line has 5 values");
+        CHECK(OffError("OFF\n4 1 0\n0 0 0\n1 0 0\n# no more vertices\n\n\n\n\n") ==
+              at + "line 10: truncated: the file ends after 2 of the 4 vertices");
+    }
+    SECTION("faces") {
+        CHECK(OffError(kTriangleOff + "-3 0 1 2\n") ==
+              at + "line 6: face 1: corner count '-3' is negative");
+        CHECK(OffError(kTriangleOff + "3.0 0 1 2\n") ==
+              at + "line 6: face 1: corner count '3.0' is not an integer");
+        CHECK(OffError(kTriangleOff + "5 0 1 2 0 1\n") ==
+              at + "line 6: face 1 has 5 corners (only triangles and quads are supported)");
+        CHECK(OffError(kTriangleOff + "3 0  1\n") ==
+              at + "line 6: face 1 announces 3 corners but lists only 2");
+        CHECK(OffError(kTriangleOff + "3 0 1 3\n") ==
+              at + "line 6: face 1 refers to vertex 3 of 3 (OFF vertices count from 0)");
+        CHECK(OffError(kTriangleOff + "3 0 1 -1\n") ==
+              at + "line 6: face 1: vertex index '-1' is negative");
+        CHECK(OffError(kTriangleOff + "3 0 1 2 1 2\n") ==
+              at + "line 6: face 1 has 2 values after its corners; expected none or a colour of "
+                   "3 or 4");
+        CHECK(OffError(kTriangleOff + "3 0 1 2 300 0 0\n") ==
+              at + "line 6: face 1: colour component '300' is outside 0..255");
+        CHECK(OffError(kTriangleOff + "3 0 1 2 0.5 1.5 0\n") ==
+              at + "line 6: face 1: colour component '1.5' is outside [0, 1] (a colour written "
+                   "with fractions is read in 0..1)");
+        CHECK(OffError(kTriangleOff + "3 0 1 2 red green blue\n") ==
+              at + "line 6: face 1: colour component 'red' is not a number");
+        CHECK(OffError("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n") ==
+              at + "line 2: truncated: announces 2 faces but has only 8 bytes left after the "
+                   "vertices");
+        CHECK(OffError("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n# and no more\n") ==
+              at + "line 8: truncated: the file ends after 1 of the 2 faces");
+        CHECK(OffError("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 0 1\n") ==
+              at + "line 7: face 2 is degenerate (triangle with zero area)");
+        CHECK(OffError(kTriangleOff + "3 0 1 2\n3 0 1 2\n") ==
+              at + "line 7: unexpected text after the last of the 1 faces");
+    }
+    SECTION("line endings and bytes") {
+        CHECK(OffError("OFF\r3 1 0\r0 0 0\r1 0 0\r0 1 0\r3 0 1 2\r") ==
+              at + "line 1: carriage return inside a line (line endings must be \\n or \\r\\n)");
+        CHECK(OffError(kTriangleOff + "3 0 1 2\x01\x02\n") ==
+              at + "line 6: face 1: vertex index '2\\x01\\x02' is not a number");
+        CHECK(OffError(kTriangleOff + "3 0 1 " + std::string(100, '7') + "\n") ==
+              at + "line 6: face 1: vertex index '" + std::string(40, '7') + "...' is too large");
+    }
+}
+
+TEST_CASE("Hostile OBJ files are refused with one line naming the file and line", "[mesh]") {
+    const std::string at = "mesh file 't.obj', ";
+    SECTION("statements") {
+        CHECK(ObjError("") == at + "line 1: the file is empty");
+        CHECK(ObjError("# only a comment\n") == at + "line 2: the file has no faces");
+        CHECK(ObjError(kTriangleObj) == at + "line 4: the file has no faces");
+        CHECK(ObjError(kTriangleObj + "l 1 2\nf 1 2 3\n") ==
+              at + "line 4: unsupported statement 'l' (hrbench reads v, f, usemtl and mtllib, "
+                   "and ignores vt, vn, vp, o, g and s)");
+        CHECK(ObjError(kTriangleObj + "curv 0 1 1 2\n") ==
+              at + "line 4: unsupported statement 'curv' (hrbench reads v, f, usemtl and mtllib, "
+                   "and ignores vt, vn, vp, o, g and s)");
+        CHECK(ObjError(kTriangleObj + "usemtl\nf 1 2 3\n") ==
+              at + "line 4: usemtl needs one material name (one word)");
+        CHECK(ObjError("mtllib\n" + kTriangleObj + "f 1 2 3\n") ==
+              at + "line 1: mtllib needs at least one file name");
+    }
+    SECTION("vertices") {
+        CHECK(ObjError("v 0 0\n") ==
+              at + "line 1: a vertex needs 3 coordinates and an optional weight, this line has 2 "
+                   "values");
+        CHECK(ObjError("v 0 0 0 1 1 1\n") ==
+              at + "line 1: a vertex needs 3 coordinates and an optional weight, this line has 6 "
+                   "values");
+        CHECK(ObjError("v 0 0 -1e400\n") ==
+              at + "line 1: coordinate '-1e400' overflows double precision (largest 1.8e308)");
+        CHECK(ObjError("v 0 0 0 nan\n") == at + "line 1: weight 'nan' is not finite");
+        CHECK(ObjError("v 0 0 1e-400\n") ==
+              at + "line 1: coordinate '1e-400' underflows double precision (smallest normal "
+                   "2.2e-308)");
+        CHECK(ObjError("v 0 0 1e-320\n") ==
+              at + "line 1: coordinate '1e-320' underflows double precision (smallest normal "
+                   "2.2e-308)");
+        CHECK(
+            Parse("v 0 0 -0.0\nv 1 0 0\nv 0 1 2.3e-308\nf 1 2 3\n", MeshFormat::Obj).NumPatches() ==
+            1);
+    }
+    SECTION("faces") {
+        const std::string corner = " is not a corner: i, i/t, i/t/n or i//n with integers "
+                                   "counting from 1 (or back from -1)";
+        CHECK(ObjError(kTriangleObj + "f 1 2 3 x\n") == at + "line 4: face 1: 'x'" + corner);
+        CHECK(ObjError(kTriangleObj + "f 0 1 2\n") == at + "line 4: face 1: '0'" + corner);
+        CHECK(ObjError(kTriangleObj + "f 1 2 3.0\n") == at + "line 4: face 1: '3.0'" + corner);
+        CHECK(ObjError(kTriangleObj + "f 1 2 3/\n") == at + "line 4: face 1: '3/'" + corner);
+        CHECK(ObjError(kTriangleObj + "f 1 2 3/1/1/1\n") ==
+              at + "line 4: face 1: '3/1/1/1'" + corner);
+        CHECK(ObjError(kTriangleObj + "f 1 2 4\n") ==
+              at + "line 4: face 1 refers to vertex 4 of 3 defined so far");
+        CHECK(ObjError(kTriangleObj + "f 1 2 99999999999999999999999\n") ==
+              at + "line 4: face 1 refers to vertex 99999999999999999999999 of 3 defined so far");
+        CHECK(ObjError(kTriangleObj + "f 1/1 2/1 3/1\n") ==
+              at + "line 4: face 1 refers to texture coordinate 1 of 0 defined so far");
+        CHECK(ObjError(kTriangleObj + "vn 0 0 1\nf 1//1 2//1 3//2\n") ==
+              at + "line 5: face 1 refers to normal 2 of 1 defined so far");
+        CHECK(ObjError("f 1 2 3\n" + kTriangleObj) ==
+              at + "line 1: face 1 refers to vertex 1 of 0 defined so far");
+        CHECK(ObjError(kTriangleObj + "f 1 2\n") ==
+              at + "line 4: face 1 has 2 corners (only triangles and quads are supported)");
+        CHECK(ObjError(kTriangleObj + "f 1 2 3\nf 1 1 2\n") ==
+              at + "line 5: face 2 is degenerate (triangle with zero area)");
+    }
+}
+
+TEST_CASE("MTL libraries are read strictly, and a missing one gives the defaults", "[mesh]") {
+    const std::string obj = "mtllib a.mtl\n" + kTriangleObj + "usemtl red\nf 1 2 3\n";
+    auto rho = [&](const std::string &mtl) {
+        return Parse(obj, MeshFormat::Obj, {{"a.mtl", mtl}}).Get<Polygon>()[0].material;
+    };
+    CHECK(rho("newmtl red\nKd 0.3\n").reflectance == (0.3 + 0.3 + 0.3) / 3);
+    CHECK(rho("newmtl red\nKd 0.1 0.2 0.3\nKe 1 2 3\n").emission == 2);
+    CHECK(rho("# standard statements\nnewmtl red\nKa 1 1 1\nKs 0 0 0\nNs 10\nNi 1.5\nd 1\n"
+              "illum 2\nmap_Kd red.png\nbump b.png\nKd 2 2 2\n")
+              .reflectance == kMeshMaxReflectance);
+    CHECK(rho("newmtl blue\nKd 0.1 0.1 0.1\n").reflectance == kMeshDefaultReflectance);
+    CHECK(Parse(obj, MeshFormat::Obj).Get<Polygon>()[0].material.reflectance ==
+          kMeshDefaultReflectance);  // missing library
+    CHECK(Parse(obj, MeshFormat::Obj, {}).NumPatches() == 1);
+
+    auto error = [&](const std::string &mtl) {
+        return ParseError(obj, MeshFormat::Obj, {{"a.mtl", mtl}});
+    };
+    const std::string at = "material library 'a.mtl', ";
+    CHECK(error("newmtl red\nKd 1 1 1\nnewmtl red\n") ==
+          at + "line 3: material 'red' is defined twice (first on line 1)");
+    CHECK(ParseError("mtllib a.mtl b.mtl\n" + kTriangleObj + "f 1 2 3\n", MeshFormat::Obj,
+                     {{"a.mtl", "newmtl red\n"}, {"b.mtl", "\nnewmtl red\n"}}) ==
+          "material library 'b.mtl', line 2: material 'red' is defined twice (first in material "
+          "library 'a.mtl', on line 1)");
+    CHECK(ParseError("mtllib a.mtl\nmtllib a.mtl\n" + kTriangleObj + "f 1 2 3\n", MeshFormat::Obj,
+                     {{"a.mtl", "newmtl red\n"}}) == "no error");  // read once
+    CHECK(error("Kd 1 1 1\n") == at + "line 1: Kd before any newmtl");
+    CHECK(error("newmtl red\nKd 1 1\n") ==
+          at + "line 2: Kd needs r g b (or one value for all three), this line has 2 values");
+    CHECK(error("newmtl red\nKd spectral red.rfl\n") ==
+          at + "line 2: Kd needs r g b (or one value for all three), this line has 2 values");
+    CHECK(error("newmtl red\nKe 1 1 1e999\n") ==
+          at + "line 2: Ke value '1e999' overflows double precision (largest 1.8e308)");
+    CHECK(error("newmtl red\r\nKe -1 0 0\r\n") ==
+          at + "line 2: Ke gives a negative emission: the mean of its values is below 0");
+    CHECK(error("newmtl red\nKe 1e308 1e308 1e308\n") ==
+          at + "line 2: Ke values overflow: their mean is not finite");
+    CHECK(error("newmtl red green\n") == at + "line 1: newmtl needs one material name (one word)");
+    CHECK(error("newmtl red\nfoo 1\n") ==
+          at + "line 2: unsupported statement 'foo' (hrbench reads newmtl, Kd and Ke, and "
+               "ignores the other standard statements)");
+}
+
+TEST_CASE("Mesh files and libraries are read within the input limit, never a folder", "[mesh]") {
+    ScratchFolder folder("folder.off");
+    CHECK(LoadError(folder.path) ==
+          "cannot read mesh file '" + folder.path + "': it is a directory");
+
+    ScratchFile coff("coff.off", "COFF\n4 4 1e400\n0 0 0 128 128 128\n");
+    CHECK(LoadError(coff.path) ==
+          "mesh file '" + coff.path +
+              "', line 2: edge count '1e400' overflows double precision (largest 1.8e308)");
+
+    std::string bigText = kTriangleOff + "3 0 1 2\n" + std::string(1 << 20, '#');
+    ScratchFile big("big.off", bigText);
+    CHECK(LoadError(big.path, 1 << 20) ==
+          "mesh file '" + big.path + "' has " + std::to_string(bigText.size()) +
+              " bytes, more than the input limit of 1 MiB; raise it with --max-input MIB");
+    CHECK(LoadMesh(big.path, 2 << 20).NumPatches() == 1);
+
+    // Libraries: next to the OBJ, missing means defaults, a folder or one too big is refused.
+    ScratchFolder dir("libraries");
+    std::string objPath = dir.path + "/m.obj";
+    std::ofstream(objPath) << "mtllib lib.mtl\n" << kTriangleObj << "usemtl red\nf 1 2 3\n";
+    CHECK(LoadMesh(objPath).Get<Polygon>()[0].material.reflectance == kMeshDefaultReflectance);
+    std::filesystem::create_directory(dir.path + "/lib.mtl");
+    CHECK(LoadError(objPath) == "mesh file '" + objPath +
+                                    "', line 1: cannot read material library '" + dir.path +
+                                    "/lib.mtl': it is a directory");
+    std::filesystem::remove(dir.path + "/lib.mtl");
+    std::ofstream(dir.path + "/lib.mtl") << "newmtl red\nKd 0.2 0.2 0.2\n"
+                                         << std::string(1 << 20, '#');
+    CHECK(LoadMesh(objPath, 2 << 20).Get<Polygon>()[0].material.reflectance ==
+          (0.2 + 0.2 + 0.2) / 3);
+    CHECK_THAT(LoadError(objPath, 1 << 20),
+               Catch::StartsWith("mesh file '" + objPath + "', line 1: material library '" +
+                                 dir.path + "/lib.mtl' has "));
 }

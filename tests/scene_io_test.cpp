@@ -60,6 +60,52 @@ TEST_CASE("Malformed scene files give one line naming the problem", "[scene_io][
     CHECK_THROWS_WITH(LoadScene("/nonexistent/scene.json"), Catch::Contains("cannot read"));
 }
 
+TEST_CASE("Hostile scene files are refused with one line, never read without bound",
+          "[scene_io][errors]") {
+    auto error = [](const std::string &text) {
+        try {
+            SceneFromJson(text, "f.json");
+        } catch (const InputError &e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    std::string head = R"({"format":"hrbench-scene","schema_version":1,"patches":)";
+    SECTION("types, keys and nesting") {
+        CHECK(error(R"({"format":"hrbench-scene","schema_version":"1","patches":[]})") ==
+              "f.json: \"schema_version\" must be the integer 1");
+        CHECK(error(R"({"format":"hrbench-scene","schema_version":1.5,"patches":[]})") ==
+              "f.json: \"schema_version\" must be the integer 1");
+        CHECK(error(R"({"format":7,"schema_version":1,"patches":[]})") ==
+              "f.json: not an hrbench scene (\"format\": \"hrbench-scene\" missing)");
+        CHECK(error(R"({"format":"hrbench-scene","schema_version":1,"params":[1],"patches":[]})") ==
+              "f.json: \"params\" must be an object of numbers");
+        CHECK(error(head + R"([{"a":[0,0],"b":[1,0],"a":[2,2]}]})") ==
+              "f.json: key \"a\" appears twice in one object");
+        CHECK(error(R"({"format":"hrbench-scene","schema_version":1,"schema_version":1})") ==
+              "f.json: key \"schema_version\" appears twice in one object");
+        CHECK(error(head + R"([{"a":[0,0],"b":[1,0],"emmission":1}]})") ==
+              "f.json: patches[0] has an unknown key \"emmission\"");
+        CHECK(error(R"({"format":"hrbench-scene","schema_version":1,"patchs":[]})") ==
+              "f.json: has an unknown key \"patchs\"");
+        CHECK(error(std::string(100000, '[') + std::string(100000, ']')) ==
+              "f.json: JSON nested deeper than 32 levels");
+    }
+    SECTION("numbers beyond double precision") {
+        CHECK(error(head + R"([{"a":[0,0],"b":[1e155,0]},{"a":[0,1],"b":[1,1]}]})") ==
+              "f.json: patch 0 is too long for double precision (its length overflows)");
+    }
+    SECTION("files that are no scene file") {
+        CHECK_THROWS_WITH(LoadScene("/tmp"), "cannot read scene file '/tmp': it is a directory");
+        CHECK_THROWS_WITH(LoadScene("/dev/zero", size_t(1) << 20),
+                          "scene file '/dev/zero' is larger than the input limit of 1 MiB; raise "
+                          "it with --max-input MIB");
+        CHECK_THROWS_WITH(LoadScene(HRBENCH_TEST_DATA "/parallel_l64_d1.json", 100),
+                          Catch::Contains("bytes, more than the input limit"));
+        CHECK(LoadScene(HRBENCH_TEST_DATA "/parallel_l64_d1.json").NumPatches() == 2);
+    }
+}
+
 TEST_CASE("3D scenes survive a round trip through their JSON file", "[3d][scene_io]") {
     Scene scene = MakeScene("cornell", {});
     Scene back = SceneFromJson(SceneToJson(scene), "mem");

@@ -1,4 +1,5 @@
 // hrbench: refine a scene with ProjectKernel and report exact counters.
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -11,14 +12,17 @@
 #include "cmd/options.h"
 #include "generators.h"
 #include "hrbench.h"
+#include "util/output.h"
 
 namespace hrbench {
 namespace {
 
 Scene SceneOf(const Options &o) {
     if (!o.mesh.empty())
-        return LoadMesh(o.mesh);
-    return o.sceneFile.empty() ? MakeScene(o.scene, ParseParams(o.params)) : LoadScene(o.sceneFile);
+        return LoadMesh(o.mesh, o.maxInputBytes);
+    if (!o.sceneFile.empty())
+        return LoadScene(o.sceneFile, o.maxInputBytes);
+    return MakeScene(o.scene, ParseParams(o.params));
 }
 
 // `hrbench scenes`: every family with its parameters, then every oracle.
@@ -68,9 +72,10 @@ int Main(int argc, char **argv) {
     if (o.command == "links") {
         AnyRefinement refinement = Refine(scene, o.refine);
         std::ofstream out(o.out, std::ios::binary);
-        WriteLinksCsv(refinement, out);
-        if (!out.flush())
+        if (!out)
             throw InputError("cannot write links file '" + o.out + "'");
+        WriteLinksCsv(refinement, out);
+        CheckOutput(out, "links file '" + o.out + "'");
         return kExitOk;
     }
     nlohmann::json record = RunToJson(scene, o.refine, Count(scene, o.refine, o.method));
@@ -81,12 +86,21 @@ int Main(int argc, char **argv) {
     return kExitOk;
 }
 
+// Runs a command and checks that everything it printed reached standard output.
+int MainChecked(int argc, char **argv) {
+    int code = Main(argc, argv);
+    CheckOutput(std::cout, "standard output");
+    return code;
+}
+
 }  // namespace
 }  // namespace hrbench
 
 int main(int argc, char **argv) {
+    // A closed pipe is then a failed write, reported like any other, not a signal.
+    std::signal(SIGPIPE, SIG_IGN);
     try {
-        return hrbench::Main(argc, argv);
+        return hrbench::MainChecked(argc, argv);
     } catch (const hrbench::Error &e) {
         std::cerr << "hrbench: error: " << e.what() << "\n";
         return e.ExitCode();

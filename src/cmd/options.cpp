@@ -1,6 +1,7 @@
 #include "cmd/options.h"
 
 #include <algorithm>
+#include <set>
 #include <sstream>
 
 #include "generators.h"
@@ -15,6 +16,14 @@ namespace {
 
 int ClampedInt(const std::string &text, const std::string &flag) {
     return int(std::min<int64_t>(ParseInt(text, flag), 1 << 20));
+}
+
+// A size in MiB, 1 to 2^30 (1 PiB), in bytes.
+size_t ParseMib(const std::string &text, const std::string &flag) {
+    int64_t mib = ParseInt(text, flag);
+    if (mib < 1 || mib > (int64_t(1) << 30))
+        throw InputError(flag + " must be between 1 and 1073741824 MiB, not " + text);
+    return size_t(mib) << 20;
 }
 
 std::vector<std::string> OracleNames() {
@@ -119,9 +128,14 @@ const std::vector<OptionSpec> &OptionTable() {
          {},
          kRefining,
          "memory budget for elements and links in MiB (default: 90% of free)",
-         [](Options &o, S v) {
-             o.refine.memoryBudget = size_t(ParseInt(v, "--max-memory")) << 20;
-         }},
+         [](Options &o, S v) { o.refine.memoryBudget = ParseMib(v, "--max-memory"); }},
+        {"max_input",
+         "--max-input",
+         "MIB",
+         {},
+         {"run", "links", "save"},
+         "size limit of a scene or mesh file in MiB (default 256)",
+         [](Options &o, S v) { o.maxInputBytes = ParseMib(v, "--max-input"); }},
         {"json",
          "--json",
          "",
@@ -217,13 +231,16 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
                      [&](const CommandSpec &c) { return c.name == o.command; }))
         throw InputError("unknown command '" + o.command + "'; see hrbench --help");
 
-    // Apply every flag through its table entry; collect the scene and its parameters.
+    // Apply every flag through its table entry, once; collect the scene and its parameters.
+    std::set<std::string> seen;
     for (size_t k = 1; k < args.size(); ++k) {
         const std::string &a = args[k];
         const auto &table = OptionTable();
         auto spec = std::find_if(table.begin(), table.end(),
                                  [&](const OptionSpec &s) { return s.flag == a; });
         if (spec != table.end()) {
+            if (!seen.insert(a).second)
+                throw InputError("option " + a + " is given twice");
             if (std::find(spec->commands.begin(), spec->commands.end(), o.command) ==
                 spec->commands.end())
                 throw InputError(a + " does not apply to " + o.command);

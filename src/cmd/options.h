@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "refine_options.h"
+#include "util/input_file.h"
 
 namespace hrbench {
 
@@ -24,6 +25,7 @@ struct Options {
     bool json = false;
     bool countOnly = false;
     std::string method = "enumerate";
+    size_t maxInputBytes = kDefaultMaxInputBytes;  // size limit of a scene or mesh file
 };
 
 struct CommandSpec {

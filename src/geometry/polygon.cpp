@@ -52,6 +52,8 @@ std::string Polygon::Problem() const {
     double diameter = p.Diameter();
     Vec3 areaVector = p.AreaVector();
     double twiceArea = areaVector.norm();
+    if (!std::isfinite(diameter) || !std::isfinite(twiceArea))
+        return "is too large for double precision (its size or area overflows)";
     if (!(diameter > 0) || !std::isfinite(twiceArea) ||
         !(twiceArea > 2e-12 * diameter * diameter))  // relative: area below 1e-12 diameter^2
         return p.n == 3 ? "is degenerate (triangle with zero area)"

@@ -14,7 +14,9 @@ void Segment::SamplePoints(int k, std::vector<Vec2> &out) const {
 std::string Segment::Problem() const {
     if (!a.allFinite() || !b.allFinite())
         return "has a coordinate that is not finite";
-    if (a == b || !(Length() > 0) || !std::isfinite(Length()))
+    if (!std::isfinite(Length()))
+        return "is too long for double precision (its length overflows)";
+    if (a == b || !(Length() > 0))
         return "is degenerate (its endpoints coincide)";
     return "";
 }

@@ -17,8 +17,15 @@ double ParseDouble(const std::string &text, const std::string &what) {
     double value = std::strtod(text.c_str(), &end);
     if (end != text.c_str() + text.size())
         throw InputError(what + ": '" + text + "' is not a number");
-    if (!std::isfinite(value) || errno == ERANGE)
+    if (!std::isfinite(value) && errno != ERANGE)
         throw InputError(what + ": '" + text + "' is not a finite number");
+    // strtod reports both ends of the range as ERANGE: overflow returns infinity,
+    // underflow a denormal or zero.
+    if (errno == ERANGE && std::isinf(value))
+        throw InputError(what + ": '" + text + "' overflows double precision (largest 1.8e308)");
+    if (errno == ERANGE)
+        throw InputError(what + ": '" + text +
+                         "' underflows double precision (smallest normal 2.2e-308)");
     return value;
 }
 
