@@ -16,6 +16,9 @@ TEST_CASE("Numbers parse strictly", "[args]") {
     CHECK_THROWS_WITH(ParseDouble("1e-320", "d"), Catch::Contains("'1e-320' underflows double"));
     CHECK_THROWS_WITH(ParseDouble("nan", "d"), Catch::Contains("not a finite number"));
     CHECK(ParseDouble("2.3e-308", "d") == 2.3e-308);  // the smallest normals still parse
+    // Decimal notation only, as written in the documentation.
+    CHECK_THROWS_WITH(ParseDouble("0x10", "l"), "l: '0x10' is not a decimal number");
+    CHECK_THROWS_WITH(ParseDouble(" 5", "l"), "l: ' 5' is not a decimal number");
     CHECK(ParseInt("12", "n") == 12);
     for (const char *bad : {"-1", "1.5", "1e20"})
         CHECK_THROWS_AS(ParseInt(bad, "n"), InputError);

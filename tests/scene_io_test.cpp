@@ -94,6 +94,12 @@ TEST_CASE("Hostile scene files are refused with one line, never read without bou
     SECTION("numbers beyond double precision") {
         CHECK(error(head + R"([{"a":[0,0],"b":[1e155,0]},{"a":[0,1],"b":[1,1]}]})") ==
               "f.json: patch 0 is too long for double precision (its length overflows)");
+        CHECK(error(head + R"([{"a":[0,0],"b":[1e-300,0]},{"a":[0,1],"b":[1,1]}]})") ==
+              "f.json: patch 0 is too short for double precision (its squared length underflows)");
+        std::string tiny = R"({"format":"hrbench-scene","schema_version":1,"dimension":3,)"
+                           R"("patches":[{"vertices":[[0,0,0],[1e-200,0,0],[0,1e-200,0]]}]})";
+        CHECK(error(tiny) ==
+              "f.json: patch 0 is too small for double precision (its squared size underflows)");
     }
     SECTION("files that are no scene file") {
         CHECK_THROWS_WITH(LoadScene("/tmp"), "cannot read scene file '/tmp': it is a directory");

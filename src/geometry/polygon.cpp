@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "util/error.h"
 
@@ -54,6 +55,11 @@ std::string Polygon::Problem() const {
     double twiceArea = areaVector.norm();
     if (!std::isfinite(diameter) || !std::isfinite(twiceArea))
         return "is too large for double precision (its size or area overflows)";
+    // Below the smallest normal double, squared sizes and areas lose precision.
+    if (diameter > 0 && !(diameter * diameter >= std::numeric_limits<double>::min()))
+        return "is too small for double precision (its squared size underflows)";
+    if (diameter == 0 && (p.v[1] != p.v[0] || p.v[2] != p.v[0]))
+        return "is too small for double precision (its squared size underflows)";
     if (!(diameter > 0) || !std::isfinite(twiceArea) ||
         !(twiceArea > 2e-12 * diameter * diameter))  // relative: area below 1e-12 diameter^2
         return p.n == 3 ? "is degenerate (triangle with zero area)"

@@ -1,6 +1,7 @@
 #include "geometry/segment.h"
 
 #include <cmath>
+#include <limits>
 
 namespace hrbench {
 
@@ -16,8 +17,11 @@ std::string Segment::Problem() const {
         return "has a coordinate that is not finite";
     if (!std::isfinite(Length()))
         return "is too long for double precision (its length overflows)";
-    if (a == b || !(Length() > 0))
+    if (a == b)
         return "is degenerate (its endpoints coincide)";
+    // Below the smallest normal double, squared lengths and distances lose precision.
+    if (!((b - a).squaredNorm() >= std::numeric_limits<double>::min()))
+        return "is too short for double precision (its squared length underflows)";
     return "";
 }
 

@@ -17,6 +17,10 @@ double ParseDouble(const std::string &text, const std::string &what) {
     double value = std::strtod(text.c_str(), &end);
     if (end != text.c_str() + text.size())
         throw InputError(what + ": '" + text + "' is not a number");
+    // Decimal notation only: strtod would also take leading spaces and hexadecimal.
+    bool decimal = text.find_first_not_of("0123456789+-.eE") == std::string::npos;
+    if (!decimal && std::isfinite(value))
+        throw InputError(what + ": '" + text + "' is not a decimal number");
     if (!std::isfinite(value) && errno != ERANGE)
         throw InputError(what + ": '" + text + "' is not a finite number");
     // strtod reports both ends of the range as ERANGE: overflow returns infinity,
