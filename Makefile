@@ -2,8 +2,8 @@
 PYTHON := .venv/bin/python
 CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: setup build build-asan test test-cpp test-asan test-python reproduce reproduce-full bench \
-        baseline lint format clean
+.PHONY: setup build build-asan build-fuzz test test-cpp test-asan test-python reproduce \
+        reproduce-full bench baseline fuzz fuzz-smoke lint format clean
 
 setup:
 	@bash scripts/setup.sh
@@ -53,6 +53,26 @@ bench: build
 baseline: build
 	$(PYTHON) tools/check_baseline.py --update
 
+# Fuzzing (docs/fuzzing.md): the libFuzzer harnesses of fuzz/, built with clang, ASan and
+# UBSan in build-fuzz, run FUZZ_SECONDS each on a scratch copy of fuzz/corpus/. A finding
+# fails the target and leaves its reproducer in results/fuzz/.
+FUZZ_HARNESSES := scene_json off obj cli
+FUZZ_SECONDS := 600
+FUZZ_SMOKE_SECONDS := 30
+build-fuzz:
+	@bash scripts/setup.sh --fuzz
+	@CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=Debug \
+	  "-DCMAKE_CXX_FLAGS_DEBUG=-O1" -DHRBENCH_FUZZ=ON -DHRBENCH_BUILD_BENCH=OFF >/dev/null
+	@cmake --build build-fuzz --target fuzzers
+
+fuzz: build-fuzz
+	@bash fuzz/run.sh $(FUZZ_SECONDS) $(FUZZ_HARNESSES)
+
+# A short run of every harness (CI): FUZZ_SMOKE_SECONDS each, two minutes in all. A fixed
+# seed: runs try the same inputs in the same order and differ only in how far they get.
+fuzz-smoke: build-fuzz
+	@FUZZ_FLAGS=-seed=1 bash fuzz/run.sh $(FUZZ_SMOKE_SECONDS) $(FUZZ_HARNESSES)
+
 # Formatting and lint: clang-format (.clang-format) on the C++ sources, ruff
 # (pyproject.toml) on the Python. `make format` rewrites the C++ in place.
 CXX_SOURCES = git ls-files --cached --others --exclude-standard '*.cpp' '*.h'
@@ -65,4 +85,4 @@ format: setup
 	@$(CXX_SOURCES) | xargs clang-format -i
 
 clean:
-	rm -rf build build-asan
+	rm -rf build build-asan build-fuzz

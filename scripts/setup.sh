@@ -6,6 +6,12 @@ cd "$(dirname "$0")/.."
 
 packages=(cmake ninja-build g++ make git libeigen3-dev catch2 libcgal-dev libbenchmark-dev
           nlohmann-json3-dev python3 python3-venv clang-format)
+# `setup.sh --fuzz` (make build-fuzz, fuzz, fuzz-smoke) adds clang, its libFuzzer and
+# sanitizer runtimes (libclang-rt-14-dev, which Debian's clang only recommends) and
+# llvm-symbolizer (llvm) for the stacks of findings.
+if [[ " $* " == *" --fuzz "* ]]; then
+  packages+=(clang libclang-rt-14-dev llvm)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

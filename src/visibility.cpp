@@ -135,12 +135,16 @@ Segment3 Trimmed(const Vec &a, const Vec &b) {
     return Segment3(ToPoint(Vec(a + kEndTrim * d)), ToPoint(Vec(b - kEndTrim * d)));
 }
 
+// A query whose trimmed ends coincide (sample points of touching elements) has nothing
+// in between to block; CGAL's predicates also require a segment of positive length.
 bool Occluders::Blocked(const Vec3 &a, const Vec3 &b, uint32_t p, uint32_t q) const {
-    return AnyOtherHit(index_->triangleTree, Trimmed(a, b), p, q);
+    Segment3 query = Trimmed(a, b);
+    return !query.is_degenerate() && AnyOtherHit(index_->triangleTree, query, p, q);
 }
 
 bool Occluders::Blocked(const Vec2 &a, const Vec2 &b, uint32_t p, uint32_t q) const {
-    return AnyOtherHit(index_->segmentTree, Trimmed(a, b), p, q);
+    Segment3 query = Trimmed(a, b);
+    return !query.is_degenerate() && AnyOtherHit(index_->segmentTree, query, p, q);
 }
 
 }  // namespace hrbench

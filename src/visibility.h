@@ -28,7 +28,8 @@ class Occluders {
     Occluders &operator=(const Occluders &) = delete;
 
     // True when the closed segment from _a_ to _b_ meets a patch other than the
-    // roots _p_ and _q_ (the patches the segment's endpoints lie on).
+    // roots _p_ and _q_ (the patches the segment's endpoints lie on); false for a
+    // segment of no length (the sample points of touching elements may coincide).
     bool Blocked(const Vec3 &a, const Vec3 &b, uint32_t p, uint32_t q) const;
     bool Blocked(const Vec2 &a, const Vec2 &b, uint32_t p, uint32_t q) const;
 

@@ -18,6 +18,7 @@ using hrbench_test::CounterDifferences;
 using hrbench_test::ForestDifferences;
 using hrbench_test::RefinementDifferences;
 using hrbench_test::SameLinks;
+using hrbench_test::TilingViolations;
 
 namespace {
 
@@ -81,48 +82,11 @@ ReferenceCounts ReferenceGarmann(const Segment &p, const Segment &q, double eps)
     return counts;
 }
 
-// Per root pair: the links tile P x Q (sum of A_i A_j = A_P A_Q) and the oracle calls
-// follow from the links: 2L - 1 (binary) or (4L - 1) / 3 (quadtree); the tree counters
-// agree with the histograms and the forest.
-template <typename Shape>
-void CheckTiling(const Scene &scene, const Refinement<Shape> &r) {
-    const Forest<Shape> &f = r.forest;
-    const Patches<Shape> &roots = scene.Get<Shape>();
-    std::map<std::pair<uint32_t, uint32_t>, double> area;
-    for (const Link &link : r.links)
-        area[{f[link.i].root, f[link.j].root}] += f[link.i].size * f[link.j].size;
-    uint64_t linksSeen = 0;
-    for (const PairTally &pair : r.pairs) {
-        INFO("pair " << pair.p << " " << pair.q);
-        if (f.Mode() == Subdivision::Binary)
-            CHECK(pair.oracleCalls == 2 * pair.links - 1);
-        else
-            CHECK(3 * pair.oracleCalls == 4 * pair.links - 1);
-        double expected = roots[pair.p].shape.Measure() * roots[pair.q].shape.Measure();
-        double tiled = area[std::make_pair(pair.p, pair.q)];
-        CHECK_THAT(tiled, Catch::Matchers::WithinRel(expected, 1e-12));
-        linksSeen += pair.links;
-    }
-    const Counters &c = r.record.counters;
-    CHECK(linksSeen == c.links);
-    CHECK(r.links.size() == c.links);
-
-    // Tree counters agree with the histograms and the forest.
-    uint64_t nodes = 0, links = 0;
-    for (uint64_t n : c.nodesPerDepth)
-        nodes += n;
-    for (uint64_t n : c.linksPerDepth)
-        links += n;
-    CHECK(nodes == c.nodes);
-    CHECK(links == c.links);
-    CHECK(c.nodes == f.Size());
-}
-
 // Checks the invariants of docs/conventions.md on a stored refinement: the tiling, and
 // every link satisfies the oracle or is forced, while the pair it came from did not.
 template <typename Shape, typename Oracle>
 void CheckInvariants(const Scene &scene, const Refinement<Shape> &r, const Oracle &oracle) {
-    CheckTiling(scene, r);
+    CHECK(TilingViolations(scene, r) == "");
     const Forest<Shape> &f = r.forest;
     uint64_t unacceptable = 0;
     for (const Link &link : r.links) {
@@ -311,7 +275,7 @@ TEST_CASE("3D links tile every root pair and oracle calls follow from the links"
                 CHECK(r.record.counters.visibilityQueries == 0);
                 CHECK(r.record.counters.occludedPairs == 0);
                 CHECK(r.forest.Mode() == s);
-                CheckTiling(scene, r);
+                CHECK(TilingViolations(scene, r) == "");
             }
     }
 }
