@@ -179,9 +179,9 @@ Case RandomCase(Random &rng, const Patches<Shape> &patches, const std::string &o
     if (oracle == "garmann")
         o.eps = flat ? rng.LogUniform(0.015, 0.3) : rng.LogUniform(0.005, 0.2);
     else
-        o.eps = flat ? rng.LogUniform(0.003, 0.03) : rng.LogUniform(0.0005, 0.01);
+        o.eps = flat ? rng.LogUniform(0.004, 0.03) : rng.LogUniform(0.0005, 0.01);
     if (MightTouch(patches) || rng.Chance(0.25))
-        o.maxDepth = flat ? rng.Int(6, 9) : rng.Int(5, 8);
+        o.maxDepth = flat ? rng.Int(6, 8) : rng.Int(5, 8);
     if (!flat && rng.Chance(0.25)) {
         o.subdivision = Subdivision::Quadtree;
         if (o.maxDepth > 4)
