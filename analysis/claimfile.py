@@ -25,6 +25,7 @@ from pathlib import Path
 
 from .errors import AnalysisError
 from .expr import Expression, ExpressionError
+from .lemmas import STATISTICS, claim_statistics
 from .loader import environment_names
 
 __all__ = [
@@ -221,11 +222,14 @@ class Claim:
     oracle : str
         Oracle name (not checked offline: the engine lists its oracles).
     sweep_param : str
-        ``"eps"`` or the name of a scene parameter.
+        ``"eps"``, ``"min_area"`` or the name of a scene parameter.
     eps : float or None
         Fixed oracle threshold when `sweep_param` is a scene parameter (dimensionless).
     ranges : dict of str to SweepRange
         Range of the swept parameter per mode (``"quick"``, ``"full"``).
+    grid : dict of str to tuple of float
+        Scene parameters that take each of a list of values (``sweep.grid``): the sweep
+        runs the range once for every combination of them.
     x, y : Expression
         Measured quantities (formulas over the fields of a run).
     x_label, y_label : str
@@ -246,6 +250,9 @@ class Claim:
         Width of the sliding windows (decades of ``x``) that judge whether the slope settled.
     theta_band : float
         Largest ``max/min`` of ``y / x^k`` over the regime that counts as bounded.
+    step_octaves : int
+        Period of the counts' staircase in octaves of x: 1 for binary splits, 2 where a
+        split quarters an element (quadtree subdivision).
     min_area : float or None
         ``--min-area`` passed to every run (scene units).
     max_depth : int or None
@@ -293,11 +300,13 @@ class Claim:
     min_decades: float = 1.5
     window_decades: float = 1.0
     theta_band: float = 10.0
+    step_octaves: int = 1
     min_area: object = None
     max_depth: object = None
     options: dict = field(default_factory=dict)
     mode_options: dict = field(default_factory=dict)
     chart: object = None
+    grid: dict = field(default_factory=dict)
     path: str = ""
     line: int = 0
     key_lines: dict = field(default_factory=dict)
@@ -312,6 +321,12 @@ class Claim:
         if mode in self.ranges:
             return self.ranges[mode]
         return next(iter(self.ranges.values()))
+
+    @property
+    def statistics(self):
+        """frozenset of str: the hierarchy statistics its formulas read
+        (:data:`analysis.lemmas.STATISTICS`); each point then also measures its links."""
+        return claim_statistics(self)
 
     def options_for(self, mode):
         """The engine options of `mode`: `options` updated by ``mode_options[mode]``.
@@ -334,11 +349,14 @@ _CLAIM_KEYS = {
     "id", "statement", "source", "description", "scene", "params", "oracle", "sweep",
     "x", "y", "x_label", "y_label", "expected_exponent", "tolerance", "regime",
     "expected_to_hold", "min_points", "min_decades", "window_decades", "theta_band",
-    "min_area", "max_depth", "eps", "options", "chart", *MODES,
+    "min_area", "max_depth", "eps", "options", "chart", "step_octaves", *MODES,
 }
 _REQUIRED = ("id", "statement", "scene", "params", "sweep", "x", "y",
              "expected_exponent", "tolerance")
-_SWEEP_KEYS = {"param", "quick", "full", "range"}
+_SWEEP_KEYS = {"param", "quick", "full", "range", "grid"}
+#: Most scene parameters in ``sweep.grid``, and most values each takes.
+MAX_GRID_PARAMS = 2
+MAX_GRID_VALUES = 32
 _RANGE_KEYS = {"from", "to", "per_decade"}
 _RANGE_OPTIONAL = {"binary_digits"}
 _REGIME_KEYS = {"x_min", "x_max"}
@@ -518,9 +536,13 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
         fail(f"unknown key 'sweep.{key}'; allowed: {', '.join(sorted(_SWEEP_KEYS))}",
              f"sweep.{key}")
     sweep_param = want("sweep.param", "str", sweep.get("param", ""))
-    if sweep_param != "eps" and sweep_param not in params:
-        fail(f"sweep.param {sweep_param!r} must be 'eps' or one of the scene parameters "
-             f"({', '.join(sorted(params))})", "sweep.param")
+    if sweep_param not in ("eps", "min_area") and sweep_param not in params:
+        fail(f"sweep.param {sweep_param!r} must be 'eps', 'min_area' or one of the scene "
+             f"parameters ({', '.join(sorted(params))})", "sweep.param")
+    if sweep_param == "min_area" and "min_area" in raw:
+        fail("key 'min_area' is fixed but sweep.param is 'min_area'; drop one of them",
+             "min_area")
+    grid = _grid_iv(sweep.get("grid", {}), params, sweep_param, fail)
     eps = None
     if sweep_param == "eps":
         if "eps" in raw:
@@ -597,6 +619,12 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
             fail(f"key 'min_points' must be an integer from 3 to {MAX_RANGE_POINTS}, got "
                  f"{value!r}", "min_points")
         options["min_points"] = int(value)
+    if "step_octaves" in raw:
+        value = raw["step_octaves"]
+        if not (isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= 4):
+            fail(f"key 'step_octaves' must be an integer from 1 to 4, got {value!r}",
+                 "step_octaves")
+        options["step_octaves"] = value
     if options.get("theta_band", defaults["theta_band"].default) < 1:
         fail("key 'theta_band' must be at least 1", "theta_band")
     for key in ("min_area", "max_depth"):
@@ -634,13 +662,39 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
         x_min=regime.get("x_min"), x_max=regime.get("x_max"),
         expected_to_hold=expected, min_area=raw.get("min_area"),
         max_depth=int(raw["max_depth"]) if "max_depth" in raw else None,
-        options=base_options, mode_options=mode_options, chart=raw.get("chart"),
+        options=base_options, mode_options=mode_options, chart=raw.get("chart"), grid=grid,
         path=str(path), line=loc.claim_line(index) or 0,
         key_lines={key: loc.key_line(index, key)
                    for key in ("x", "y", "eps", *(f"params.{name}" for name in params),
-                               *(f"sweep.{mode}" for mode in (*MODES, "range")
+                               *(f"sweep.{mode}" for mode in (*MODES, "range", "grid")
                                  if mode in sweep))},
         range_keys=range_keys, **options)
+
+
+def _grid_iv(grid, params, sweep_param, fail):
+    # Check `sweep.grid`: scene parameters, each with a list of positive values.
+    if not isinstance(grid, dict):
+        fail(f"key 'sweep.grid' must be a table of scene parameters with lists of values, "
+             f"e.g. {{ l = [16, 64, 256] }}, got {grid!r}", "sweep.grid")
+    if len(grid) > MAX_GRID_PARAMS:
+        fail(f"key 'sweep.grid' has {len(grid)} parameters; at most {MAX_GRID_PARAMS} are "
+             "allowed", "sweep.grid")
+    out = {}
+    for name, values in grid.items():
+        key = f"sweep.grid.{name}"
+        if not _PARAM_NAME.match(name) or name in ("eps", "min_area"):
+            fail(f"{key}: the grid takes scene parameters only, got {name!r}", "sweep.grid")
+        if name == sweep_param or name in params:
+            fail(f"{key}: scene parameter {name!r} is already "
+                 + ("swept" if name == sweep_param else "fixed in 'params'"), "sweep.grid")
+        if not (isinstance(values, list) and 1 <= len(values) <= MAX_GRID_VALUES
+                and all(_is_number(v) for v in values)):
+            fail(f"{key} must be a list of 1 to {MAX_GRID_VALUES} numbers, got {values!r}",
+                 "sweep.grid")
+        if len(set(values)) != len(values):
+            fail(f"{key} lists a value twice: {values!r}", "sweep.grid")
+        out[name] = tuple(float(v) for v in values)
+    return out
 
 
 def check_names(claim, counters, scene_params=()):
@@ -648,8 +702,9 @@ def check_names(claim, counters, scene_params=()):
 
     A formula may read the scene parameters (the claim's and the family's), ``eps``,
     ``g`` (with ``l`` and ``d``), the engine's scalar counters, the measures
-    ``patches`` and ``seconds``, and the aliases ``N`` and ``L`` (see
-    :func:`analysis.loader.run_environment`). Any other name is a typo: the analysis
+    ``patches`` and ``seconds``, the aliases ``N`` and ``L`` (see
+    :func:`analysis.loader.run_environment`), and the hierarchy statistics of
+    :data:`analysis.lemmas.STATISTICS`. Any other name is a typo: the analysis
     exits with code 2 before any run.
 
     Parameters
@@ -668,7 +723,10 @@ def check_names(claim, counters, scene_params=()):
         Naming the file, the line, the claim, the key (``x`` or ``y``), the unknown
         names and the known ones.
     """
-    known = environment_names({*claim.params, *scene_params}, counters)
+    known = environment_names({*claim.params, *claim.grid, *scene_params}, counters)
+    # The hierarchy statistics (analysis/lemmas.py); where they cannot be measured (a 3D
+    # scene, --method translation) analysis.engine.param_errors says so.
+    known |= set(STATISTICS)
     for key, expr in (("x", claim.x), ("y", claim.y)):
         unknown = expr.names - known
         if unknown:

@@ -56,6 +56,8 @@ __all__ = [
     "option_argv",
     "run_argv",
     "links_argv",
+    "save_argv",
+    "STATISTICS_COMMANDS",
     "run_engine",
     "run_links",
 ]
@@ -654,12 +656,15 @@ def param_errors(claim, capabilities, modes=("quick", "full")):
     sweep gives the swept parameter in each of `modes`, must lie in the family's declared
     range (``low``, ``high``, ``low_open``, ``high_open``, ``integer`` of
     ``capabilities --json``). Such a claim would only collect runs refused with exit
-    code 2, so it is an error (the analysis exits with code 2), not a skip.
+    code 2, so it is an error (the analysis exits with code 2), not a skip. So is a claim
+    whose formulas read hierarchy statistics (``claim.statistics``, see
+    :mod:`analysis.lemmas`) that cannot be measured for it: on a 3D scene, or with an
+    option ``hrbench links`` does not take (``--method translation``).
 
     Parameters
     ----------
     claim : Claim
-        Reads ``scene``, ``params``, ``sweep_param``, ``range_for(mode)``, ``path``,
+        Reads ``scene``, ``params``, ``grid``, ``sweep_param``, ``range_for(mode)``, ``path``,
         ``id`` and the lines of its keys (``key_line``, ``range_keys``).
     capabilities : Capabilities
     modes : sequence of str, optional
@@ -681,7 +686,7 @@ def param_errors(claim, capabilities, modes=("quick", "full")):
     def where(key):
         return f"{claim.path}:{claim.key_line(key)}: claim {claim.id!r}: key {key!r}"
 
-    errors = []
+    errors = _statistics_errors(claim, family, capabilities, modes)
     for name, value in claim.params.items():
         key = f"params.{name}"
         if name not in params:
@@ -691,6 +696,16 @@ def param_errors(claim, capabilities, modes=("quick", "full")):
             errors.append(f"{where(key)}: scene parameter {name} = {format_number(value)} is "
                           f"out of range for scene {claim.scene!r}: "
                           f"{param_range_text(params[name])}")
+    for name, values in claim.grid.items():
+        if name not in params:
+            errors.append(f"{where('sweep.grid')}: scene {claim.scene!r} has no parameter "
+                          f"{name!r} (its parameters: {', '.join(family.param_names) or 'none'})")
+            continue
+        bad = [v for v in values if not _in_range(params[name], v)]
+        if bad:
+            errors.append(f"{where('sweep.grid')}: scene parameter {name} = "
+                          f"{format_number(bad[0])} is out of range for scene "
+                          f"{claim.scene!r}: {param_range_text(params[name])}")
     param = params.get(claim.sweep_param)
     if param is None:
         return errors
@@ -743,7 +758,45 @@ def missing_capability(claim, mode, capabilities):
         return (f"engine's oracle {claim.oracle!r} does not work on {family.dimension}D "
                 f"scenes such as {claim.scene!r} (dimensions "
                 f"{', '.join(map(str, oracle.dimensions))})")
+    if getattr(claim, "statistics", None):
+        lacking = [c for c in STATISTICS_COMMANDS if c not in capabilities.command_names]
+        if lacking:
+            return (f"engine lacks the command(s) {', '.join(lacking)}, which the hierarchy "
+                    f"statistics ({', '.join(sorted(claim.statistics))}) need")
     return _missing_option(claim.options_for(mode), capabilities)
+
+
+#: Engine commands that measuring the hierarchy statistics of a run needs
+#: (:mod:`analysis.lemmas`): ``save`` for the patches, ``links`` for the link list.
+STATISTICS_COMMANDS = ("save", "links")
+
+
+def _statistics_errors(claim, family, capabilities, modes):
+    # Why the hierarchy statistics a claim's formulas read (claim.statistics, see
+    # analysis/lemmas.py) can never be measured for it: they come from the link list of
+    # a 2D scene, made by 'hrbench links' with the options of the claim's runs.
+    names = sorted(getattr(claim, "statistics", None) or ())
+    if not names:
+        return []
+    key = "y" if set(names) & set(claim.y.names) else "x"
+    what = (f"{claim.path}:{claim.key_line(key)}: claim {claim.id!r}: key {key!r}: "
+            f"hierarchy statistic(s) {', '.join(names)}")
+    if family.dimension != 2:
+        return [f"{what} are measured on the link list of a 2D scene; scene "
+                f"{claim.scene!r} is {family.dimension}D"]
+    errors = []
+    for mode in modes:
+        for name, value in claim.options_for(mode).items():
+            option = capabilities.option(name)
+            if option is None or "links" in option.commands:
+                continue  # an option the engine lacks is a reason to skip, not an error
+            if name == "method" and option_text(value) == "enumerate":
+                continue  # 'links' enumerates
+            line = (f"{what} need the link list, which 'hrbench links' does not make with "
+                    f"{option_flag(name)} {option_text(value)}")
+            if line not in errors:
+                errors.append(line)
+    return errors
 
 
 def _missing_option(options, capabilities):
@@ -901,7 +954,8 @@ def run_argv(hrbench, scene, params, eps, oracle, min_area=None, max_depth=None,
     return argv + ["--count-only", "--json"]
 
 
-def links_argv(hrbench, scene, params, eps, out, oracle="garmann"):
+def links_argv(hrbench, scene, params, eps, out, oracle="garmann", min_area=None,
+               max_depth=None, options=None):
     """The command line that writes a link list: ``hrbench links ... --out FILE``.
 
     Parameters
@@ -914,17 +968,45 @@ def links_argv(hrbench, scene, params, eps, out, oracle="garmann"):
         Scene parameters (scene units).
     eps : float
         Oracle threshold (dimensionless).
-    out : str or path-like
-        CSV file to write.
+    out : str or path-like or None
+        CSV file to write; ``None`` leaves ``--out FILE`` off (the caller appends it).
     oracle : str, optional
         Oracle name (the claims' default, ``garmann``, by default).
+    min_area, max_depth, options : optional
+        Recursion limits and further options, as in :func:`run_argv` (the options must
+        be ones ``links`` accepts).
 
     Returns
     -------
     argv : list of str
     """
-    return [os.fspath(hrbench), "links", *_scene_argv(scene, params),
-            "--eps", format_number(eps), "--oracle", oracle, "--out", os.fspath(out)]
+    argv = [os.fspath(hrbench), "links", *_scene_argv(scene, params),
+            "--eps", format_number(eps), "--oracle", oracle]
+    if min_area is not None:
+        argv += ["--min-area", format_number(min_area)]
+    if max_depth is not None:
+        argv += ["--max-depth", str(int(max_depth))]
+    argv += option_argv(options or {})
+    return argv + ([] if out is None else ["--out", os.fspath(out)])
+
+
+def save_argv(hrbench, scene, params):
+    """The command line that prints a scene's patches as JSON: ``hrbench save SCENE ...``.
+
+    Parameters
+    ----------
+    hrbench : str or path-like
+        Path of the engine.
+    scene : str
+        Scene family.
+    params : dict of str to float
+        Scene parameters (scene units).
+
+    Returns
+    -------
+    argv : list of str
+    """
+    return [os.fspath(hrbench), "save", *_scene_argv(scene, params)]
 
 
 # ---------------------------------------------------------------------------------------

@@ -13,6 +13,7 @@ __all__ = [
     "PowerLawFit",
     "LocalSlopes",
     "WindowSlopes",
+    "ExponentInterval",
     "ThetaCheck",
     "ModelComparison",
     "DEFAULT_MODELS",
@@ -20,6 +21,8 @@ __all__ = [
     "fit_power_law",
     "local_slopes",
     "window_slopes",
+    "octave_window_slopes",
+    "exponent_interval",
     "theta_check",
     "compare_models",
     "steps_block_length",
@@ -300,6 +303,177 @@ def window_slopes(x, y, width=1.0, step=0.1):
         start += step
     return WindowSlopes(x=np.array(centres), slope=np.array(slopes),
                         n=np.array(counts, dtype=int), width=float(width))
+
+
+def octave_window_slopes(x, y, octaves):
+    """Fit the exponent over every window of a whole number of octaves of x.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Positive values.
+    octaves : int
+        Window width: the window starting at a point x_s holds the points with
+        ``x_s <= x < x_s * 2**octaves``.
+
+    Returns
+    -------
+    windows : WindowSlopes
+        One window per distinct x that has a complete window above it (``width`` in
+        decades); windows with fewer than 3 distinct x are skipped.
+
+    Notes
+    -----
+    Counts of binary trees repeat their steps once per factor 2 of the swept parameter.
+    A window of whole octaves holds whole periods of that staircase, so the steps bias
+    every window alike and the spread of the window exponents measures how the exponent
+    drifts across the regime rather than where the window cuts a step.
+    """
+    x, y = _xy_iv(x, y, min_points=2)
+    octaves = int(octaves)
+    if octaves < 1:
+        raise ValueError(f"`octaves` must be a positive integer, got {octaves}")
+    lx, ly = np.log2(x), np.log2(y)
+    eps = 1e-9  # octaves; points within rounding of an edge belong to the window's start
+    centres, slopes, counts = [], [], []
+    for start in np.unique(lx):
+        if start + octaves > lx[-1] + eps:
+            break
+        sel = (lx >= start - eps) & (lx < start + octaves - eps)
+        if np.unique(lx[sel]).size < 3:
+            continue
+        sx, sy = lx[sel], ly[sel]
+        dx = sx - sx.mean()
+        slopes.append(float(dx @ (sy - sy.mean()) / (dx @ dx)))
+        centres.append(2 ** (start + octaves / 2))
+        counts.append(int(sel.sum()))
+    return WindowSlopes(x=np.array(centres), slope=np.array(slopes),
+                        n=np.array(counts, dtype=int), width=octaves * math.log10(2.0))
+
+
+@dataclass
+class ExponentInterval:
+    """An exponent over a regime, with an interval that holds its systematic error too.
+
+    Attributes
+    ----------
+    exponent : float
+        Least-squares exponent over the whole regime (dimensionless).
+    low, high : float
+        The interval: the union of the statistical interval, the range of the octave
+        window exponents, and the upper windows' exponent plus or minus twice the drift.
+    fit : PowerLawFit
+        The fit over the whole regime; ``fit.low`` and ``fit.high`` are the statistical
+        (bootstrap) interval.
+    window_octaves : int
+        Width of the octave windows (octaves).
+    windows : WindowSlopes
+        Exponents over the octave windows, from the lowest window to the highest.
+    upper : float
+        Mean exponent of the upper half of the windows (dimensionless; NaN with fewer
+        than 2 windows).
+    drift : float
+        ``upper`` minus the mean exponent of the lower half of the windows
+        (dimensionless; 0 with fewer than 2 windows).
+    """
+
+    exponent: float
+    low: float
+    high: float
+    fit: PowerLawFit
+    window_octaves: int
+    windows: WindowSlopes
+    upper: float
+    drift: float
+
+    @property
+    def prefactor(self):
+        """Prefactor c of the fit over the whole regime."""
+        return self.fit.prefactor
+
+    @property
+    def half_width(self):
+        """Largest distance from the exponent to an end of the interval."""
+        return max(self.exponent - self.low, self.high - self.exponent)
+
+
+def exponent_interval(x, y, *, confidence=0.95, n_boot=2000, seed=DEFAULT_SEED,
+                      min_octaves=3, step_octaves=1):
+    """Fit the exponent of ``y = c x^k`` and bound it, systematic error included.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Positive values (the asymptotic regime only).
+    confidence : float, optional
+        Confidence level of the statistical part (default 0.95).
+    n_boot : int, optional
+        Bootstrap resamples of the statistical part (default 2000).
+    seed : int, optional
+        Bootstrap seed (default :data:`DEFAULT_SEED`).
+    min_octaves : int, optional
+        Narrowest octave window (default 3, about one decade: three binary steps).
+    step_octaves : int, optional
+        Period of the staircase in octaves of x (default 1: one binary split per factor
+        2; 2 where a split quarters an element, as quadtree subdivision does). Windows
+        and bootstrap blocks span whole periods.
+
+    Returns
+    -------
+    interval : ExponentInterval
+
+    Notes
+    -----
+    Counts are deterministic, so a bootstrap only measures their scatter around the
+    binary staircase; the error that matters is systematic: the exponent still drifts
+    towards its asymptotic value inside the regime. The interval joins three parts:
+
+    1. the moving-block residual bootstrap of the fit over the whole regime (the
+       statistical part, :func:`fit_power_law`);
+    2. the exponents over every window of ``W = max(min_octaves, floor(octaves / 2))``
+       whole octaves, rounded up to whole periods of the staircase
+       (:func:`octave_window_slopes`): how far the exponent moves inside the regime;
+    3. ``upper +/- 2 |drift|``, with ``upper`` the mean exponent of the upper half of the
+       windows and ``drift`` its distance from the mean of the lower half (means, so
+       that what is left of the staircase averages out). An exponent still drifting at
+       the top of the regime lies beyond every window; this part bounds the rest of its
+       way by twice the way it came between the halves, which holds when the correction
+       shrinks by at least a third from the lower half to the upper half (a correction
+       ``x^-w`` whose halves lie ``t`` decades apart shrinks by ``10^(-w t)``).
+
+    ``low`` and ``high`` are the smallest and largest ends of the three. With no
+    complete window (fewer than `min_octaves` octaves) the interval is the bootstrap's.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.logspace(0, 3, 31)
+    >>> iv = exponent_interval(x, 3 * x**2)
+    >>> round(iv.exponent, 6), round(iv.low, 6), round(iv.high, 6)
+    (2.0, 2.0, 2.0)
+    """
+    x, y = _xy_iv(x, y)
+    for name, value in (("min_octaves", min_octaves), ("step_octaves", step_octaves)):
+        if int(value) != value or value < 1:
+            raise ValueError(f"`{name}` must be a positive integer, got {value}")
+    step = int(step_octaves)
+    fit = fit_power_law(x, y, confidence=confidence, n_boot=n_boot,
+                        block=steps_block_length(x) * step, seed=seed)
+    octaves = max(int(min_octaves), math.floor(math.log2(x[-1] / x[0]) / 2))
+    octaves = step * -(-octaves // step)
+    windows = octave_window_slopes(x, y, octaves)
+    slopes = windows.slope
+    low, high, upper, drift = fit.low, fit.high, math.nan, 0.0
+    if slopes.size:
+        low, high = min(low, float(slopes.min())), max(high, float(slopes.max()))
+    if slopes.size >= 2:
+        half = slopes.size // 2
+        upper = float(slopes[-half:].mean())
+        drift = upper - float(slopes[:half].mean())
+        low, high = min(low, upper - 2 * abs(drift)), max(high, upper + 2 * abs(drift))
+    return ExponentInterval(exponent=fit.exponent, low=float(low), high=float(high),
+                            fit=fit, window_octaves=octaves, windows=windows, upper=upper,
+                            drift=drift)
 
 
 @dataclass

@@ -229,8 +229,9 @@ def run_environment(result):
     -------
     env : dict of str to float
         Every counter and measure in ``result.counters``, the aliases of
-        :data:`ALIASES` (``N``, ``L``), ``eps``, every scene parameter, and ``g = l / d``
-        when the scene has both ``l`` and ``d`` (dimensionless).
+        :data:`ALIASES` (``N``, ``L``), ``eps``, ``min_area`` (``nan`` without a recursion
+        limit), every scene parameter, and ``g = l / d`` when the scene has both ``l``
+        and ``d`` (dimensionless).
     """
     env = {}
     env.update(result.params)
@@ -239,6 +240,7 @@ def run_environment(result):
         if name in result.counters:
             env[alias] = result.counters[name]
     env["eps"] = result.eps
+    env["min_area"] = math.nan if result.min_area is None else float(result.min_area)
     if "l" in result.params and "d" in result.params:
         d = result.params["d"]
         env["g"] = result.params["l"] / d if d != 0 else math.nan
@@ -260,10 +262,10 @@ def environment_names(params, counters):
     -------
     names : set of str
         `params`, `counters`, :data:`MEASURES`, the aliases of counters in `counters`,
-        ``eps``, and ``g`` when there are both ``l`` and ``d``.
+        ``eps``, ``min_area``, and ``g`` when there are both ``l`` and ``d``.
     """
     params, counters = set(params), set(counters)
-    names = params | counters | set(MEASURES) | {"eps"}
+    names = params | counters | set(MEASURES) | {"eps", "min_area"}
     names |= {alias for alias, name in ALIASES.items() if name in counters}
     if {"l", "d"} <= params:
         names.add("g")

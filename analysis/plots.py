@@ -32,7 +32,7 @@ def plot_power_law(ax, x, y, *, in_regime=None, fit=None, label=None, color=None
         Measured points (positive).
     in_regime : array_like of bool, optional
         Points in the asymptotic regime are drawn filled, the others hollow.
-    fit : PowerLawFit, optional
+    fit : PowerLawFit or ExponentInterval, optional
         Drawn as a line over the regime, labelled with the exponent and its interval.
     label : str, optional
         Legend label of the points.
@@ -51,7 +51,7 @@ def plot_power_law(ax, x, y, *, in_regime=None, fit=None, label=None, color=None
     color = points.get_color()
     if (~mask).any():
         ax.plot(x[~mask], y[~mask], marker, ms=4, ls="none", mfc="none", color=color,
-                label=None if label is None else "_outside")
+                label=None if label is None else f"{label} (outside the regime)")
     if fit is not None and mask.any():
         xs = np.geomspace(x[mask].min(), x[mask].max(), 50)
         ax.plot(xs, fit.prefactor * xs ** fit.exponent, "-", lw=1.2, color=color, alpha=0.8,
@@ -74,7 +74,7 @@ class PowerLawSeries:
         Legend label.
     in_regime : array_like of bool, optional
         Points in the asymptotic regime (drawn filled; the others hollow).
-    fit : PowerLawFit, optional
+    fit : PowerLawFit or ExponentInterval, optional
         Fit over the regime, drawn as a line.
     """
 
@@ -85,21 +85,24 @@ class PowerLawSeries:
     fit: object = None
 
 
-def plot_power_law_comparison(ax, series, *, slopes=(), symbol="x", markers="os^Dv"):
+def plot_power_law_comparison(ax, series, *, slopes=None, symbol="x", markers="os^Dv"):
     """Draw several measured series on one log-log chart, with reference slopes.
 
     Used to set measurements side by side, e.g. the links against the elements of a
-    refinement with and without an occluder, or of two regimes of the same scene.
+    refinement with and without an occluder, or the series of one grid sweep.
 
     Parameters
     ----------
     ax : matplotlib.axes.Axes
     series : sequence of PowerLawSeries
         Drawn in order, each in its own colour and marker.
-    slopes : sequence of float, optional
-        Exponents of dashed reference lines, anchored at the leftmost point of all series
-        and drawn to the rightmost (dimensionless). The y axis keeps to the measured
-        points (with a margin of a factor 3), so a steep line does not squash them.
+    slopes : mapping of float to (array_like, array_like), optional
+        Exponents of grey reference lines, each with the points (x, y) it is drawn
+        through: its prefactor is fitted in log space with the exponent fixed, so the
+        line runs through the data it is compared with (see
+        :func:`plot_reference_slopes`). Drawn across the x range of all series; the y
+        axis keeps to the measured points (with a margin of a factor 3), so a steep line
+        does not squash them.
     symbol : str, optional
         Name of the x quantity in the reference lines' labels, e.g. ``"N"``.
     markers : str, optional
@@ -111,7 +114,7 @@ def plot_power_law_comparison(ax, series, *, slopes=(), symbol="x", markers="os^
         The points of each series, in order.
     """
     points = []
-    x_left, y_left, x_right = np.inf, None, 0.0
+    x_left, x_right = np.inf, 0.0
     y_low, y_high = np.inf, 0.0
     for n, s in enumerate(series):
         x = np.asarray(s.x, dtype=float)
@@ -120,42 +123,49 @@ def plot_power_law_comparison(ax, series, *, slopes=(), symbol="x", markers="os^
             continue
         points.append(plot_power_law(ax, x, y, in_regime=s.in_regime, fit=s.fit,
                                      label=s.label, marker=markers[n % len(markers)],
-                                     color=f"C{n}"))
-        first = int(np.argmin(x))
-        if x[first] < x_left:
-            x_left, y_left = x[first], y[first]
-        x_right = max(x_right, float(x.max()))
+                                     color=f"C{n % 10}"))
+        x_left, x_right = min(x_left, float(x.min())), max(x_right, float(x.max()))
         y_low, y_high = min(y_low, float(y.min())), max(y_high, float(y.max()))
-    if slopes and y_left is not None and x_right > x_left:
-        plot_reference_slopes(ax, sorted(slopes), x_left, y_left, x_max=x_right,
-                              symbol=symbol)
+    if slopes and x_right > x_left:
+        for n, (slope, (xs, ys)) in enumerate(sorted(slopes.items())):
+            plot_reference_slopes(ax, slope, xs, ys, x_min=x_left, x_max=x_right,
+                                  symbol=symbol, style=("--", ":", "-.")[n % 3])
         ax.set_ylim(y_low / 3, y_high * 3)
     ax.set_xscale("log")
     ax.set_yscale("log")
     return points
 
 
-def plot_reference_slopes(ax, slopes, x_anchor, y_anchor, *, x_max, symbol="x"):
-    """Draw dashed reference lines ``y = y_anchor (x / x_anchor)^s`` on log-log axes.
+def plot_reference_slopes(ax, slope, x, y, *, x_min, x_max, symbol="x", style="--"):
+    """Draw a grey reference line ``y = c x^slope`` through measured points.
 
     Parameters
     ----------
     ax : matplotlib.axes.Axes
-    slopes : sequence of float
-        Exponents to draw (dimensionless).
-    x_anchor, y_anchor : float
-        The point every line passes through.
-    x_max : float
-        Right end of the lines.
+    slope : float
+        Exponent of the line (dimensionless).
+    x, y : array_like
+        Points the line runs through: ``log c`` is the mean of ``log y - slope log x``
+        (the least-squares prefactor with the exponent fixed). Without points, nothing
+        is drawn.
+    x_min, x_max : float
+        Ends of the line (unit of x).
     symbol : str, optional
-        Name of the x quantity in the legend labels, e.g. ``"N"``.
+        Name of the x quantity in the legend label, e.g. ``"N"``.
+    style : str, optional
+        Line style.
     """
-    xs = np.geomspace(x_anchor, x_max, 20)
-    styles = ("--", ":", "-.")
-    for n, s in enumerate(slopes):
-        power = "" if s == 1 else f"^{s:g}"
-        ax.plot(xs, y_anchor * (xs / x_anchor) ** s, styles[n % len(styles)], color="0.4",
-                lw=1, label=f"reference slope {s:g} (proportional to {symbol}{power})")
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    ok = (x > 0) & (y > 0)
+    if not ok.any():
+        return
+    log_c = float(np.mean(np.log10(y[ok]) - slope * np.log10(x[ok])))
+    xs = np.geomspace(x_min, x_max, 20)
+    power = "" if slope == 1 else f"^{slope:g}"
+    ax.plot(xs, 10 ** log_c * xs ** slope, style, color="0.4", lw=1,
+            label=f"claimed slope {slope:g} (proportional to {symbol}{power}), through "
+                  "the regime's points")
 
 
 def plot_slopes(ax, local=None, windows=None, *, expected=None, tolerance=None,

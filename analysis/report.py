@@ -44,12 +44,16 @@ class ClaimOutcome:
     assessment : Assessment
     mode : str
         The sweep mode (``"quick"`` or ``"full"``): which range and options were used.
+    dimension : int or None
+        Dimension of the claim's scene (2 or 3), when the engine lists it: claims of
+        different dimensions never share a chart.
     """
 
     claim: object
     data: object
     assessment: object
     mode: str = "quick"
+    dimension: object = None
 
     @property
     def agrees(self):
@@ -77,12 +81,16 @@ class ReportFigure:
     caption : str
         What the figure shows, for a reader who has not seen the paper.
     figure : matplotlib.figure.Figure
+    claims : tuple of str
+        Ids of the claims it illustrates: the report shows it in the section of the
+        first of them (empty: in the closing "Figures" section).
     """
 
     name: str
     title: str
     caption: str
     figure: object
+    claims: tuple = ()
 
     def png(self):
         """The figure as PNG bytes (100 dpi)."""
@@ -114,14 +122,14 @@ def get_claims_table(outcomes):
     rows = []
     for o in outcomes:
         a, c = o.assessment, o.claim
-        fit = a.fit
+        fit, iv = a.fit, a.interval
         rows.append({
             "id": c.id,
             "statement": c.statement,
             "source": c.source_key,
             "expected": f"{c.expected_exponent:g} +/- {c.tolerance:g}",
             "measured": _num(fit.exponent) if fit else "-",
-            "interval": f"[{_num(fit.low)}, {_num(fit.high)}]" if fit else "-",
+            "interval": f"[{_num(iv.low)}, {_num(iv.high)}]" if iv else "-",
             "verdict": a.verdict,
             "expected_to_hold": "yes" if c.expected_to_hold else "no",
             "agrees": {True: "yes", False: "NO", None: "-"}[o.agrees],
@@ -131,7 +139,7 @@ def get_claims_table(outcomes):
 
 
 _COLUMNS = (("id", "claim"), ("statement", "statement"), ("expected", "expected k"),
-            ("measured", "measured k"), ("interval", "95% interval"),
+            ("measured", "measured k"), ("interval", "interval"),
             ("verdict", "verdict"), ("expected_to_hold", "should hold"),
             ("agrees", "as expected"))
 
@@ -177,7 +185,7 @@ def get_claims_json(outcomes, mode="quick"):
     out = []
     for o in outcomes:
         a, c, d = o.assessment, o.claim, o.data
-        fit, theta, models = a.fit, a.theta, a.models
+        fit, iv, theta, models = a.fit, a.interval, a.theta, a.models
         obj = {
             "id": c.id,
             "statement": c.statement,
@@ -187,9 +195,16 @@ def get_claims_json(outcomes, mode="quick"):
             "expected_exponent": c.expected_exponent,
             "tolerance": c.tolerance,
             "measured_exponent": fit.exponent if fit else None,
-            "interval_low": fit.low if fit else None,
-            "interval_high": fit.high if fit else None,
-            "confidence": fit.confidence if fit else None,
+            "interval_low": iv.low if iv else None,
+            "interval_high": iv.high if iv else None,
+            "interval_parts": ({
+                "statistical": {"low": fit.low, "high": fit.high,
+                                "confidence": fit.confidence},
+                "window_octaves": iv.window_octaves,
+                "window_exponents": iv.windows.slope.tolist(),
+                "upper_windows_exponent": None if math.isnan(iv.upper) else iv.upper,
+                "drift": iv.drift,
+            } if iv else None),
             "verdict": a.verdict,
             "reason": a.reason,
             "expected_to_hold": c.expected_to_hold,
@@ -202,7 +217,9 @@ def get_claims_json(outcomes, mode="quick"):
             "sweep_param": c.sweep_param,
             "sweep": {"param": c.sweep_param, "from": c.range_for(mode).start,
                       "to": c.range_for(mode).stop,
-                      "per_decade": c.range_for(mode).per_decade},
+                      "per_decade": c.range_for(mode).per_decade,
+                      "grid": {name: list(values) for name, values in c.grid.items()}},
+            "min_area": c.min_area,
             "x": c.x.text,
             "y": c.y.text,
             "regime": {"x_min": c.x_min, "x_max": c.x_max},
@@ -242,6 +259,10 @@ def _series_label(claim, ids, values, mode="quick"):
     fixed = ", ".join(f"{k}={v:g}" for k, v in claim.params.items() if k != claim.sweep_param)
     if claim.eps is not None:
         fixed += f", eps={claim.eps:g}"
+    if claim.min_area is not None:
+        fixed += f", min_area={claim.min_area:g}"
+    for name, grid in claim.grid.items():
+        fixed += f", {name} in {{{', '.join(f'{v:g}' for v in grid)}}}"
     options = _options_text(claim, mode)
     if options:
         fixed += f", {options}"
@@ -289,31 +310,40 @@ def get_figures(outcomes, links=None, links_title=""):
     figures = []
     usable = [o for o in outcomes if o.assessment.x.size]
 
-    # Draw one chart per pair of measured quantities (or per chart name), claims overlaid.
+    # Draw one chart per pair of measured quantities (or per chart name) and dimension,
+    # claims overlaid; a claim swept over a grid gives one series per grid value.
     groups = {}
     for o in usable:
         key = (o.claim.chart if o.claim.chart is not None
-               else (_symbol(o.claim.x.text), _symbol(o.claim.y.text)))
+               else (_symbol(o.claim.x.text), _symbol(o.claim.y.text)), o.dimension)
         groups.setdefault(key, []).append(o)
     for members in groups.values():
-        fig = Figure(figsize=(8, 5.6), layout="constrained")
+        fig = Figure(figsize=(9, 8), layout="constrained")
         ax = fig.add_subplot()
         same_points = {}
         for o in members:
             key = (o.assessment.x.tobytes(), o.assessment.y.tobytes())
             same_points.setdefault(key, []).append(o)
-        series = []
+        series, anchors = [], {}
         for same in same_points.values():
             main = next((o for o in same if o.claim.expected_to_hold), same[0])
-            a = main.assessment
-            series.append(PowerLawSeries(
-                a.x, a.y, in_regime=a.in_regime, fit=a.fit,
-                label=_series_label(main.claim, [o.claim.id for o in same], main.data.value,
-                                    main.mode)))
+            a, d = main.assessment, main.data
+            label = _series_label(main.claim, [o.claim.id for o in same], d.value, main.mode)
+            groups_of = _point_series(main)
+            for n, name in enumerate(dict.fromkeys(groups_of)):
+                sel = groups_of == name
+                series.append(PowerLawSeries(
+                    a.x[sel], a.y[sel], in_regime=a.in_regime[sel],
+                    fit=a.interval if n == 0 else None,
+                    label=(f"{label}: {name}" if n == 0 and name
+                           else f"{main.claim.id}: {name}" if name else label)))
+        # A claimed slope is drawn through the points of a claim expected to hold.
+        for o in sorted(members, key=lambda o: not o.claim.expected_to_hold):
+            a = o.assessment
+            anchors.setdefault(o.claim.expected_exponent,
+                               (a.x[a.in_regime], a.y[a.in_regime]))
         first = members[0].claim
-        plot_power_law_comparison(ax, series,
-                                  slopes={o.claim.expected_exponent for o in members},
-                                  symbol=_symbol(first.x.text))
+        plot_power_law_comparison(ax, series, slopes=anchors, symbol=_symbol(first.x.text))
         ax.set_xlabel(first.x_label)
         ax.set_ylabel(first.y_label)
         ids = ", ".join(o.claim.id for o in members)
@@ -321,12 +351,15 @@ def get_figures(outcomes, links=None, links_title=""):
         title = title[0].upper() + title[1:]
         ax.set_title(title)
         ax.grid(True, which="major", alpha=0.3)
-        ax.legend(fontsize=8, loc="upper left")
+        # Below the axes, so that the legend covers no point.
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.1))
         caption = ("Log-log plot; filled markers lie in the asymptotic regime that is "
-                   "judged, hollow ones outside it; solid lines are least-squares fits over "
-                   "the regime, dashed/dotted lines reference slopes. "
+                   "judged, hollow ones outside it; the solid line is the least-squares fit "
+                   "over the regime, the grey lines the claimed slopes drawn through the "
+                   "regime's points (their prefactor fitted with the slope fixed). "
                    + " ".join(f"{o.claim.id}: {o.claim.description}" for o in members))
-        figures.append(ReportFigure(f"chart-{_slug(ids)}", title, caption, fig))
+        figures.append(ReportFigure(f"chart-{_slug(ids)}", title, caption, fig,
+                                    tuple(o.claim.id for o in members)))
 
     # Draw per claim: local exponents and the bounded-ratio check.
     for o in usable:
@@ -353,7 +386,8 @@ def get_figures(outcomes, links=None, links_title=""):
                    "and its tolerance (red). Right: the ratio y/x^k; the claim "
                    "y = Theta(x^k) holds when it stays between two constants (dashed).")
         figures.append(ReportFigure(f"slopes-{_slug(c.id)}",
-                                    f"{c.id}: local exponents and Theta check", caption, fig))
+                                    f"{c.id}: local exponents and Theta check", caption, fig,
+                                    (c.id,)))
 
     # Draw the tiling of the parameter square by the links of one root pair.
     if links is not None and len(links):
@@ -375,6 +409,14 @@ def get_figures(outcomes, links=None, links_title=""):
         figures.append(ReportFigure("tiling", "Link tiling of the parameter square",
                                     caption, fig))
     return figures
+
+
+def _point_series(outcome):
+    # The grid value of every point ("l=16"), or "" for a claim without a grid.
+    labels = getattr(outcome.data, "series", None)
+    if labels is None or len(labels) != outcome.assessment.x.size:
+        return np.full(outcome.assessment.x.size, "", dtype=object)
+    return np.asarray(labels, dtype=object)
 
 
 def _label_name(label):
@@ -405,9 +447,13 @@ def _details(o):
     measured = (f"- what is measured: y = `{c.y.text}` against x = `{c.x.text}`, "
                 f"{c.scene} {', '.join(f'{k}={v:g}' for k, v in c.params.items())}"
                 + (f", eps={c.eps:g}" if c.eps is not None else "")
+                + (f", min_area={c.min_area:g}" if c.min_area is not None else "")
+                + (f", max_depth={c.max_depth}" if c.max_depth is not None else "")
                 + f", oracle {c.oracle}"
                 + (f", options `{' '.join(options)}`" if options else "")
-                + f", {c.sweep_param} swept")
+                + f", {c.sweep_param} swept"
+                + "".join(f" for each {name} in {{{', '.join(f'{v:g}' for v in values)}}}"
+                          for name, values in c.grid.items()))
     if a.verdict == SKIPPED:
         return [f"- statement: `{c.statement}` ({c.source})", measured,
                 f"- **skipped**: {a.reason}; no point was run"]
@@ -417,10 +463,17 @@ def _details(o):
              f"- verdict: **{a.verdict}** ({a.reason})"]
     if a.fit:
         f = a.fit
-        lines.append(f"- fit: y = {f.prefactor:.4g} x^{f.exponent:.4f}, 95% interval "
-                     f"[{f.low:.4f}, {f.high:.4f}] (moving-block residual bootstrap, block "
-                     f"{f.block} points, {f.n_boot} resamples, seed {f.seed}), RMS "
-                     f"{f.rms:.4f} decades")
+        lines.append(f"- fit: y = {f.prefactor:.4g} x^{f.exponent:.4f}, RMS {f.rms:.4f} "
+                     f"decades; statistical 95% interval [{f.low:.4f}, {f.high:.4f}] "
+                     f"(moving-block residual bootstrap, block {f.block} points, "
+                     f"{f.n_boot} resamples, seed {f.seed})")
+    if a.interval and a.interval.windows.slope.size:
+        iv = a.interval
+        lines.append(f"- interval [{iv.low:.4f}, {iv.high:.4f}]: {iv.windows.slope.size} "
+                     f"windows of {iv.window_octaves} octaves give exponents "
+                     f"{iv.windows.slope.min():.3f} to {iv.windows.slope.max():.3f}; the upper "
+                     f"half of them averages {iv.upper:.3f}, {iv.drift:+.3f} from the lower "
+                     f"half")
     if a.windows is not None and a.windows.slope.size:
         lines.append(f"- window exponents ({a.windows.width:g} decade): "
                      f"{a.windows.slope.min():.3f} to {a.windows.slope.max():.3f}; their mean over "
@@ -490,13 +543,18 @@ def write_report(outdir, outcomes, context, figures):
                                     indent=2, default=_jsonable) + "\n")
 
     # Write the Markdown report.
+    placed = _place_figures(outcomes, figures)
     md = ["# hrbench: reproduction of published complexity claims", "",
           *_context_lines(context), "", "## Claims", "", _md_table(rows), ""]
     for o in outcomes:
         md += [f"### {o.claim.id}: {o.claim.statement}", "", o.claim.description, "",
                *_details(o), ""]
-    md += ["## Figures", ""]
-    for f in figures:
+        for f in placed.get(o.claim.id, []):
+            md += [f"#### {f.title}", "", f"![{f.title}](plots/{f.name}.png)", "",
+                   f.caption, ""]
+    if placed.get(None):
+        md += ["## Figures", ""]
+    for f in placed.get(None, []):
         md += [f"### {f.title}", "", f"![{f.title}](plots/{f.name}.png)", "", f.caption, ""]
     md_path = outdir / "report.md"
     md_path.write_text("\n".join(md))
@@ -520,6 +578,11 @@ def write_report(outdir, outcomes, context, figures):
                         else f"<td>{esc(r[k])}</td>" for k, _ in _COLUMNS)
         parts.append(f"<tr>{cells}</tr>")
     parts.append("</table>")
+    def image(f, level):
+        data = base64.b64encode(pngs[f.name]).decode("ascii")
+        return (f"<h{level}>{esc(f.title)}</h{level}><img alt='{esc(f.title)}' "
+                f"src='data:image/png;base64,{data}'><p>{esc(f.caption)}</p>")
+
     for o in outcomes:
         parts.append(f"<h3>{esc(o.claim.id)}: {esc(o.claim.statement)}</h3>")
         parts.append(f"<p>{esc(o.claim.description)}</p><ul>")
@@ -527,15 +590,25 @@ def write_report(outdir, outcomes, context, figures):
             text = esc(line[2:]).replace("**", "")
             parts.append(f"<li>{text.replace('`', '')}</li>")
         parts.append("</ul>")
-    parts.append("<h2>Figures</h2>")
-    for f in figures:
-        data = base64.b64encode(pngs[f.name]).decode("ascii")
-        parts.append(f"<h3>{esc(f.title)}</h3><img alt='{esc(f.title)}' "
-                     f"src='data:image/png;base64,{data}'><p>{esc(f.caption)}</p>")
+        parts += [image(f, 4) for f in placed.get(o.claim.id, [])]
+    if placed.get(None):
+        parts.append("<h2>Figures</h2>")
+    parts += [image(f, 3) for f in placed.get(None, [])]
     parts.append("</body></html>")
     html_path = outdir / "report.html"
     html_path.write_text("\n".join(parts))
     return {"markdown": md_path, "html": html_path, "json": json_path}
+
+
+def _place_figures(outcomes, figures):
+    # Claim id -> the figures shown in its section (each in the first claim it
+    # illustrates that the report lists); None -> the rest, shown at the end.
+    listed = [o.claim.id for o in outcomes]
+    placed = {}
+    for f in figures:
+        home = next((cid for cid in listed if cid in f.claims), None)
+        placed.setdefault(home, []).append(f)
+    return placed
 
 
 def _jsonable(value):

@@ -292,7 +292,9 @@ def _main(argv):
             if line is not None:
                 refusals.append(line)
                 continue
-            outcomes.append(ClaimOutcome(c, data, assess_claim(c, data), args.mode))
+            family = capabilities.family(c.scene)
+            outcomes.append(ClaimOutcome(c, data, assess_claim(c, data), args.mode,
+                                         family.dimension if family else None))
     for line in refusals:
         print(f"error: {line}", file=sys.stderr)
     if refusals:

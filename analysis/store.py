@@ -107,7 +107,10 @@ class PointKey:
     max_depth : int or None
         ``--max-depth`` (levels), if given.
     mode : str
-        ``"count-only"`` or ``"store"``.
+        ``"count-only"`` or ``"store"``; ``"count-only+hierarchy-statistics-v1"``
+        (:data:`analysis.lemmas.STATISTICS_MODE`) for a run whose record also holds the
+        hierarchy statistics of its link list, so that it never shares a key with a
+        record without them.
     options : tuple of (str, str)
         Further engine options as passed on the command line, sorted by name, e.g.
         ``(("method", "translation"),)`` for ``--method translation``.

@@ -8,18 +8,20 @@ point once: a point another sweep is running is skipped and its result read when
 stored. The command lines and the processes themselves are :mod:`analysis.engine`'s.
 """
 
+import itertools
 import math
 import os
 import sys
 import time
 from collections import deque
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from .claimfile import ClaimsFileError
-from .engine import format_number, option_text, run_argv, run_engine
+from .engine import format_number, links_argv, option_text, run_argv, run_engine, save_argv
+from .lemmas import STATISTICS_MODE, StatisticsJob, add_to_record, measure, record_statistics
 from .loader import ResultFormatError, parse_run_json, run_environment
 from .store import ACQUIRED, DONE, LEASE_RENEW, PointKey, StoredPoint, StoreError
 
@@ -48,11 +50,19 @@ class SweepPoint:
         Value of the swept parameter.
     argv : tuple of str
         Command line (the engine path first).
+    statistics : StatisticsJob or None
+        For a claim whose formulas read hierarchy statistics (:mod:`analysis.lemmas`):
+        the commands that measure them after the run; ``None`` otherwise.
+    series : str
+        The values of ``sweep.grid`` this run belongs to, e.g. ``"l=16"`` ("" without a
+        grid).
     """
 
     key: PointKey
     value: float
     argv: tuple
+    statistics: object = None
+    series: str = ""
 
 
 def expand_claim(claim, mode, hrbench, version):
@@ -71,27 +81,54 @@ def expand_claim(claim, mode, hrbench, version):
     Returns
     -------
     points : list of SweepPoint
-        One per value of the swept parameter, in sweep order; command lines as in
+        One per value of the swept parameter, in sweep order, for every combination of
+        the values of ``sweep.grid`` (in the order given); command lines as in
         :func:`analysis.engine.run_argv`.
     """
     points = []
     options = claim.options_for(mode)
     key_options = tuple((name, option_text(v)) for name, v in sorted(options.items()))
-    for value in claim.range_for(mode).values():
-        params = dict(claim.params)
-        if claim.sweep_param == "eps":
-            eps = value
-        else:
-            params[claim.sweep_param] = value
-            eps = claim.eps
-        key = PointKey(version=version, scene=claim.scene,
-                       params=tuple(sorted(params.items())), eps=float(eps),
-                       oracle=claim.oracle, min_area=claim.min_area,
-                       max_depth=claim.max_depth, mode="count-only", options=key_options)
-        argv = run_argv(hrbench, claim.scene, params, eps, claim.oracle,
-                        min_area=claim.min_area, max_depth=claim.max_depth, options=options)
-        points.append(SweepPoint(key=key, value=value, argv=tuple(argv)))
-    return points
+    grid = [dict(zip(claim.grid, combo, strict=True))
+            for combo in itertools.product(*claim.grid.values())]
+    for fixed in grid:
+        for value in claim.range_for(mode).values():
+            params = dict(claim.params) | fixed
+            eps, min_area = claim.eps, claim.min_area
+            if claim.sweep_param == "eps":
+                eps = value
+            elif claim.sweep_param == "min_area":
+                min_area = value
+            else:
+                params[claim.sweep_param] = value
+            key = PointKey(version=version, scene=claim.scene,
+                           params=tuple(sorted(params.items())), eps=float(eps),
+                           oracle=claim.oracle, min_area=min_area,
+                           max_depth=claim.max_depth, mode="count-only", options=key_options)
+            argv = run_argv(hrbench, claim.scene, params, eps, claim.oracle,
+                            min_area=min_area, max_depth=claim.max_depth, options=options)
+            series = ", ".join(f"{k}={format_number(v)}" for k, v in fixed.items())
+            points.append(SweepPoint(key=key, value=value, argv=tuple(argv), series=series))
+    return _with_statistics(claim, points, hrbench)
+
+
+def _with_statistics(claim, points, hrbench):
+    # A claim whose formulas read hierarchy statistics (analysis/lemmas.py) measures them
+    # at every point: under its own cache key (mode STATISTICS_MODE, so that a record
+    # without them is never reused), with the commands that dump and measure the links.
+    if not claim.statistics:
+        return points
+    out = []
+    for point in points:
+        k = point.key
+        params = dict(k.params)
+        options = {name: text for name, text in k.options if name != "method"}
+        job = StatisticsJob(
+            save_argv=tuple(save_argv(hrbench, k.scene, params)),
+            links_argv=tuple(links_argv(hrbench, k.scene, params, k.eps, None, k.oracle,
+                                        min_area=k.min_area, max_depth=k.max_depth,
+                                        options=options)))
+        out.append(replace(point, key=replace(k, mode=STATISTICS_MODE), statistics=job))
+    return out
 
 
 def _execute(point):
@@ -109,8 +146,16 @@ def _execute(point):
             ok = not last
     elif not last:
         last = f"exited with code {run.exit_code} and no message"
-    return StoredPoint(point.key, ok, run.exit_code, "" if ok else last, run.stdout,
-                       run.wall_seconds)
+    output, code, seconds = run.stdout, run.exit_code, run.wall_seconds
+    if ok and point.statistics is not None:
+        # Dump the links, measure the hierarchy statistics, add them to the record.
+        found = measure(point.statistics, result.counters.get("links"))
+        seconds += found.wall_seconds
+        if found.statistics is None:
+            ok, last, code = False, found.message, found.exit_code
+        else:
+            output = add_to_record(run.stdout, found.statistics)
+    return StoredPoint(point.key, ok, code, "" if ok else last, output, seconds)
 
 
 def _options_mismatch(result, options):
@@ -275,6 +320,9 @@ class ClaimData:
         Swept parameter of every successful point (its unit).
     x, y : ndarray
         Measured quantities of every successful point, sorted by `x`.
+    series : ndarray of str
+        The grid values of every successful point (``SweepPoint.series``), in the order
+        of `x`.
     failures : list of dict
         Failed points: ``{"value", "exit_code", "stderr", "command"}``.
     missing : int
@@ -286,6 +334,7 @@ class ClaimData:
     value: np.ndarray
     x: np.ndarray
     y: np.ndarray
+    series: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=object))
     failures: list = field(default_factory=list)
     missing: int = 0
     engine_seconds: float = 0.0
@@ -310,6 +359,8 @@ def get_claim_data(claim, points, store, counters=None):
     data : ClaimData
         Points whose x or y is ``nan`` (undefined arithmetic, such as ``log(0)``) or not
         positive are dropped (they cannot enter a log-log fit) and reported as failures.
+        Formulas read the hierarchy statistics a record holds (:mod:`analysis.lemmas`)
+        like counters.
 
     Raises
     ------
@@ -338,6 +389,13 @@ def get_claim_data(claim, points, store, counters=None):
                              f"'{command}' ({exc}); remove it (rm {store.path}) to start "
                              "afresh") from None
         env = run_environment(result)
+        if claim.statistics:
+            statistics = record_statistics(result)
+            if statistics is None:
+                raise StoreError(f"results cache {store.path} holds a record without "
+                                 f"hierarchy statistics for '{command}'; remove it (rm "
+                                 f"{store.path}) to start afresh")
+            env.update(statistics)
         seconds += result.counters.get("seconds", 0.0)
         values = {}
         for key, expr in (("x", claim.x), ("y", claim.y)):
@@ -356,9 +414,10 @@ def get_claim_data(claim, points, store, counters=None):
                              "stderr": f"x={x!r}, y={y!r} not positive",
                              "command": command})
             continue
-        rows.append((x, y, point.value))
-    rows.sort()
-    arr = np.array(rows, dtype=float).reshape(-1, 3)
-    return ClaimData(value=arr[:, 2], x=arr[:, 0], y=arr[:, 1], failures=failures,
-                     missing=missing, engine_seconds=seconds)
+        rows.append((x, y, point.value, point.series))
+    rows.sort(key=lambda row: row[:3])
+    arr = np.array([row[:3] for row in rows], dtype=float).reshape(-1, 3)
+    return ClaimData(value=arr[:, 2], x=arr[:, 0], y=arr[:, 1],
+                     series=np.array([row[3] for row in rows], dtype=object),
+                     failures=failures, missing=missing, engine_seconds=seconds)
 

@@ -7,9 +7,8 @@ import numpy as np
 
 from .fit import (
     compare_models,
-    fit_power_law,
+    exponent_interval,
     local_slopes,
-    steps_block_length,
     theta_check,
     window_slopes,
 )
@@ -52,7 +51,10 @@ class Assessment:
     decades : float
         Decades of x spanned by the regime's points.
     fit : PowerLawFit or None
-        Power-law fit over the regime (None if too few points).
+        Power-law fit over the regime (None if too few points); its ``low`` and ``high``
+        are the statistical (bootstrap) interval only.
+    interval : ExponentInterval or None
+        The exponent's interval with its systematic part (what the verdict reads).
     local : LocalSlopes or None
         Neighbour-to-neighbour slopes over all points.
     windows : WindowSlopes or None
@@ -79,6 +81,7 @@ class Assessment:
     n_regime: int
     decades: float
     fit: object = None
+    interval: object = None
     local: object = None
     windows: object = None
     settled: object = None
@@ -112,7 +115,7 @@ def _verdict_iv(x, y, expected_exponent, tolerance, min_points, min_decades,
 
 def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
                 min_points=8, min_decades=1.5, window_decades=1.0, theta_band=10.0,
-                n_boot=2000, seed=None):
+                step_octaves=1, n_boot=2000, seed=None):
     """Judge whether measured points follow ``y = Theta(x^k)``.
 
     Parameters
@@ -134,6 +137,9 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
     theta_band : float, optional
         Largest ``max/min`` of ``y / x^k`` over the regime that counts as bounded
         (default 10).
+    step_octaves : int, optional
+        Period of the counts' staircase in octaves of x (default 1; 2 for quadtree
+        subdivision), see :func:`analysis.fit.exponent_interval`.
     n_boot : int, optional
         Bootstrap resamples of the exponent's interval (default 2000).
     seed : int, optional
@@ -156,7 +162,8 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
        windows shifted across a step cancels what is left of the step oscillation, so
        the oscillation of neighbour-to-neighbour slopes does not count as unsettled,
        while a crossover to another exponent does.
-    3. ``refuted`` if the 95% interval of the exponent lies wholly outside
+    3. ``refuted`` if the interval of the exponent (:func:`analysis.fit.exponent_interval`:
+       the 95% bootstrap interval joined with the systematic error) lies wholly outside
        ``[k - tolerance, k + tolerance]``.
     4. ``reproduced`` if the interval lies wholly inside that band and ``y / x^k`` stays in
        a bounded, flat band (:func:`analysis.fit.theta_check`).
@@ -192,8 +199,10 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
 
     # Fit, check the bounded ratio, compare models and slide windows.
     kwargs = {} if seed is None else {"seed": seed}
-    fit = fit_power_law(xr, yr, block=steps_block_length(xr), n_boot=n_boot, **kwargs)
+    interval = exponent_interval(xr, yr, n_boot=n_boot, step_octaves=step_octaves, **kwargs)
+    fit = interval.fit
     result.fit = fit
+    result.interval = interval
     result.theta = theta_check(xr, yr, k, max_band=theta_band, tolerance=tol)
     result.models = compare_models(xr, yr)
     windows = window_slopes(xr, yr, width=window_decades)
@@ -210,19 +219,20 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
     result.settle_spread = spread
     result.settled = spread <= tol
     measured = (f"exponent {fit.exponent:.3f} "
-                f"[{fit.low:.3f}, {fit.high:.3f}] over {decades:.1f} decades ({n} points)")
+                f"[{interval.low:.3f}, {interval.high:.3f}] over {decades:.1f} decades "
+                f"({n} points)")
     if not result.settled:
         result.reason = (f"slope not settled: {window_decades:g}-decade windows in the upper "
                          f"half of the regime give an exponent {spread:.3f} away from the "
                          f"fit over the whole regime, more than the tolerance {tol:g}; "
                          f"{measured}")
         return result
-    if fit.high < k - tol or fit.low > k + tol:
+    if interval.high < k - tol or interval.low > k + tol:
         result.verdict = "refuted"
         result.reason = (f"{measured}: the interval excludes {k:g} +/- {tol:g}; "
                          f"best model {result.models.best}")
         return result
-    inside = k - tol <= fit.low and fit.high <= k + tol
+    inside = k - tol <= interval.low and interval.high <= k + tol
     if inside and result.theta.holds:
         result.verdict = "reproduced"
         result.reason = (f"{measured} within {k:g} +/- {tol:g}; y/x^{k:g} stays within a "
@@ -271,7 +281,8 @@ def assess_claim(claim, data, n_boot=2000):
         result = get_verdict(
             data.x, data.y, claim.expected_exponent, claim.tolerance, x_min=claim.x_min,
             x_max=claim.x_max, min_points=claim.min_points, min_decades=claim.min_decades,
-            window_decades=claim.window_decades, theta_band=claim.theta_band, n_boot=n_boot)
+            window_decades=claim.window_decades, theta_band=claim.theta_band,
+            step_octaves=claim.step_octaves, n_boot=n_boot)
     if data.failures:
         codes = sorted({f["exit_code"] for f in data.failures})
         note = (f"{len(data.failures)} point(s) failed (exit code "

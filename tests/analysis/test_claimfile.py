@@ -235,3 +235,42 @@ def test_many_parameters_are_refused_before_any_line_search(tmp_path, data_dir):
     with pytest.raises(ClaimsFileError, match="20000 scene parameters; at most 64"):
         load_claims(path)
     assert time.perf_counter() - start < 5
+
+
+def test_sweep_grid_and_min_area_sweep(tmp_path, data_dir):
+    path = variant(tmp_path, data_dir, "params = { l = 8, d = 1 }",
+                   "params = { d = 1 }\nsweep.grid = { l = [16, 64] }")
+    (claim,) = load_claims(path)
+    assert claim.grid == {"l": (16.0, 64.0)}
+    # A grid parameter may not be fixed or swept as well, nor be eps; lists hold numbers.
+    for new, match in (("sweep.grid = { d = [1, 2] }", "already fixed in 'params'"),
+                       ("sweep.grid = { eps = [1, 2] }", "scene parameters only"),
+                       ("sweep.grid = { offset = [] }", "list of 1 to 32 numbers"),
+                       ("sweep.grid = { offset = [2, 2] }", "lists a value twice"),
+                       ("sweep.grid = 3", "must be a table")):
+        bad = variant(tmp_path, data_dir, "params = { l = 8, d = 1 }",
+                      f"params = {{ l = 8, d = 1 }}\n{new}")
+        with pytest.raises(ClaimsFileError, match=match) as info:
+            load_claims(bad)
+        assert info.value.key == "sweep.grid"
+    # min_area may be swept (with eps fixed), but not fixed at the same time.
+    text = (data_dir / "small_claims.toml").read_text().replace(
+        'sweep.param = "eps"', 'sweep.param = "min_area"\neps = 0.1')
+    path.write_text(text)
+    (claim,) = load_claims(path)
+    assert claim.sweep_param == "min_area" and claim.eps == 0.1
+    path.write_text(text.replace("eps = 0.1", "eps = 0.1\nmin_area = 0.01"))
+    with pytest.raises(ClaimsFileError, match="'min_area' is fixed"):
+        load_claims(path)
+
+
+@pytest.mark.parametrize("value, ok", [(2, True), (1, True), (0, False), (5, False),
+                                       (1.5, False), ("2", False)])
+def test_step_octaves(tmp_path, data_dir, value, ok):
+    path = variant(tmp_path, data_dir, "min_points = 8",
+                   f"min_points = 8\nstep_octaves = {value!r}".replace("'", '"'))
+    if ok:
+        assert load_claims(path)[0].step_octaves == value
+    else:
+        with pytest.raises(ClaimsFileError, match="integer from 1 to 4"):
+            load_claims(path)

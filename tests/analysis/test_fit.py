@@ -3,8 +3,10 @@ import pytest
 
 from analysis.fit import (
     compare_models,
+    exponent_interval,
     fit_power_law,
     local_slopes,
+    octave_window_slopes,
     steps_block_length,
     theta_check,
     window_slopes,
@@ -110,3 +112,57 @@ def test_model_comparison_skips_log_models_below_one():
 def test_block_length_is_points_per_doubling():
     x = np.logspace(0, 3, 31)  # 10 points per decade: 3 points per factor 2
     assert steps_block_length(x) == 3
+
+
+def staircase(rng, drift):
+    """Synthetic counts of a binary tree: a power law on a staircase of one octave's period.
+
+    The true exponent k is drawn at random; the points are sampled 5, 10 or 16 per decade
+    over 1.7 to 3.5 decades at a random offset, and the staircase (a jump by a factor up to
+    2^1.5 once per octave, at a random phase) is what a bootstrap mistakes for noise. With
+    `drift`, a correction ``1 + a (x/x0)^-w`` makes the exponent drift towards k across
+    the regime, as boundary effects do before the asymptotic regime.
+    """
+    k = rng.uniform(0.5, 3.0)
+    decades, per_decade = rng.uniform(1.7, 3.5), rng.choice([5, 10, 16])
+    x0 = 10 ** rng.uniform(0, 3)
+    x = x0 * 10 ** (np.arange(int(decades * per_decade) + 1) / per_decade
+                    + rng.uniform(0, 1 / per_decade))
+    phase = rng.uniform(1, 2)
+    step = 2.0 ** (np.ceil(np.log2(x * phase)) - np.log2(x * phase))
+    y = x ** k * step ** min(k, 1.5)
+    if drift:
+        y = y * (1 + rng.uniform(-1, 1) * (x / x0) ** -rng.uniform(0.5, 1.0))
+    return x, y, k
+
+
+@pytest.mark.parametrize("drift", [False, True])
+def test_exponent_interval_covers_the_true_exponent_of_staircases(drift):
+    rng = np.random.default_rng(20031 + drift)
+    trials, covered, bootstrap_covered = 200, 0, 0
+    for _ in range(trials):
+        x, y, k = staircase(rng, drift)
+        iv = exponent_interval(x, y, n_boot=200)
+        covered += iv.low <= k <= iv.high
+        bootstrap_covered += iv.fit.low <= k <= iv.fit.high
+        assert iv.low <= min(iv.fit.low, iv.exponent) and iv.high >= max(iv.fit.high,
+                                                                          iv.exponent)
+    assert covered >= 0.9 * trials
+    # The bootstrap alone is the dishonest interval this one replaces.
+    assert bootstrap_covered < covered
+
+
+def test_octave_windows_hold_whole_octaves_and_see_a_drift():
+    x = np.logspace(0, 3, 31)           # 10 points per decade, 9.97 octaves
+    w = octave_window_slopes(x, x ** 2, 3)
+    assert w.slope == pytest.approx(np.full(w.slope.size, 2.0))
+    assert w.width == pytest.approx(3 * np.log10(2))
+    # Every window holds the points of [x_s, 8 x_s): 10 log10(8) = 9.03, so 9 or 10 points.
+    assert set(w.n.tolist()) <= {9, 10} and w.n.size == 31 - 9 - 1
+    # A correction that fades makes the exponents drift towards the asymptotic 1.
+    iv = exponent_interval(x, x * (1 + 3 / x), n_boot=200)
+    assert iv.windows.slope[0] < iv.windows.slope[-1] < 1
+    assert iv.drift > 0 and iv.low <= 1 <= iv.high
+    assert iv.high >= iv.upper + 2 * iv.drift
+    with pytest.raises(ValueError, match="octaves"):
+        octave_window_slopes(x, x, 0)

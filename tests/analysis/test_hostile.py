@@ -113,10 +113,11 @@ def test_formula_overflowing_float64_exits_2_quickly(tmp_path, data_dir, fake_hr
 # --- Parameters against the engine's ranges ----------------------------------------------
 
 
-def stand_in(scene="parallel", params=None, sweep_param="eps", ranges=None):
+def stand_in(scene="parallel", params=None, sweep_param="eps", ranges=None, grid=None):
     ranges = ranges or {"quick": SweepRange(1.0, 0.01, 5), "full": SweepRange(1.0, 0.01, 5)}
     return SimpleNamespace(
         scene=scene, params=params or {}, sweep_param=sweep_param, path="c.toml", id="X",
+        grid=grid or {},
         range_for=lambda mode: ranges[mode],
         range_keys={"quick": "sweep.quick", "full": "sweep.full"},
         key_line=lambda key: {"params.l": 7, "params.n": 8, "sweep.quick": 9,
@@ -140,6 +141,12 @@ def stand_in(scene="parallel", params=None, sweep_param="eps", ranges=None):
       "out of range for scene 'enclosure', first 12.649: 3 <= n <= 100000, an integer",
       "c.toml:10: claim 'X': key 'sweep.full': the sweep gives scene parameter n 2 value(s) "
       "out of range for scene 'enclosure', first 640000: 3 <= n <= 100000, an integer"]),
+    ({"params": {"l": 8.0}, "grid": {"l2": (4.0, -2.0)}},
+     ["c.toml:5: claim 'X': key 'sweep.grid': scene parameter l2 = -2 is out of range for "
+      "scene 'parallel': l2 > 0"]),
+    ({"params": {"l": 8.0}, "grid": {"w": (4.0,)}},
+     ["c.toml:5: claim 'X': key 'sweep.grid': scene 'parallel' has no parameter 'w' "
+      "(its parameters: l, l2)"]),
     ({"scene": "room", "params": {"q": -1.0}}, []),   # a family the engine lacks: skipped
 ])
 def test_parameters_are_checked_against_the_declared_ranges(kwargs, errors):

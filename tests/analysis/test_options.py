@@ -227,10 +227,17 @@ def test_comparison_plot_draws_series_and_reference_slopes():
         ax, [PowerLawSeries(x, 1e-3 * x ** 2, "unoccluded"),
              PowerLawSeries(x[:8], 5e-4 * x[:8] ** 2, "occluded", in_regime=x[:8] > 300),
              PowerLawSeries([], [], "empty")],
-        slopes=[2, 1], symbol="N")
+        slopes={2: (x, 1e-3 * x ** 2), 1: (x[:3], 7 * x[:3])}, symbol="N")
     assert len(lines) == 2 and ax.get_xscale() == "log" and ax.get_yscale() == "log"
-    labels = [line.get_label() for line in ax.get_lines()]
-    assert "reference slope 2 (proportional to N^2)" in labels
-    assert "reference slope 1 (proportional to N)" in labels
+    by_label = {line.get_label(): line for line in ax.get_lines()}
+    two = by_label["claimed slope 2 (proportional to N^2), through the regime's points"]
+    one = by_label["claimed slope 1 (proportional to N), through the regime's points"]
+    # The lines run through the points they were given, over the x range of all series.
+    xs, ys = two.get_data()
+    assert xs[0] == pytest.approx(x.min()) and xs[-1] == pytest.approx(x.max())
+    assert ys == pytest.approx(1e-3 * xs ** 2)
+    assert one.get_data()[1] == pytest.approx(7 * one.get_data()[0])
+    # No series is hidden from the legend: points outside the regime are named too.
+    assert "occluded (outside the regime)" in by_label
     # The y axis keeps to the measured points, not to the steepest reference line.
     assert ax.get_ylim()[1] <= 3 * 1e-3 * x.max() ** 2 * (1 + 1e-9)

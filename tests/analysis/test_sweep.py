@@ -134,3 +134,20 @@ def test_killed_sweep_resumes_without_lost_or_duplicated_points(tmp_path, data_d
     assert runs_after - runs_before == 11 - before
     context = json.loads((results / "claims.json").read_text())["context"]
     assert context["points"].startswith(f"11 ({before} cached, {11 - before} run")
+
+
+def test_expand_claim_runs_the_range_for_every_grid_value(tmp_path, data_dir, fake_hrbench):
+    text = (data_dir / "small_claims.toml").read_text().replace(
+        "params = { l = 8, d = 1 }", "params = { d = 1 }\nsweep.grid = { l = [8, 32] }")
+    (tmp_path / "grid.toml").write_text(text)
+    claim, points = claim_points(tmp_path, fake_hrbench, "grid.toml")
+    assert len(points) == 22
+    assert [dict(p.key.params)["l"] for p in points] == [8.0] * 11 + [32.0] * 11
+    assert points[11].argv[1:5] == ("run", "parallel", "d=1", "l=32")
+    assert len({p.key.text() for p in points}) == 22
+    # A swept recursion limit goes to --min-area and into the key.
+    (tmp_path / "area.toml").write_text((data_dir / "small_claims.toml").read_text().replace(
+        'sweep.param = "eps"', 'sweep.param = "min_area"\neps = 0.5'))
+    claim, points = claim_points(tmp_path, fake_hrbench, "area.toml")
+    assert [p.key.min_area for p in points][:2] == [1.0, 0.63096]
+    assert "--min-area" in points[1].argv and "0.63096" in points[1].argv
