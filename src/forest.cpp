@@ -1,8 +1,28 @@
 #include "forest.h"
 
+#include <cmath>
+#include <cstring>
+
 #include "util/error.h"
 
 namespace hrbench {
+
+double SquaredSizeBound(double size) {
+    if (!(size > 0))
+        return 0;
+    // Bisect on the bit patterns of the doubles in [0, +inf], which are ordered as the
+    // values: find the first whose square root reaches _size_.
+    uint64_t lo = 0, hi = 0x7ff0000000000000;  // sqrt(+0) = 0 < size; sqrt(+inf) = +inf
+    while (hi - lo > 1) {
+        uint64_t mid = lo + (hi - lo) / 2;
+        double s;
+        std::memcpy(&s, &mid, sizeof s);
+        (std::sqrt(s) >= size ? hi : lo) = mid;
+    }
+    double bound;
+    std::memcpy(&bound, &hi, sizeof bound);
+    return bound;
+}
 
 template <typename Shape>
 Forest<Shape>::Forest(const Patches<Shape> &patches, size_t maxElements, Subdivision mode)
@@ -11,7 +31,7 @@ Forest<Shape>::Forest(const Patches<Shape> &patches, size_t maxElements, Subdivi
         throw InputError("scene has too many patches");
     for (const Patch<Shape> &patch : patches) {
         const Shape &s = patch.shape;
-        hot_.push_back({s.Centroid(), s.Measure(), kNoChildren, uint32_t(hot_.size())});
+        hot_.push_back({s.Centroid(), s.SquaredMeasure(), kNoChildren, uint32_t(hot_.size())});
         shapes_.push_back(s);
         depth_.push_back(0);
         parent_.push_back(uint32_t(parent_.size()));
@@ -29,10 +49,12 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
     // Split element _i_ and check that double precision still resolves its children.
     std::array<Shape, 4> children;
     int n = shapes_[i].Subdivide(mode_, children);  // == arity
-    std::array<double, 4> sizes{};
-    for (int c = 0; c < n; ++c)
-        sizes[c] = children[c].Measure();
-    if (!Shape::Resolves(hot_[i].size, sizes, n))
+    std::array<double, 4> squares{}, sizes{};
+    for (int c = 0; c < n; ++c) {
+        squares[c] = children[c].SquaredMeasure();
+        sizes[c] = std::sqrt(squares[c]);  // == children[c].Measure()
+    }
+    if (!Shape::Resolves(hot_[i].Size(), sizes, n))
         throw LimitError("element " + std::to_string(i) + " of patch " +
                          std::to_string(hot_[i].root) +
                          " is too small for double precision at depth " +
@@ -43,7 +65,7 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
     uint32_t root = hot_[i].root;
     uint8_t depth = uint8_t(depth_[i] + 1);
     for (int c = 0; c < n; ++c) {
-        hot_.push_back({children[c].Centroid(), sizes[c], kNoChildren, root});
+        hot_.push_back({children[c].Centroid(), squares[c], kNoChildren, root});
         shapes_.push_back(children[c]);
         depth_.push_back(depth);
         parent_.push_back(i);

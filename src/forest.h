@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -15,11 +16,26 @@ namespace hrbench {
 // What the refinement kernel reads for every oracle call (32 bytes in 2D, 40 in 3D).
 template <int D>
 struct Element {
-    Vector<D> center;     // centroid, where the oracle measures distances
-    double size;          // A: length (2D) or area (3D)
+    Vector<D> center;  // centroid, where the oracle measures distances
+    // A^2, the squared size: squared length (2D) or squared area (3D), computed once by
+    // Shape::SquaredMeasure() with the formula of docs/conventions.md. The kernel picks
+    // the element to split by comparing it, exactly; whoever needs A itself takes
+    // Size() = sqrt(A^2), which is Shape::Measure().
+    double sizeSquared;
     uint32_t firstChild;  // index of the first child (children are consecutive); 0 if a leaf
     uint32_t root;        // index of the root patch in scene order
+
+    // The element size A: length (2D) or area (3D).
+    double Size() const { return std::sqrt(sizeSquared); }
 };
+static_assert(sizeof(Element<2>) == 32 && sizeof(Element<3>) == 40,
+              "the hot record is 32 bytes in 2D, 40 in 3D");
+
+// The least double s >= 0 with sqrt(s) >= _size_ (+infinity if there is none), so that
+// sqrt(s) < size exactly when s < SquaredSizeBound(size), for every double s >= 0 (the
+// square root is correctly rounded, hence monotone). Lets a bound on A be checked on A^2
+// with no square root and no rounding of its own.
+double SquaredSizeBound(double size);
 
 // Element 0 is always a root, so it can never be anyone's child.
 constexpr uint32_t kNoChildren = 0;

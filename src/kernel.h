@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "forest.h"
 #include "link_buffer.h"
 #include "refine_options.h"
 #include "util/error.h"
@@ -58,7 +59,8 @@ class ProjectKernel {
   public:
     ProjectKernel(Forest &forest, const Oracle &oracle, const RefineOptions &options,
                   size_t maxLinks, const Visibility &visibility = Visibility())
-        : forest_(forest), oracle_(oracle), visibility_(visibility), minArea_(options.minArea),
+        : forest_(forest), oracle_(oracle), visibility_(visibility),
+          minAreaBound_(SquaredSizeBound(options.minArea)),
           depthLimit_(options.maxDepth >= 0 ? options.maxDepth : kSafetyDepth),
           userDepthLimit_(options.maxDepth >= 0), maxLinks_(maxLinks) {}
 
@@ -102,11 +104,12 @@ class ProjectKernel {
                 return AddLink(i, j, depthI + depthJ);
         }
 
-        // Pick the larger element (ties: the first) and apply the recursion limit to it.
-        bool splitI = ei.size >= ej.size;
-        double preferredSize = splitI ? ei.size : ej.size;
+        // Pick the larger element by A^2, exactly (ties: the first), and apply the
+        // recursion limit to it: A < --min-area, decided on A^2 without rounding.
+        bool splitI = ei.sizeSquared >= ej.sizeSquared;
+        double preferredSizeSquared = splitI ? ei.sizeSquared : ej.sizeSquared;
         int preferredDepth = splitI ? depthI : depthJ;
-        if (preferredSize < minArea_ || preferredDepth >= depthLimit_) {
+        if (preferredSizeSquared < minAreaBound_ || preferredDepth >= depthLimit_) {
             if (!userDepthLimit_ && preferredDepth >= depthLimit_)
                 ThrowSafetyCap(i, j);
             ++tally.forcedLinks;
@@ -156,7 +159,7 @@ class ProjectKernel {
     Forest &forest_;
     const Oracle oracle_;
     Visibility visibility_;
-    const double minArea_;
+    const double minAreaBound_;  // sqrt(A^2) < --min-area iff A^2 < minAreaBound_
     const int depthLimit_;
     const bool userDepthLimit_;
     const size_t maxLinks_;

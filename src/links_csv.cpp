@@ -19,7 +19,7 @@ void WriteHeader(const Forest<Polygon> &, std::ostream &out) {
 
 // The interval of a segment element along its root, exact for dyadic positions.
 void WriteGeometry(const Forest<Segment> &forest, uint32_t e, std::ostream &out) {
-    double rootLength = forest[forest[e].root].size;
+    double rootLength = forest[forest[e].root].Size();
     double position = double(forest.Position(e));
     int depth = forest.Depth(e);
     out << FormatDouble(rootLength * std::ldexp(position, -depth)) << ","
@@ -28,8 +28,8 @@ void WriteGeometry(const Forest<Segment> &forest, uint32_t e, std::ostream &out)
 
 void WriteGeometry(const Forest<Polygon> &forest, uint32_t e, std::ostream &out) {
     const Vec3 &c = forest[e].center;
-    out << FormatDouble(forest[e].size) << "," << FormatDouble(c.x()) << "," << FormatDouble(c.y())
-        << "," << FormatDouble(c.z());
+    out << FormatDouble(forest[e].Size()) << "," << FormatDouble(c.x()) << ","
+        << FormatDouble(c.y()) << "," << FormatDouble(c.z());
 }
 
 }  // namespace

@@ -170,14 +170,19 @@ TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &opt
                              std::to_string(pairs.size()) + " pair states at level " +
                              std::to_string(level) + "); raise --max-memory or eps");
 
-        // At level n = depth_i + depth_j, P is halved on even levels (equal sizes: ties go
-        // to the first argument), Q on odd ones.
+        // At level n = depth_i + depth_j, P is halved on even levels (equal squared
+        // sizes: ties go to the first argument), Q on odd ones (Q's squared size is four
+        // times P's: exact while it is a normal double, which Resolves() in the forest
+        // and ExactToDepth() keep).
         const int depthI = (level + 1) / 2, depthJ = level / 2;
         const bool splitsP = level % 2 == 0;
         if (!ExactToDepth(plates, depthI))
             NotExact(plates, depthI);
-        Element<2> ei{Vec2(0, 0), std::ldexp(plates.l, -depthI), kNoChildren, 0};
-        Element<2> ej{Vec2(0, plates.d), std::ldexp(plates.l, -depthJ), kNoChildren, 1};
+        // Squared sizes as the engine computes them, dx*dx + dy*dy with the exact
+        // (dx, dy) = (+-l / 2^depth, 0): dx*dx, as adding 0*0 changes nothing.
+        const double sizeI = std::ldexp(plates.l, -depthI), sizeJ = std::ldexp(plates.l, -depthJ);
+        Element<2> ei{Vec2(0, 0), sizeI * sizeI, kNoChildren, 0};
+        Element<2> ej{Vec2(0, plates.d), sizeJ * sizeJ, kNoChildren, 1};
 
         // Evaluate the oracle once per state, on the midpoints the engine computes for
         // the representative pair, and count every pair of the state.

@@ -43,7 +43,8 @@ TEST_CASE("Segment forests halve elements once, first half first", "[forest][2d]
     CHECK(f.Mode() == Subdivision::Binary);
     REQUIRE(f.Size() == 2);
     CHECK(f.NumRoots() == 2);
-    CHECK(f[0].size == 8);
+    CHECK(f[0].sizeSquared == 64);  // the hot record holds A^2
+    CHECK(f[0].Size() == 8);
     CHECK(f[0].center == Vec2(4, 0));
     CHECK(f[1].root == 1);
     CHECK(f[0].firstChild == kNoChildren);
@@ -56,7 +57,7 @@ TEST_CASE("Segment forests halve elements once, first half first", "[forest][2d]
     CHECK(f.ShapeOf(2).b == Vec2(4, 1));
     CHECK(f.ShapeOf(3).a == Vec2(4, 1));
     CHECK(f.ShapeOf(3).b == Vec2(0, 1));
-    CHECK(f[3].size == 4);
+    CHECK(f[3].sizeSquared == 16);
     CHECK(f[3].center == Vec2(2, 1));
     CHECK(f[3].root == 1);
     CHECK(f.Parent(3) == 1);
@@ -88,7 +89,7 @@ TEST_CASE("Positions are canonical: the index along the root, whatever the creat
     for (uint32_t e = 0; e < f.Size(); ++e) {
         INFO("element " << e);
         const Segment &root = f.ShapeOf(f[e].root);
-        double rootLength = f[f[e].root].size;
+        double rootLength = f[f[e].root].Size();
         double t0 = rootLength * std::ldexp(double(f.Position(e)), -f.Depth(e));
         double t1 = rootLength * std::ldexp(double(f.Position(e) + 1), -f.Depth(e));
         CHECK((f.ShapeOf(e).a - root.a).norm() == t0);
@@ -104,13 +105,14 @@ TEST_CASE("Polygon forests create children once, first child first", "[forest][3
         Forest<Polygon> f(patches, 1000, Subdivision::Binary);
         CHECK(f.Arity() == 2);
         REQUIRE(f.Size() == 2);
-        CHECK(f[0].size == 1);
-        CHECK(f[1].size == 0.5);
+        CHECK(f[0].sizeSquared == 1);
+        CHECK(f[1].sizeSquared == 0.25);
+        CHECK(f[1].Size() == 0.5);
         uint32_t c = f.Children(0);
         CHECK(c == 2);
         CHECK(f.Children(0) == 2);  // shared
         CHECK(f.Size() == 4);
-        CHECK(f[2].size == 0.5);
+        CHECK(f[2].sizeSquared == 0.25);
         CHECK(f[2].center.isApprox(Vec3(0.25, 0.5, 0)));
         CHECK(f[3].root == 0);
         CHECK(f.Parent(3) == 0);
@@ -129,7 +131,7 @@ TEST_CASE("Polygon forests create children once, first child first", "[forest][3
         CHECK(f.Arity() == 4);
         CHECK(f.Children(1) == 2);
         CHECK(f.Size() == 6);
-        CHECK(f[5].size == 0.125);
+        CHECK(f[5].sizeSquared == 0.125 * 0.125);
         CHECK(f.NumLeaves() == 5);
         // Quarters of a quarter: positions count in base 4 along the subdivision order.
         uint32_t grand = f.Children(4);

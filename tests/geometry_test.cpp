@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <random>
 
 #include "hrbench.h"
 
@@ -40,6 +41,34 @@ TEST_CASE("Segments report their length, midpoint and left-hand normal", "[geome
         CHECK(s.Measure() == 5);
         CHECK(s.Centroid() == Vec2(2.5, 3));
         CHECK(s.Normal().isApprox(Vec2(-0.8, 0.6)));
+    }
+}
+
+TEST_CASE("A segment's squared length is dx*dx + dy*dy; its length is the square root",
+          "[geometry][2d]") {
+    SECTION("hand-computed: the square root merges two squared lengths one ulp apart") {
+        // (dx, dy) = (-1, 2^-26): dx*dx + dy*dy = 1 + 2^-52 exactly, the double after 1,
+        // whose square root rounds (to even) to 1, the length of a unit segment.
+        Segment unit{Vec2(0, 0), Vec2(1, 0)}, tilted{Vec2(1, 1), Vec2(0, 1 + 0x1p-26)};
+        CHECK(unit.SquaredLength() == 1);
+        CHECK(tilted.SquaredLength() == std::nextafter(1.0, 2.0));
+        CHECK(tilted.SquaredMeasure() == tilted.SquaredLength());
+        CHECK(tilted.Length() == 1);
+        CHECK(tilted.Length() == unit.Length());
+        CHECK((tilted.b - tilted.a).norm() == 1);  // Eigen's norm merges them too
+    }
+    SECTION("random segments: Length() is bit for bit Eigen's norm()") {
+        std::mt19937_64 rng(7);
+        std::uniform_real_distribution<double> u(-1e3, 1e3), e(-60, 60);
+        for (int k = 0; k < 100000; ++k) {
+            double scale = std::ldexp(1.0, int(e(rng)));
+            Segment s{Vec2(u(rng), u(rng)) * scale, Vec2(u(rng), u(rng)) * scale};
+            double dx = s.b.x() - s.a.x(), dy = s.b.y() - s.a.y();
+            REQUIRE(s.SquaredLength() == dx * dx + dy * dy);
+            REQUIRE(s.SquaredLength() == (s.b - s.a).squaredNorm());
+            REQUIRE(s.Length() == (s.b - s.a).norm());
+            REQUIRE(s.Measure() == std::sqrt(s.SquaredMeasure()));
+        }
     }
 }
 
@@ -128,6 +157,43 @@ TEST_CASE("Polygons report area, centroid and front normal", "[geometry][3d]") {
         CHECK(t.Area() == 2);
         CHECK(t.Normal() == Vec3(0, 0, -1));
         CHECK(t.Centroid().isApprox(Vec3(2.0 / 3, 2.0 / 3, 0)));
+    }
+}
+
+TEST_CASE("A polygon's squared area is |V|^2 / 4 of its area vector V, in a stated order",
+          "[geometry][3d]") {
+    SECTION("hand-computed: the square root merges two squared areas one ulp apart") {
+        // V = (0, 0, 2) for the first triangle: A^2 = 1. For the second, (v1 - v0) x
+        // (v2 - v0) = (0, 1, 2^-26) x (2, 0, 0) = (0, 2^-25, -2): A^2 = (4 + 2^-50) / 4 =
+        // 1 + 2^-52 exactly, whose square root is 1.
+        Polygon flat = Polygon::Triangle({0, 0, 0}, {2, 0, 0}, {0, 1, 0});
+        Polygon tilted = Polygon::Triangle({0, 0, 1}, {0, 1, 1 + 0x1p-26}, {2, 0, 1});
+        CHECK(flat.AreaVector() == Vec3(0, 0, 2));
+        CHECK(tilted.AreaVector() == Vec3(0, 0x1p-25, -2));
+        CHECK(flat.SquaredArea() == 1);
+        CHECK(tilted.SquaredArea() == std::nextafter(1.0, 2.0));
+        CHECK(tilted.SquaredMeasure() == tilted.SquaredArea());
+        CHECK(tilted.Area() == 1);
+        CHECK(tilted.Area() == flat.Area());
+        CHECK(0.5 * tilted.AreaVector().norm() == 1);  // the former formula merges them too
+    }
+    SECTION("random triangles and quads: the stated order is Eigen's, and A = |V| / 2") {
+        std::mt19937_64 rng(11);
+        std::uniform_real_distribution<double> u(-1e3, 1e3), e(-60, 60);
+        for (int k = 0; k < 100000; ++k) {
+            double scale = std::ldexp(1.0, int(e(rng)));
+            Vec3 a = Vec3(u(rng), u(rng), u(rng)) * scale, b = Vec3(u(rng), u(rng), u(rng)) * scale,
+                 c = Vec3(u(rng), u(rng), u(rng)) * scale, d = Vec3(u(rng), u(rng), u(rng)) * scale;
+            Polygon p = k % 2 ? Polygon::Triangle(a, b, c) : Polygon::Quad(a, b, c, d);
+            Vec3 eigen = k % 2 ? (b - a).cross(c - a) : (c - a).cross(d - b);
+            Vec3 v = p.AreaVector();
+            REQUIRE(v == eigen);
+            REQUIRE(p.SquaredArea() == (v.x() * v.x() + v.y() * v.y() + v.z() * v.z()) / 4);
+            REQUIRE(p.SquaredArea() * 4 == v.squaredNorm());
+            // Equal to the former 0.5 |V| while A^2 is a normal double (it is here).
+            REQUIRE(p.Area() == 0.5 * v.norm());
+            REQUIRE(p.Measure() == std::sqrt(p.SquaredMeasure()));
+        }
     }
 }
 

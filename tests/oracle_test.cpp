@@ -15,9 +15,13 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// An element of size _size_ (its hot record holds size^2; Size() gives _size_ back, as
+// sqrt(x * x) == x in double precision without overflow or underflow).
 Element<2> At(double x, double y, double size, uint32_t root = 0) {
-    return {Vec2(x, y), size, kNoChildren, root};
+    return {Vec2(x, y), size * size, kNoChildren, root};
 }
+
+double Sq(double x) { return x * x; }
 
 // Two segments whose front normals are _n0_ and _n1_ (unit, axis-aligned or not).
 Patches<Segment> WithNormals(const Vec2 &n0, const Vec2 &n1) {
@@ -53,7 +57,7 @@ TEST_CASE("The garmann oracle accepts exactly when max(A_i, A_j) <= eps * r", "[
         for (int k = 0; k < 200000; ++k) {
             Element<2> a = At(u(rng), u(rng), s(rng)), b = At(u(rng), u(rng), s(rng));
             double eps = s(rng);
-            bool exact = std::max(a.size, b.size) <= eps * (a.center - b.center).norm();
+            bool exact = std::max(a.Size(), b.Size()) <= eps * (a.center - b.center).norm();
             REQUIRE(GarmannOracle<Segment>(eps, {}).Acceptable(a, b) == exact);
             accepted += exact;
         }
@@ -88,11 +92,66 @@ TEST_CASE("The hanrahan oracle estimates the flatland form factor", "[oracle][2d
 }
 
 TEST_CASE("The 3D garmann oracle decides max(A_i, A_j) <= eps r^2 exactly", "[oracle][3d]") {
-    Element<3> a{Vec3(0, 0, 0), 0.25, kNoChildren, 0}, b{Vec3(0, 0, 2), 1, kNoChildren, 1};
+    Element<3> a{Vec3(0, 0, 0), Sq(0.25), kNoChildren, 0}, b{Vec3(0, 0, 2), Sq(1), kNoChildren, 1};
     CHECK(GarmannOracle<Polygon>(0.25, {}).Acceptable(a, b));  // 1 <= 0.25 * 4: the tie is accepted
     CHECK(!GarmannOracle<Polygon>(0.2499, {}).Acceptable(a, b));
     CHECK(GarmannOracle<Polygon>(0.2499, {}).AcceptableVisible(a, b, 0.5));  // 0.5 <= 0.9996
     CHECK(!GarmannOracle<Polygon>(0.1, {}).AcceptableVisible(a, b, 0.5));
+}
+
+TEST_CASE("garmann decides on A^2 as the exact form on A = sqrt(A^2), at any magnitude",
+          "[oracle]") {
+    // The exact forms: sqrt(max A^2) <= eps * sqrt(r^2) (2D), <= eps * r^2 (3D). Squared
+    // sizes, distances and eps over the whole double range, and pairs placed within a
+    // few ulps of the threshold, where the decision on squares must defer to them.
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0.5, 1), e2(-1000, 1000), e1(-500, 500),
+        eE(-600, 600);  // eps^2 below and above the normal doubles too
+    std::uniform_int_distribution<int> ulps(-6, 6);
+    int accepted = 0, total = 0;
+    for (int k = 0; k < 200000; ++k) {
+        double eps = std::ldexp(u(rng), int(eE(rng)));
+        double x = std::ldexp(u(rng), int(e1(rng))), y = std::ldexp(u(rng), int(e1(rng)));
+        double s1 = std::ldexp(u(rng), int(e2(rng))), s2 = std::ldexp(u(rng), int(e2(rng)));
+        {
+            Element<2> a{Vec2(0, 0), s1, kNoChildren, 0}, b{Vec2(x, y), s2, kNoChildren, 1};
+            double r2 = (a.center - b.center).squaredNorm();
+            if (k % 2) {  // near the threshold: A = eps r, give or take a few ulps
+                double m = eps * std::sqrt(r2);
+                a.sizeSquared = std::nextafter(m * m, ulps(rng) > 0 ? HUGE_VAL : 0.0);
+            }
+            double m = std::sqrt(std::max(a.sizeSquared, b.sizeSquared));
+            bool exact = m <= eps * std::sqrt(r2);
+            GarmannOracle<Segment> g(eps, {});
+            INFO("2D eps=" << eps << " s=" << a.sizeSquared << "," << b.sizeSquared
+                           << " r2=" << r2);
+            REQUIRE(g.Acceptable(a, b) == exact);
+            REQUIRE(g.AcceptableVisible(a, b, 1.0) == exact);
+            accepted += exact, ++total;
+        }
+        {
+            double z = std::ldexp(u(rng), int(e1(rng)));
+            Element<3> a{Vec3(0, 0, 0), s1, kNoChildren, 0}, b{Vec3(x, y, z), s2, kNoChildren, 1};
+            double r2 = (a.center - b.center).squaredNorm();
+            if (k % 2) {  // near the threshold: A = eps r^2, give or take a few ulps
+                double m = eps * r2;
+                double s = m * m;
+                for (int step = ulps(rng); step != 0; step += step > 0 ? -1 : 1)
+                    s = std::nextafter(s, step > 0 ? HUGE_VAL : 0.0);
+                a.sizeSquared = s;
+            }
+            double m = std::sqrt(std::max(a.sizeSquared, b.sizeSquared));
+            bool exact = m <= eps * r2;
+            GarmannOracle<Polygon> g(eps, {});
+            INFO("3D eps=" << eps << " s=" << a.sizeSquared << "," << b.sizeSquared
+                           << " r2=" << r2);
+            REQUIRE(g.Acceptable(a, b) == exact);
+            REQUIRE(g.AcceptableVisible(a, b, 1.0) == exact);
+            accepted += exact, ++total;
+        }
+    }
+    CHECK(accepted > total / 10);  // both outcomes are exercised
+    CHECK(accepted < total * 9 / 10);
 }
 
 TEST_CASE("The 3D hanrahan oracle estimates both form factors at the centroids", "[oracle][3d]") {
@@ -100,7 +159,7 @@ TEST_CASE("The 3D hanrahan oracle estimates both form factors at the centroids",
     Patches<Polygon> normals = SquaresFacing(true, false);  // +z, -z
     REQUIRE(normals[0].shape.Normal() == Vec3(0, 0, 1));
     REQUIRE(normals[1].shape.Normal() == Vec3(0, 0, -1));
-    Element<3> a{Vec3(0, 0, 0), 1, kNoChildren, 0}, b{Vec3(0, 0, 1), 2, kNoChildren, 1};
+    Element<3> a{Vec3(0, 0, 0), Sq(1), kNoChildren, 0}, b{Vec3(0, 0, 1), Sq(2), kNoChildren, 1};
     double fAB = 2 / (kPi + 2), fBA = 1 / (kPi + 1);
     CHECK(HanrahanOracle<Polygon>(fAB, normals).Acceptable(a, b));
     CHECK(!HanrahanOracle<Polygon>(fAB * (1 - 1e-9), normals).Acceptable(a, b));
@@ -120,8 +179,8 @@ TEST_CASE("The weighted oracles decide as the plain ones when all is visible", "
         int disagreements = 0, accepted = 0;
         for (int a = 0; a < 40; ++a)
             for (int b = 0; b < 40; ++b) {
-                Element<2> ei{Vec2(a * 0.1, 0), 0.05 * (1 + a % 7), kNoChildren, 0};
-                Element<2> ej{Vec2(b * 0.07, 1 + b * 0.03), 0.05 * (1 + b % 5), kNoChildren, 1};
+                Element<2> ei = At(a * 0.1, 0, 0.05 * (1 + a % 7), 0);
+                Element<2> ej = At(b * 0.07, 1 + b * 0.03, 0.05 * (1 + b % 5), 1);
                 disagreements += g.Acceptable(ei, ej) != g.AcceptableVisible(ei, ej, 1.0);
                 disagreements += h.Acceptable(ei, ej) != h.AcceptableVisible(ei, ej, 1.0);
                 accepted += g.Acceptable(ei, ej) + h.Acceptable(ei, ej);
@@ -138,9 +197,9 @@ TEST_CASE("The weighted oracles decide as the plain ones when all is visible", "
         int disagreements = 0, accepted = 0;
         for (int a = 0; a < 30; ++a)
             for (int b = 0; b < 30; ++b) {
-                Element<3> ei{Vec3(a * 0.03, 0.5, 0), 0.01 * (1 + a % 7), kNoChildren, 0};
-                Element<3> ej{Vec3(b * 0.04, 0.3, 0.2 + b * 0.03), 0.01 * (1 + b % 5), kNoChildren,
-                              1};
+                Element<3> ei{Vec3(a * 0.03, 0.5, 0), Sq(0.01 * (1 + a % 7)), kNoChildren, 0};
+                Element<3> ej{Vec3(b * 0.04, 0.3, 0.2 + b * 0.03), Sq(0.01 * (1 + b % 5)),
+                              kNoChildren, 1};
                 disagreements += g.Acceptable(ei, ej) != g.AcceptableVisible(ei, ej, 1.0);
                 disagreements += h.Acceptable(ei, ej) != h.AcceptableVisible(ei, ej, 1.0);
                 accepted += g.Acceptable(ei, ej) + h.Acceptable(ei, ej);
@@ -187,9 +246,10 @@ TEST_CASE("Every oracle of the registry rejects large close pairs and accepts sm
         CHECK_FALSE(o2.Acceptable(At(0.5, 0, 1, 0), At(0.5, 1, 1, 1)));
         CHECK(o2.Acceptable(At(0.5, 0, 1e-3, 0), At(0.5, 1, 1e-3, 1)));
         typename Tag::template Type<Polygon> o3(0.1, space.Get<Polygon>());
-        Element<3> p{Vec3(0.5, 0.5, 0), 1, kNoChildren, 0}, q{Vec3(0.5, 0.5, 1), 1, kNoChildren, 1};
+        Element<3> p{Vec3(0.5, 0.5, 0), Sq(1), kNoChildren, 0},
+            q{Vec3(0.5, 0.5, 1), Sq(1), kNoChildren, 1};
         CHECK_FALSE(o3.Acceptable(p, q));
-        p.size = q.size = 1e-3;
+        p.sizeSquared = q.sizeSquared = Sq(1e-3);
         CHECK(o3.Acceptable(p, q));
     });
     CHECK(oracles == int(OracleInfos().size()));

@@ -6,6 +6,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <random>
 #include <tuple>
 #include <variant>
 
@@ -43,7 +44,10 @@ struct ReferenceCounts {
     uint64_t nodes = 0, links = 0, calls = 0;
 };
 
-ReferenceCounts ReferenceGarmann(const Segment &p, const Segment &q, double eps) {
+// With _byLength_, the element to split is picked by comparing the lengths A instead of
+// A^2 (the rule before docs/conventions.md stated A^2), to show where the two differ.
+ReferenceCounts ReferenceGarmann(const Segment &p, const Segment &q, double eps,
+                                 bool byLength = false) {
     struct Node {
         Vec2 a, b;
     };
@@ -56,12 +60,17 @@ ReferenceCounts ReferenceGarmann(const Segment &p, const Segment &q, double eps)
         ++counts.calls;
         Node ni = nodes[i], nj = nodes[j];
         Vec2 ci = 0.5 * (ni.a + ni.b), cj = 0.5 * (nj.a + nj.b);
-        double ai = (ni.b - ni.a).norm(), aj = (nj.b - nj.a).norm();
-        if (std::max(ai, aj) <= eps * (ci - cj).norm()) {
+        // A^2 = dx*dx + dy*dy, A = sqrt(A^2); the larger A^2 is split, ties to i.
+        auto squared = [](const Node &n) {
+            double dx = n.b.x() - n.a.x(), dy = n.b.y() - n.a.y();
+            return dx * dx + dy * dy;
+        };
+        double ai2 = squared(ni), aj2 = squared(nj);
+        if (std::max(std::sqrt(ai2), std::sqrt(aj2)) <= eps * (ci - cj).norm()) {
             ++counts.links;
             return;
         }
-        bool splitI = ai >= aj;
+        bool splitI = byLength ? std::sqrt(ai2) >= std::sqrt(aj2) : ai2 >= aj2;
         Key s = splitI ? i : j;
         Node ns = splitI ? ni : nj;
         Vec2 m = 0.5 * (ns.a + ns.b);
@@ -92,8 +101,8 @@ void CheckInvariants(const Scene &scene, const Refinement<Shape> &r, const Oracl
     for (const Link &link : r.links) {
         unacceptable += !oracle.Acceptable(f[link.i], f[link.j]);
         uint32_t pi = f.Parent(link.i), pj = f.Parent(link.j);
-        bool fromI = pi != link.i && f[pi].size >= f[link.j].size;
-        bool fromJ = pj != link.j && f[link.i].size < f[pj].size;
+        bool fromI = pi != link.i && f[pi].sizeSquared >= f[link.j].sizeSquared;
+        bool fromJ = pj != link.j && f[link.i].sizeSquared < f[pj].sizeSquared;
         if (fromI || fromJ) {
             bool someParentRejected = (fromI && !oracle.Acceptable(f[pi], f[link.j])) ||
                                       (fromJ && !oracle.Acceptable(f[link.i], f[pj]));
@@ -202,6 +211,106 @@ TEST_CASE("Refine dispatches on the shape of the scene's patches", "[refine]") {
     CHECK_THROWS_WITH(Refine<Polygon>(MakeScene("parallel", {}), Options(0.5)),
                       Catch::Contains("does not hold polygons"));
     CHECK_THROWS_AS(Refine<Segment>(MakeScene("parallel3d", {}), Options(0.5)), InputError);
+}
+
+// ---------------------------------------------------------------------------------------
+// Preferred subdivision: the larger A^2, exactly
+
+TEST_CASE("The element with the larger A^2 is split, even where sqrt merges the lengths",
+          "[refine]") {
+    SECTION("2D: A_P = A_Q = 1, but A_Q^2 is one ulp above A_P^2 = 1") {
+        // Q's (dx, dy) = (-1, 2^-26): A_Q^2 = 1 + 2^-52, A_Q = sqrt(1 + 2^-52) = 1. The
+        // root pair is rejected (1 > 0.5 r, r ~ 1): a comparison of the lengths would
+        // tie and split P; the squared lengths split Q.
+        Segment p{Vec2(0, 0), Vec2(1, 0)}, q{Vec2(1, 1), Vec2(0, 1 + 0x1p-26)};
+        REQUIRE(p.Length() == q.Length());
+        REQUIRE(q.SquaredLength() == std::nextafter(p.SquaredLength(), 2.0));
+        Scene scene{"file", {}, "", Patches<Segment>{{p, {}}, {q, {}}}};
+        Refinement<Segment> r = Refine<Segment>(scene, Options(0.5));
+        // Links come depth-first, first child first. Q split first: (P, Q0) is rejected
+        // and splits P, so the first two links are (P0, Q0), (P1, Q0), sharing Q0 (had P
+        // been split first, they would be (P0, Q0), (P0, Q1), sharing P0).
+        REQUIRE(r.links.size() == 4);
+        CHECK(r.links[0].j == r.links[1].j);
+        CHECK(r.links[0].i != r.links[1].i);
+        CHECK(r.forest.Depth(r.links[0].j) == 1);
+        CHECK(r.record.counters.oracleCalls == 7);
+        ReferenceCounts ref = ReferenceGarmann(p, q, 0.5);
+        CHECK(r.record.counters.nodes == ref.nodes);
+        CHECK(r.record.counters.links == ref.links);
+        CHECK(r.record.counters.oracleCalls == ref.calls);
+        CheckInvariants(scene, r, GarmannOracle<Segment>(0.5, scene.Get<Segment>()));
+        SECTION("in the other scene order the tie is gone as well: Q, now first, is split") {
+            Scene swapped{"file", {}, "", Patches<Segment>{{q, {}}, {p, {}}}};
+            Refinement<Segment> s = Refine<Segment>(swapped, Options(0.5));
+            REQUIRE(s.links.size() == 4);
+            CHECK(s.links[0].i == s.links[1].i);  // (Q0, P0), (Q0, P1)
+            CHECK(s.links[0].j != s.links[1].j);
+        }
+    }
+    SECTION("3D: A_P = A_Q = 1, but A_Q^2 is one ulp above A_P^2 = 1") {
+        // P: V = (0, 0, 2), A^2 = 1. Q: V = (0, 2^-25, -2), A^2 = (4 + 2^-50) / 4 =
+        // 1 + 2^-52, A = 1. The root pair is rejected (1 > 0.5 r^2, r ~ 1).
+        Polygon p = Polygon::Triangle({0, 0, 0}, {2, 0, 0}, {0, 1, 0});
+        Polygon q = Polygon::Triangle({0, 0, 1}, {0, 1, 1 + 0x1p-26}, {2, 0, 1});
+        REQUIRE(p.Area() == q.Area());
+        REQUIRE(q.SquaredArea() == std::nextafter(p.SquaredArea(), 2.0));
+        Scene scene{"file", {}, "", Patches<Polygon>{{p, {}}, {q, {}}}};
+        REQUIRE_NOTHROW(ValidateScene(scene));
+        Refinement<Polygon> r = Refine<Polygon>(scene, Options3D(0.5));
+        // As in 2D: Q split first, then P under (P, Q0): the first two links share Q0.
+        REQUIRE(r.links.size() >= 2);
+        CHECK(r.links[0].j == r.links[1].j);
+        CHECK(r.links[0].i != r.links[1].i);
+        CHECK(r.forest.Depth(r.links[0].j) == 1);
+        CheckInvariants(scene, r, GarmannOracle<Polygon>(0.5, scene.Get<Polygon>()));
+    }
+}
+
+TEST_CASE("The angled example of docs/conventions.md: Q first, one deeper tie decided by A^2",
+          "[refine]") {
+    // angled l=1.9 angle=37.3 gap=0.07: A_P = 1.9, A_P^2 = 3.61; Q's (dx, dy) give
+    // A_Q^2 = 3.6100000000000003 and A_Q = 1.9000000000000001 (a hypot() would give 1.9
+    // and a tie). Q is split first. At depths (6, 6) a pair has equal lengths
+    // 0.029687499999999978 whose squares differ in the last bit, and Q's is larger: Q is
+    // split there too (a comparison of the lengths split P: 843 calls, 422 links).
+    Scene scene = MakeScene("angled", {{"l", 1.9}, {"angle", 37.3}, {"gap", 0.07}});
+    const Segment &p = scene.Get<Segment>()[0].shape, &q = scene.Get<Segment>()[1].shape;
+    CHECK(p.SquaredLength() == 3.61);
+    CHECK(q.SquaredLength() == std::nextafter(3.61, 4.0));
+    Refinement<Segment> r = Refine<Segment>(scene, Options(0.231));
+    CHECK(r.record.counters.oracleCalls == 841);
+    CHECK(r.record.counters.links == 421);
+    CHECK(r.record.counters.nodes == 138);
+    ReferenceCounts ref = ReferenceGarmann(p, q, 0.231);
+    CHECK(r.record.counters.nodes == ref.nodes);
+    CHECK(r.record.counters.links == ref.links);
+    CHECK(r.record.counters.oracleCalls == ref.calls);
+    ReferenceCounts byLength = ReferenceGarmann(p, q, 0.231, true);
+    CHECK(byLength.calls == 843);
+    CHECK(byLength.links == 422);
+    CheckInvariants(scene, r, GarmannOracle<Segment>(0.231, scene.Get<Segment>()));
+}
+
+TEST_CASE("--min-area compares A = sqrt(A^2) with the bound, exactly, on A^2", "[refine]") {
+    // SquaredSizeBound(m) is the least s with sqrt(s) >= m: s < bound iff sqrt(s) < m.
+    CHECK(SquaredSizeBound(0) == 0);
+    CHECK(SquaredSizeBound(1) == 1);
+    CHECK(SquaredSizeBound(0.5) == 0.25);
+    CHECK(SquaredSizeBound(std::numeric_limits<double>::max()) ==
+          std::numeric_limits<double>::infinity());
+    CHECK(SquaredSizeBound(std::numeric_limits<double>::denorm_min()) > 0);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(0.5, 1), e(-700, 700);
+    for (int k = 0; k < 20000; ++k) {
+        double m = std::ldexp(u(rng), int(e(rng)));
+        double bound = SquaredSizeBound(m);
+        double s = m * m;
+        for (int step = 0; step < 4; ++step)
+            s = std::nextafter(s, 0.0);
+        for (int step = 0; step < 8; ++step, s = std::nextafter(s, HUGE_VAL))
+            REQUIRE((std::sqrt(s) < m) == (s < bound));
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -323,7 +432,7 @@ TEST_CASE("Recursion limits force links and are counted", "[refine]") {
         CheckInvariants(room, r, GarmannOracle<Segment>(0.1, room.Get<Segment>()));
         for (uint32_t e = 0; e < r.forest.Size(); ++e)
             if (r.forest[e].firstChild != kNoChildren)
-                CHECK(r.forest[e].size >= 0.01);
+                CHECK(r.forest[e].Size() >= 0.01);
     }
     SECTION("--max-depth bounds the depth of every element") {
         RefineOptions o = Options(0.1);

@@ -44,9 +44,9 @@ std::string ForestDifferences(const hrbench::Forest<Shape> &a, const hrbench::Fo
         return out.str();
     }
     for (uint32_t e = 0; e < a.Size(); ++e) {
-        if (a[e].size != b[e].size || a[e].center != b[e].center || a[e].root != b[e].root ||
-            a[e].firstChild != b[e].firstChild || a.Parent(e) != b.Parent(e) ||
-            a.Depth(e) != b.Depth(e)) {
+        if (a[e].sizeSquared != b[e].sizeSquared || a[e].center != b[e].center ||
+            a[e].root != b[e].root || a[e].firstChild != b[e].firstChild ||
+            a.Parent(e) != b.Parent(e) || a.Depth(e) != b.Depth(e)) {
             out << "element " << e << " differs\n";
             break;
         }
@@ -90,7 +90,7 @@ std::string TilingViolations(const hrbench::Scene &scene, const hrbench::Refinem
     const hrbench::Patches<Shape> &roots = scene.Get<Shape>();
     std::map<std::pair<uint32_t, uint32_t>, double> area;
     for (const hrbench::Link &link : r.links)
-        area[{f[link.i].root, f[link.j].root}] += f[link.i].size * f[link.j].size;
+        area[{f[link.i].root, f[link.j].root}] += f[link.i].Size() * f[link.j].Size();
     uint64_t linksSeen = 0;
     for (const hrbench::PairTally &pair : r.pairs) {
         bool callsFollow = f.Mode() == hrbench::Subdivision::Binary

@@ -8,14 +8,31 @@
 
 namespace hrbench {
 
-Vec3 Polygon::AreaVector() const {
-    if (n == 3)
-        return (v[1] - v[0]).cross(v[2] - v[0]);
-    // The cross product of the diagonals: exact twice the area vector of a planar quad.
-    return (v[2] - v[0]).cross(v[3] - v[1]);
+namespace {
+
+// p x q, component by component in the order of docs/conventions.md (the same
+// expressions as Eigen's cross(), written out so that no library decides them).
+Vec3 Cross(const Vec3 &p, const Vec3 &q) {
+    return Vec3(p.y() * q.z() - p.z() * q.y(), p.z() * q.x() - p.x() * q.z(),
+                p.x() * q.y() - p.y() * q.x());
 }
 
-double Polygon::Area() const { return 0.5 * AreaVector().norm(); }
+}  // namespace
+
+Vec3 Polygon::AreaVector() const {
+    if (n == 3)
+        return Cross(v[1] - v[0], v[2] - v[0]);
+    // The cross product of the diagonals: exact twice the area vector of a planar quad.
+    return Cross(v[2] - v[0], v[3] - v[1]);
+}
+
+double Polygon::SquaredArea() const {
+    Vec3 twice = AreaVector();
+    double x = twice.x(), y = twice.y(), z = twice.z();
+    return (x * x + y * y + z * z) / 4;
+}
+
+double Polygon::Area() const { return std::sqrt(SquaredArea()); }
 
 Vec3 Polygon::Centroid() const {
     if (n == 3)

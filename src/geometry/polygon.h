@@ -30,7 +30,13 @@ struct Polygon {
         return {{a, b, c, d}, 4};
     }
 
-    // Area: the element size A.
+    // The squared area A^2 = (Vx*Vx + Vy*Vy + Vz*Vz) / 4 of the area vector V below,
+    // evaluated in that order without FMA (docs/conventions.md#preferred-subdivision):
+    // the engine compares elements by it.
+    double SquaredArea() const;
+    double SquaredMeasure() const { return SquaredArea(); }
+    // Area: the element size A = sqrt(A^2) (half the norm of V, except where A^2 is
+    // below the smallest normal double).
     double Area() const;
     double Measure() const { return Area(); }
     // Area centroid.
@@ -38,7 +44,10 @@ struct Polygon {
     // Unit normal on the front side, from the corners v0, v1, v2 (v0, v2, v3 would give
     // the same for a planar quad).
     Vec3 Normal() const;
-    // Twice the area vector: the sum of corner cross products (its direction is the normal).
+    // Twice the area vector V (its direction is the normal): (v1 - v0) x (v2 - v0) for a
+    // triangle, the cross product of the diagonals (v2 - v0) x (v3 - v1) for a quad, with
+    // (p x q) = (py*qz - pz*qy, pz*qx - px*qz, px*qy - py*qx), spelled out component by
+    // component.
     Vec3 AreaVector() const;
     // Largest distance between two corners.
     double Diameter() const;

@@ -20,7 +20,7 @@ std::string Segment::Problem() const {
     if (a == b)
         return "is degenerate (its endpoints coincide)";
     // Below the smallest normal double, squared lengths and distances lose precision.
-    if (!((b - a).squaredNorm() >= std::numeric_limits<double>::min()))
+    if (!(SquaredLength() >= std::numeric_limits<double>::min()))
         return "is too short for double precision (its squared length underflows)";
     return "";
 }

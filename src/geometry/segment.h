@@ -20,7 +20,16 @@ struct Segment {
 
     Vec2 a, b;
 
-    double Length() const { return (b - a).norm(); }
+    // The squared length A^2 = dx*dx + dy*dy with (dx, dy) = b - a, evaluated in that
+    // order without FMA (docs/conventions.md#preferred-subdivision): the engine compares
+    // elements by it. Spelled out rather than left to an Eigen reduction.
+    double SquaredLength() const {
+        double dx = b.x() - a.x(), dy = b.y() - a.y();
+        return dx * dx + dy * dy;
+    }
+    double SquaredMeasure() const { return SquaredLength(); }
+    // The length A = sqrt(A^2), bit for bit Eigen's (b - a).norm().
+    double Length() const { return std::sqrt(SquaredLength()); }
     double Measure() const { return Length(); }
     Vec2 Midpoint() const { return 0.5 * (a + b); }
     Vec2 Centroid() const { return Midpoint(); }

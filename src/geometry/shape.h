@@ -6,7 +6,9 @@
 //   static constexpr int kDimension;        2 (flatland) or 3
 //   static constexpr const char *kName;     "segment", "polygon"
 //   using Vec = Vector<kDimension>;
-//   double Measure() const;                 the element size A: length or area
+//   double SquaredMeasure() const;          A^2, by the formula of docs/conventions.md
+//                                           (what the kernel compares)
+//   double Measure() const;                 the element size A = sqrt(A^2): length or area
 //   Vec Centroid() const;                   where the oracle measures distances
 //   Vec Normal() const;                     unit normal on the front side
 //   int Subdivide(Subdivision, std::array<Shape, 4> &out) const;   children, first first

@@ -39,17 +39,22 @@ class HanrahanOracle {
         Vec d = j.center - i.center;
         double r2 = d.squaredNorm();
         double r = std::sqrt(r2);
-        double cosI = std::max(0.0, normals_[i.root].dot(d) / r);
-        double cosJ = std::max(0.0, -normals_[j.root].dot(d) / r);
-        double fIJ, fJI;
-        if constexpr (Shape::kDimension == 3) {
-            fIJ = j.size * cosI * cosJ / (kPi * r2 + j.size);
-            fJI = i.size * cosI * cosJ / (kPi * r2 + i.size);
-        } else {
-            fIJ = j.size * cosI * cosJ / std::sqrt(4 * r2 + j.size * j.size);
-            fJI = i.size * cosI * cosJ / std::sqrt(4 * r2 + i.size * i.size);
-        }
-        return visible * fIJ <= eps_ && visible * fJI <= eps_;
+        // The two directions side by side, (j <- i in lane 0 is F(i<-j) with A_j; lane 1
+        // F(j<-i) with A_i), as two-lane arrays: element-wise IEEE operations in the
+        // order written, so each lane rounds exactly as the scalar formula would, and
+        // the square roots and divisions of both lanes take one instruction each.
+        using Pair = Eigen::Array2d;
+        Pair q = Pair(normals_[i.root].dot(d), -normals_[j.root].dot(d)) / r;
+        double cosI = std::max(0.0, q[0]);
+        double cosJ = std::max(0.0, q[1]);
+        // The sizes A = sqrt(A^2) of the hot records (Element::Size()).
+        Pair a = Pair(j.sizeSquared, i.sizeSquared).sqrt();
+        Pair f;
+        if constexpr (Shape::kDimension == 3)
+            f = a * cosI * cosJ / (kPi * r2 + a);
+        else
+            f = a * cosI * cosJ / (4 * r2 + a * a).sqrt();
+        return visible * f[0] <= eps_ && visible * f[1] <= eps_;
     }
 
   private:
