@@ -944,14 +944,8 @@ def run_argv(hrbench, scene, params, eps, oracle, min_area=None, max_depth=None,
         ``[hrbench, "run", scene, params..., "--eps", E, "--oracle", O, [--min-area A],
         [--max-depth D], options..., "--count-only", "--json"]``.
     """
-    argv = [os.fspath(hrbench), "run", *_scene_argv(scene, params),
-            "--eps", format_number(eps), "--oracle", oracle]
-    if min_area is not None:
-        argv += ["--min-area", format_number(min_area)]
-    if max_depth is not None:
-        argv += ["--max-depth", str(int(max_depth))]
-    argv += option_argv(options or {})
-    return argv + ["--count-only", "--json"]
+    return (_refine_argv(hrbench, "run", scene, params, eps, oracle, min_area, max_depth,
+                         options) + ["--count-only", "--json"])
 
 
 def links_argv(hrbench, scene, params, eps, out, oracle="garmann", min_area=None,
@@ -980,14 +974,21 @@ def links_argv(hrbench, scene, params, eps, out, oracle="garmann", min_area=None
     -------
     argv : list of str
     """
-    argv = [os.fspath(hrbench), "links", *_scene_argv(scene, params),
+    argv = _refine_argv(hrbench, "links", scene, params, eps, oracle, min_area, max_depth,
+                        options)
+    return argv + ([] if out is None else ["--out", os.fspath(out)])
+
+
+def _refine_argv(hrbench, command, scene, params, eps, oracle, min_area, max_depth,
+                 options):
+    # The words `run` and `links` share: scene, threshold, oracle, limits, options.
+    argv = [os.fspath(hrbench), command, *_scene_argv(scene, params),
             "--eps", format_number(eps), "--oracle", oracle]
     if min_area is not None:
         argv += ["--min-area", format_number(min_area)]
     if max_depth is not None:
         argv += ["--max-depth", str(int(max_depth))]
-    argv += option_argv(options or {})
-    return argv + ([] if out is None else ["--out", os.fspath(out)])
+    return argv + option_argv(options or {})
 
 
 def save_argv(hrbench, scene, params):
