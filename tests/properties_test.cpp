@@ -227,15 +227,17 @@ struct Coverage {
 
 }  // namespace
 
-TEST_CASE("Random 2D scenes satisfy the invariants with both oracles", "[properties]") {
-    Random rng(20240611);
+// Runs `cases` random scenes from `makePatches` with every oracle, checks each, and
+// checks that enough of them were nontrivial, deep and recursion-limited to mean something.
+template <typename Shape, typename MakePatches>
+void CheckRandomScenes(Random &rng, int cases, MakePatches makePatches, const char *label) {
     Coverage coverage;
-    for (int k = 0; k < 50; ++k) {
-        Patches<Segment> patches = RandomSegments(rng);
+    for (int k = 0; k < cases; ++k) {
+        Patches<Shape> patches = makePatches(rng);
         for (const OracleInfo &oracle : OracleInfos()) {
             Case c = RandomCase(rng, patches, oracle.name);
-            INFO("2D case " << k);
-            coverage.Add(c, CheckProperties<Segment>(c));
+            INFO(label << " case " << k);
+            coverage.Add(c, CheckProperties<Shape>(c));
         }
     }
     INFO(coverage.nontrivial << " of " << coverage.cases << " with > 10 links, " << coverage.deep
@@ -246,21 +248,12 @@ TEST_CASE("Random 2D scenes satisfy the invariants with both oracles", "[propert
     CHECK(coverage.limited >= coverage.cases / 5);
 }
 
+TEST_CASE("Random 2D scenes satisfy the invariants with both oracles", "[properties]") {
+    Random rng(20240611);
+    CheckRandomScenes<Segment>(rng, 50, RandomSegments, "2D");
+}
+
 TEST_CASE("Random 3D scenes satisfy the invariants with both oracles", "[properties][3d]") {
     Random rng(1991);
-    Coverage coverage;
-    for (int k = 0; k < 20; ++k) {
-        Patches<Polygon> patches = RandomPolygons(rng);
-        for (const OracleInfo &oracle : OracleInfos()) {
-            Case c = RandomCase(rng, patches, oracle.name);
-            INFO("3D case " << k);
-            coverage.Add(c, CheckProperties<Polygon>(c));
-        }
-    }
-    INFO(coverage.nontrivial << " of " << coverage.cases << " with > 10 links, " << coverage.deep
-                             << " deep enough for tasks, " << coverage.limited
-                             << " with a recursion limit");
-    CHECK(coverage.nontrivial >= coverage.cases * 3 / 4);
-    CHECK(coverage.deep >= coverage.cases / 4);
-    CHECK(coverage.limited >= coverage.cases / 5);
+    CheckRandomScenes<Polygon>(rng, 20, RandomPolygons, "3D");
 }
