@@ -4,7 +4,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "record.h"
+#include "hrbench/record.h"
 
 namespace hrbench {
 

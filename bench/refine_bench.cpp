@@ -13,8 +13,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "generators.h"
-#include "hrbench.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
 #include "record_counters.h"
 
 namespace hrbench {

@@ -9,10 +9,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "generators.h"
-#include "hrbench.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
+#include "hrbench/translation_count.h"
 #include "record_counters.h"
-#include "translation_count.h"
 
 namespace hrbench {
 namespace {

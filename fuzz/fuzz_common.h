@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "../tests/refinement_helpers.h"
-#include "hrbench.h"
+#include "hrbench/hrbench.h"
 
 namespace hrbench_fuzz {
 

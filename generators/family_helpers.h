@@ -12,7 +12,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "generators.h"
+#include "hrbench/generators/generators.h"
 
 namespace hrbench {
 

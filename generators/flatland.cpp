@@ -1,4 +1,4 @@
-#include "flatland.h"
+#include "hrbench/generators/flatland.h"
 
 #include <cmath>
 #include <cstdint>
@@ -8,8 +8,8 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include "family_helpers.h"
-#include "util/error.h"
-#include "util/format.h"
+#include "hrbench/util/error.h"
+#include "hrbench/util/format.h"
 
 namespace hrbench {
 

@@ -1,11 +1,11 @@
-#include "generators.h"
+#include "hrbench/generators/generators.h"
 
 #include <cmath>
 
-#include "flatland.h"
-#include "space.h"
-#include "util/error.h"
-#include "util/format.h"
+#include "hrbench/generators/flatland.h"
+#include "hrbench/generators/space.h"
+#include "hrbench/util/error.h"
+#include "hrbench/util/format.h"
 
 namespace hrbench {
 

@@ -1,4 +1,4 @@
-#include "culling.h"
+#include "hrbench/culling.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 

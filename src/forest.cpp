@@ -1,9 +1,9 @@
-#include "forest.h"
+#include "hrbench/forest.h"
 
 #include <cmath>
 #include <cstring>
 
-#include "util/error.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

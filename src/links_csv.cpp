@@ -1,8 +1,8 @@
-#include "links_csv.h"
+#include "hrbench/links_csv.h"
 
 #include <cmath>
 
-#include "util/format.h"
+#include "hrbench/util/format.h"
 
 namespace hrbench {
 

@@ -1,4 +1,4 @@
-#include "mesh_io.h"
+#include "hrbench/mesh_io.h"
 
 #include <algorithm>
 #include <array>
@@ -20,7 +20,7 @@
 #include <CGAL/IO/OBJ.h>
 #include <CGAL/IO/OFF.h>
 
-#include "util/error.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

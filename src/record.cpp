@@ -1,4 +1,4 @@
-#include "record.h"
+#include "hrbench/record.h"
 
 #include <ctime>
 #include <fstream>
@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "build_info.h"
-#include "util/format.h"
+#include "hrbench/util/format.h"
 
 namespace hrbench {
 

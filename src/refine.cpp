@@ -1,4 +1,4 @@
-#include "refine.h"
+#include "hrbench/refine.h"
 
 #include <algorithm>
 #include <array>
@@ -11,11 +11,11 @@
 #include <string>
 #include <thread>
 
-#include "culling.h"
-#include "kernel.h"
-#include "oracles/registry.h"
-#include "translation_count.h"
-#include "util/error.h"
+#include "hrbench/culling.h"
+#include "hrbench/kernel.h"
+#include "hrbench/oracles/registry.h"
+#include "hrbench/translation_count.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

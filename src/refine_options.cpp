@@ -1,10 +1,10 @@
-#include "refine_options.h"
+#include "hrbench/refine_options.h"
 
 #include <cmath>
 #include <fstream>
 
-#include "oracles/registry.h"
-#include "util/error.h"
+#include "hrbench/oracles/registry.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

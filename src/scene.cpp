@@ -1,8 +1,8 @@
-#include "scene.h"
+#include "hrbench/scene.h"
 
 #include <cmath>
 
-#include "util/error.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

@@ -1,4 +1,4 @@
-#include "scene_io.h"
+#include "hrbench/scene_io.h"
 
 #include <algorithm>
 #include <initializer_list>
@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "util/error.h"
-#include "util/output.h"
+#include "hrbench/util/error.h"
+#include "hrbench/util/output.h"
 
 namespace hrbench {
 

@@ -1,4 +1,4 @@
-#include "translation_count.h"
+#include "hrbench/translation_count.h"
 
 #include <algorithm>
 #include <chrono>
@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "oracles/garmann.h"
-#include "util/error.h"
-#include "util/format.h"
+#include "hrbench/oracles/garmann.h"
+#include "hrbench/util/error.h"
+#include "hrbench/util/format.h"
 
 namespace hrbench {
 

@@ -1,4 +1,4 @@
-#include "visibility.h"
+#include "hrbench/visibility.h"
 
 #include <CGAL/AABB_segment_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -6,7 +6,7 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
-#include "util/error.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

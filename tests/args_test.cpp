@@ -1,7 +1,7 @@
 // Command-line plumbing: numbers and key=value parameters.
 #include <catch2/catch.hpp>
 
-#include "hrbench.h"
+#include "hrbench/hrbench.h"
 
 using namespace hrbench;
 

@@ -6,8 +6,8 @@
 #include <set>
 
 #include "cli_helpers.h"
-#include "generators.h"
-#include "hrbench.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
 
 #include <nlohmann/json.hpp>
 

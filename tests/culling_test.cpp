@@ -1,8 +1,8 @@
 // Root-pair classification with exact predicates, in 2D and 3D.
 #include <catch2/catch.hpp>
 
-#include "generators.h"
-#include "hrbench.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
 
 using namespace hrbench;
 

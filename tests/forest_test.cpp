@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "hrbench.h"
+#include "hrbench/hrbench.h"
 
 using namespace hrbench;
 

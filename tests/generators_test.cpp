@@ -4,8 +4,8 @@
 
 #include <variant>
 
-#include "generators.h"
-#include "hrbench.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
 
 using namespace hrbench;
 

@@ -8,7 +8,7 @@
 #include <numeric>
 #include <random>
 
-#include "hrbench.h"
+#include "hrbench/hrbench.h"
 
 using namespace hrbench;
 using Catch::Matchers::WithinRel;

@@ -9,9 +9,9 @@
 
 #include <unistd.h>
 
-#include "generators.h"
-#include "hrbench.h"
-#include "mesh_io.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
+#include "hrbench/mesh_io.h"
 
 using namespace hrbench;
 

@@ -6,8 +6,8 @@
 #include <random>
 #include <set>
 
-#include "generators.h"
-#include "hrbench.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
 
 using namespace hrbench;
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <type_traits>
 
-#include "hrbench.h"
+#include "hrbench/hrbench.h"
 #include "refinement_helpers.h"
 
 using namespace hrbench;

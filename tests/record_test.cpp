@@ -8,8 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "generators.h"
-#include "hrbench.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
 #include "refinement_helpers.h"
 
 using namespace hrbench;

@@ -10,8 +10,8 @@
 #include <tuple>
 #include <variant>
 
-#include "generators.h"
-#include "hrbench.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
 #include "refinement_helpers.h"
 
 using namespace hrbench;

@@ -10,7 +10,7 @@
 #include <string>
 #include <utility>
 
-#include "hrbench.h"
+#include "hrbench/hrbench.h"
 
 namespace hrbench_test {
 

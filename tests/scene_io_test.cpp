@@ -1,8 +1,8 @@
 // Scene files, 2D and 3D: round trip and every kind of malformed input.
 #include <catch2/catch.hpp>
 
-#include "generators.h"
-#include "hrbench.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
 
 using namespace hrbench;
 

@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_helpers.h"
-#include "generators.h"
-#include "hrbench.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
 #include "refinement_helpers.h"
 
 using namespace hrbench;

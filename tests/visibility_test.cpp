@@ -2,9 +2,9 @@
 // configurations whose answer is known (a blocker that hides everything, nothing, half).
 #include <catch2/catch.hpp>
 
-#include "generators.h"
-#include "hrbench.h"
-#include "visibility.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
+#include "hrbench/visibility.h"
 
 using namespace hrbench;
 

@@ -5,10 +5,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cmd/options.h"
-#include "generators.h"
-#include "oracles/registry.h"
-#include "record.h"
-#include "refine.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/oracles/registry.h"
+#include "hrbench/record.h"
+#include "hrbench/refine.h"
 
 namespace hrbench {
 

@@ -10,9 +10,9 @@
 
 #include "cmd/capabilities.h"
 #include "cmd/options.h"
-#include "generators.h"
-#include "hrbench.h"
-#include "util/output.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
+#include "hrbench/util/output.h"
 
 namespace hrbench {
 namespace {

@@ -4,11 +4,11 @@
 #include <set>
 #include <sstream>
 
-#include "generators.h"
-#include "oracles/registry.h"
-#include "refine.h"
-#include "util/args.h"
-#include "util/error.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/oracles/registry.h"
+#include "hrbench/refine.h"
+#include "hrbench/util/args.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "refine_options.h"
-#include "util/input_file.h"
+#include "hrbench/refine_options.h"
+#include "hrbench/util/input_file.h"
 
 namespace hrbench {
 

@@ -1,10 +1,10 @@
-#include "geometry/polygon.h"
+#include "hrbench/geometry/polygon.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "util/error.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

@@ -1,4 +1,4 @@
-#include "geometry/segment.h"
+#include "hrbench/geometry/segment.h"
 
 #include <cmath>
 #include <limits>

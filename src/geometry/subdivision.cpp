@@ -1,6 +1,6 @@
-#include "geometry/subdivision.h"
+#include "hrbench/geometry/subdivision.h"
 
-#include "util/error.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

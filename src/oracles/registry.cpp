@@ -1,6 +1,6 @@
-#include "oracles/registry.h"
+#include "hrbench/oracles/registry.h"
 
-#include "util/error.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

@@ -1,11 +1,11 @@
-#include "util/args.h"
+#include "hrbench/util/args.h"
 
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
-#include "util/error.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

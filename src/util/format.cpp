@@ -1,4 +1,4 @@
-#include "util/format.h"
+#include "hrbench/util/format.h"
 
 #include <cstdio>
 #include <cstdlib>

@@ -1,4 +1,4 @@
-#include "util/input_file.h"
+#include "hrbench/util/input_file.h"
 
 #include <cerrno>
 #include <cstring>
@@ -6,7 +6,7 @@
 
 #include <sys/stat.h>
 
-#include "util/error.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

@@ -1,10 +1,10 @@
-#include "util/output.h"
+#include "hrbench/util/output.h"
 
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 
-#include "util/error.h"
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 

@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "geometry/subdivision.h"
-#include "scene.h"
+#include "hrbench/geometry/subdivision.h"
+#include "hrbench/scene.h"
 
 namespace hrbench {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "scene.h"
+#include "hrbench/scene.h"
 
 namespace hrbench {
 

@@ -8,8 +8,8 @@
 #include <variant>
 #include <vector>
 
-#include "geometry/polygon.h"
-#include "geometry/segment.h"
+#include "hrbench/geometry/polygon.h"
+#include "hrbench/geometry/segment.h"
 
 namespace hrbench {
 

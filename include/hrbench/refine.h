@@ -6,11 +6,11 @@
 #include <variant>
 #include <vector>
 
-#include "forest.h"
-#include "link_buffer.h"
-#include "record.h"
-#include "refine_options.h"
-#include "scene.h"
+#include "hrbench/forest.h"
+#include "hrbench/link_buffer.h"
+#include "hrbench/record.h"
+#include "hrbench/refine_options.h"
+#include "hrbench/scene.h"
 
 namespace hrbench {
 

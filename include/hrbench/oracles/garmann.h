@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "forest.h"
-#include "oracles/oracle.h"
+#include "hrbench/forest.h"
+#include "hrbench/oracles/oracle.h"
 
 namespace hrbench {
 

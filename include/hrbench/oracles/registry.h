@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "oracles/garmann.h"
-#include "oracles/hanrahan.h"
+#include "hrbench/oracles/garmann.h"
+#include "hrbench/oracles/hanrahan.h"
 
 namespace hrbench {
 

@@ -6,8 +6,8 @@
 #include <functional>
 #include <string>
 
-#include "scene.h"
-#include "util/input_file.h"
+#include "hrbench/scene.h"
+#include "hrbench/util/input_file.h"
 
 namespace hrbench {
 

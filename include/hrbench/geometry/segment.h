@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "geometry/shape.h"
-#include "geometry/subdivision.h"
+#include "hrbench/geometry/shape.h"
+#include "hrbench/geometry/subdivision.h"
 
 namespace hrbench {
 

@@ -8,8 +8,8 @@
 
 #include <Eigen/Geometry>
 
-#include "geometry/shape.h"
-#include "geometry/subdivision.h"
+#include "hrbench/geometry/shape.h"
+#include "hrbench/geometry/subdivision.h"
 
 namespace hrbench {
 

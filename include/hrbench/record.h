@@ -10,8 +10,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "refine_options.h"
-#include "scene.h"
+#include "hrbench/refine_options.h"
+#include "hrbench/scene.h"
 
 namespace hrbench {
 

@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <string>
 
-#include "geometry/subdivision.h"
+#include "hrbench/geometry/subdivision.h"
 
 namespace hrbench {
 

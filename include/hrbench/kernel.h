@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "forest.h"
-#include "link_buffer.h"
-#include "refine_options.h"
-#include "util/error.h"
-#include "visibility.h"
+#include "hrbench/forest.h"
+#include "hrbench/link_buffer.h"
+#include "hrbench/refine_options.h"
+#include "hrbench/util/error.h"
+#include "hrbench/visibility.h"
 
 namespace hrbench {
 

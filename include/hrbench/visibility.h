@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "refine_options.h"
-#include "scene.h"
+#include "hrbench/refine_options.h"
+#include "hrbench/scene.h"
 
 namespace hrbench {
 

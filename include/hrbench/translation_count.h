@@ -22,9 +22,9 @@
 
 #include <cstdint>
 
-#include "record.h"
-#include "refine_options.h"
-#include "scene.h"
+#include "hrbench/record.h"
+#include "hrbench/refine_options.h"
+#include "hrbench/scene.h"
 
 namespace hrbench {
 

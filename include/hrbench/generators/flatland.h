@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "generators.h"
+#include "hrbench/generators/generators.h"
 
 namespace hrbench {
 

@@ -1,7 +1,7 @@
 // Root-pair classification with exact predicates (CGAL), before any refinement.
 #pragma once
 
-#include "scene.h"
+#include "hrbench/scene.h"
 
 namespace hrbench {
 

@@ -3,7 +3,7 @@
 
 #include <ostream>
 
-#include "refine.h"
+#include "hrbench/refine.h"
 
 namespace hrbench {
 

@@ -1,0 +1,20 @@
+// The public surface of the hrbench engine: one include for the CLI, tests and benchmarks.
+#pragma once
+
+#include "hrbench/culling.h"
+#include "hrbench/forest.h"
+#include "hrbench/geometry/polygon.h"
+#include "hrbench/geometry/segment.h"
+#include "hrbench/links_csv.h"
+#include "hrbench/mesh_io.h"
+#include "hrbench/oracles/registry.h"
+#include "hrbench/record.h"
+#include "hrbench/refine.h"
+#include "hrbench/refine_options.h"
+#include "hrbench/scene.h"
+#include "hrbench/scene_io.h"
+#include "hrbench/translation_count.h"
+#include "hrbench/util/args.h"
+#include "hrbench/util/error.h"
+#include "hrbench/util/format.h"
+#include "hrbench/visibility.h"
