@@ -1,4 +1,4 @@
-// Fuzzes the OBJ reader and its material libraries (include/hrbench/mesh_io.h): ParseMesh on
+// Fuzzes the OBJ reader and its material libraries (mesh_io.h): ParseMesh on
 // arbitrary text, with every `mtllib` reading one fixed MTL file, so that `usemtl` and
 // the materials are exercised; a mesh that parses is validated and, when small, refined
 // (fuzz_common.h).

@@ -1,4 +1,4 @@
-// Fuzzes the OFF reader (include/hrbench/mesh_io.h): ParseMesh on arbitrary text; a mesh that parses
+// Fuzzes the OFF reader (mesh_io.h): ParseMesh on arbitrary text; a mesh that parses
 // is validated and, when small, refined (fuzz_common.h).
 #include <cstddef>
 #include <cstdint>
