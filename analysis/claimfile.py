@@ -17,12 +17,14 @@ points per decade and :data:`MAX_RANGE_POINTS` points, a formula the limits of
 :mod:`analysis.expr`.
 """
 
+import hashlib
 import math
 import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .engine import MESH_SCENE
 from .errors import AnalysisError
 from .expr import Expression, ExpressionError
 from .lemmas import STATISTICS, claim_statistics
@@ -51,7 +53,7 @@ MODES = ("quick", "full")
 #: Engine options a claim may not set through ``options``: they have claim keys of their
 #: own (``eps``, ``oracle``, ``min_area``, ``max_depth``) or are set by the sweep itself.
 RESERVED_OPTIONS = ("eps", "oracle", "min_area", "max_depth", "count_only", "json", "out",
-                    "scene_file", "help", "version")
+                    "scene_file", "mesh", "help", "version")
 
 #: Largest claims file, in bytes.
 MAX_FILE_BYTES = 1 << 20
@@ -216,7 +218,7 @@ class Claim:
     description : str
         One or two sentences for a reader who has not seen the paper.
     scene : str
-        Scene family of ``hrbench run``.
+        Scene family of ``hrbench run``, or ``"mesh"`` for a mesh file (`mesh`).
     params : dict of str to float
         Fixed scene parameters (scene units).
     oracle : str
@@ -274,6 +276,12 @@ class Claim:
         (``sweep.quick``, ...), for the messages of the checks against the engine.
     range_keys : dict of str to str
         Mode to the key its range was given by (``"sweep.quick"`` or ``"sweep.range"``).
+    mesh : str or None
+        The mesh file a claim with scene ``"mesh"`` loads (``--mesh``), resolved against
+        the claims file's folder.
+    mesh_sha256 : str or None
+        SHA-256 of the mesh file's bytes (hex), part of every run's cache key, so that a
+        changed file is never answered from runs of the old one.
     """
 
     id: str
@@ -311,6 +319,8 @@ class Claim:
     line: int = 0
     key_lines: dict = field(default_factory=dict)
     range_keys: dict = field(default_factory=dict)
+    mesh: object = None
+    mesh_sha256: object = None
 
     def key_line(self, key):
         """The line of `key` in the claims file (the claim's line when unknown)."""
@@ -349,7 +359,7 @@ _CLAIM_KEYS = {
     "id", "statement", "source", "description", "scene", "params", "oracle", "sweep",
     "x", "y", "x_label", "y_label", "expected_exponent", "tolerance", "regime",
     "expected_to_hold", "min_points", "min_decades", "window_decades", "theta_band",
-    "min_area", "max_depth", "eps", "options", "chart", "step_octaves", *MODES,
+    "min_area", "max_depth", "eps", "options", "chart", "step_octaves", "mesh", *MODES,
 }
 _REQUIRED = ("id", "statement", "scene", "params", "sweep", "x", "y",
              "expected_exponent", "tolerance")
@@ -517,6 +527,7 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
     want("statement", "str")
     want("scene", "str")
     params = want("params", "table")
+    mesh, mesh_sha256 = _mesh_iv(raw, path, want, fail)
     if len(params) > MAX_PARAMS:
         fail(f"key 'params' has {len(params)} scene parameters; at most {MAX_PARAMS} are "
              "allowed", "params")
@@ -668,7 +679,28 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
                    for key in ("x", "y", "eps", *(f"params.{name}" for name in params),
                                *(f"sweep.{mode}" for mode in (*MODES, "range", "grid")
                                  if mode in sweep))},
-        range_keys=range_keys, **options)
+        range_keys=range_keys, mesh=mesh, mesh_sha256=mesh_sha256, **options)
+
+
+def _mesh_iv(raw, path, want, fail):
+    # Check the keys `scene = "mesh"` and `mesh = "FILE"` (one without the other is an
+    # error); return the mesh file resolved against the claims file's folder and the
+    # SHA-256 of its bytes, or (None, None) for a scene family.
+    if "mesh" not in raw:
+        if raw["scene"] == MESH_SCENE:
+            fail(f"scene {MESH_SCENE!r} needs the key 'mesh' naming the mesh file", "scene")
+        return None, None
+    name = want("mesh", "str")
+    if raw["scene"] != MESH_SCENE:
+        fail(f"key 'mesh' needs scene = {MESH_SCENE!r}, got scene = {raw['scene']!r}", "mesh")
+    if raw["params"]:
+        fail("a mesh has no scene parameters: 'params' must be {}", "params")
+    file = (Path(path).parent / name).resolve()
+    try:
+        data = file.read_bytes()
+    except OSError as exc:
+        fail(f"mesh file {name!r} cannot be read ({file}): {exc.strerror or exc}", "mesh")
+    return str(file), hashlib.sha256(data).hexdigest()
 
 
 def _grid_iv(grid, params, sweep_param, fail):
@@ -757,9 +789,11 @@ def _options_iv(options, where, fail):
                 fail(f"option {name!r} in {where!r} must be a plain word such as "
                      f"\"fraction\" (letters, digits, '_', '.', ':', '/', '+', '=', '-', "
                      f"not starting with '-'), got {value!r}", key)
+        elif value is True:
+            pass  # a switch, such as triangulate = true for --triangulate
         elif isinstance(value, bool) or not isinstance(value, (int, float)):
-            fail(f"option {name!r} in {where!r} must be a string, an integer or a number, "
-                 f"got {value!r}", key)
+            fail(f"option {name!r} in {where!r} must be a string, an integer, a number or "
+                 f"true (a switch; leave a switch out to turn it off), got {value!r}", key)
         elif not math.isfinite(value):
             fail(f"option {name!r} in {where!r} must be finite, got {value!r}", key)
         out[name] = value

@@ -30,6 +30,7 @@ __all__ = [
     "CAPABILITIES_SCHEMA_VERSION",
     "COUNTER_KINDS",
     "INPUT_ERROR",
+    "MESH_SCENE",
     "LIMIT_REACHED",
     "NOT_STARTED",
     "EngineError",
@@ -308,7 +309,13 @@ class Capabilities:
         return tuple(m.name for m in self.methods)
 
     def family(self, name):
-        """The scene family `name`, or ``None`` if the engine lacks it."""
+        """The scene family `name`, or ``None`` if the engine lacks it.
+
+        :data:`MESH_SCENE` stands for a mesh file (``--mesh F``): a 3D scene without
+        parameters, which an engine has if it takes the option ``mesh``.
+        """
+        if name == MESH_SCENE:
+            return MESH_FAMILY if self.option("mesh") is not None else None
         return next((f for f in self.families if f.name == name), None)
 
     def oracle(self, name):
@@ -392,6 +399,13 @@ def _read_param(obj, where):
         high_open=_value_iv(obj, "high_open", "true or false", where),
         integer=_value_iv(obj, "integer", "true or false", where),
         doc=_value_iv(obj, "doc", "a string", where))
+
+
+#: The scene name of a claim that loads a mesh file (its key ``mesh``) instead of
+#: building a family.
+MESH_SCENE = "mesh"
+MESH_FAMILY = Family(name=MESH_SCENE, dimension=3, doc="a polygon mesh file (--mesh F)",
+                     params=())
 
 
 def _read_family(obj, where):
@@ -809,7 +823,11 @@ def _missing_option(options, capabilities):
     if lacking:
         return f"engine lacks option{'s' if len(lacking) > 1 else ''} {', '.join(lacking)}"
     for name, value in options.items():
-        choices = capabilities.option(name).choices
+        option = capabilities.option(name)
+        if (value is True) != option.is_switch:
+            return (f"engine's option {option_flag(name)} "
+                    + ("takes no value" if option.is_switch else "takes a value, not a switch"))
+        choices = option.choices
         if choices is not None and option_text(value) not in choices:
             return (f"engine lacks {option_flag(name)} {option_text(value)} (choices: "
                     f"{', '.join(choices)})")
@@ -852,13 +870,16 @@ def option_text(value):
 
     Parameters
     ----------
-    value : str, int or float
+    value : str, bool, int or float
 
     Returns
     -------
     text : str
-        A string as it is, an integer exactly, a float as in :func:`format_number`.
+        A string as it is, an integer exactly, a float as in :func:`format_number`,
+        ``True`` (a flag) as ``"true"``.
     """
+    if value is True:
+        return "true"
     if isinstance(value, str):
         return value
     if isinstance(value, int) and not isinstance(value, bool):
@@ -870,9 +891,10 @@ def _options_iv(options):
     if not isinstance(options, dict):
         raise TypeError(f"options must be a dict of option name to value, got {options!r}")
     for name, value in options.items():
-        if isinstance(value, bool) or not isinstance(value, (str, int, float)):
-            raise TypeError(f"options[{name!r}] must be a string, an integer or a float, "
-                            f"got {value!r}")
+        if value is not True and (isinstance(value, bool)
+                                  or not isinstance(value, (str, int, float))):
+            raise TypeError(f"options[{name!r}] must be a string, an integer, a float or "
+                            f"True (a flag), got {value!r}")
     return options
 
 
@@ -890,14 +912,15 @@ def option_argv(options):
 
     Parameters
     ----------
-    options : dict of str to (str, int or float)
-        E.g. ``{"rays_per_side": 4, "visibility": "fraction"}``.
+    options : dict of str to (str, int, float or True)
+        E.g. ``{"rays_per_side": 4, "triangulate": True, "visibility": "fraction"}``.
 
     Returns
     -------
     argv : list of str
-        ``["--rays-per-side", "4", "--visibility", "fraction"]``: sorted by name, flags as
-        in :func:`option_flag`, values as in :func:`option_text`.
+        ``["--rays-per-side", "4", "--triangulate", "--visibility", "fraction"]``: sorted
+        by name, flags as in :func:`option_flag`, values as in :func:`option_text`; an
+        option whose value is ``True`` is a flag without a value.
 
     Raises
     ------
@@ -906,12 +929,15 @@ def option_argv(options):
     """
     argv = []
     for name, value in sorted(_options_iv(options).items()):
-        argv += [option_flag(name), option_text(value)]
+        argv += [option_flag(name)] if value is True else [option_flag(name), option_text(value)]
     return argv
 
 
 def _scene_argv(scene, params):
-    # ["parallel", "d=1", "l=8"]: parameters sorted by name.
+    # ["parallel", "d=1", "l=8"]: parameters sorted by name. A mesh comes as the option
+    # `mesh` instead (MESH_SCENE has no parameters).
+    if scene == MESH_SCENE:
+        return []
     return [scene, *(f"{k}={format_number(v)}" for k, v in sorted(_params_iv(params).items()))]
 
 

@@ -5,6 +5,7 @@ import html
 import io
 import json
 import math
+import os
 import sys
 from dataclasses import dataclass
 
@@ -12,7 +13,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from .engine import option_argv
+from .engine import option_argv, option_flag, option_text
 from .plots import (
     PowerLawSeries,
     plot_link_tiling,
@@ -210,6 +211,8 @@ def get_claims_json(outcomes, mode="quick"):
             "expected_to_hold": c.expected_to_hold,
             "as_expected": o.agrees,
             "scene": c.scene,
+            "mesh": ({"file": os.path.basename(c.mesh), "sha256": c.mesh_sha256}
+                     if c.mesh else None),
             "params": c.params,
             "oracle": c.oracle,
             "options": c.options_for(o.mode),
@@ -250,9 +253,15 @@ def get_claims_json(outcomes, mode="quick"):
 
 
 def _options_text(claim, mode):
-    # "visibility fraction, rays-per-side 2" (as on the command line, without dashes).
-    argv = option_argv(claim.options_for(mode))
-    return ", ".join(f"{argv[n][2:]} {argv[n + 1]}" for n in range(0, len(argv), 2))
+    # "visibility fraction, rays-per-side 2, triangulate" (as on the command line, without
+    # dashes).
+    return ", ".join(option_flag(name)[2:] + ("" if value is True else f" {option_text(value)}")
+                     for name, value in claim.options_for(mode).items())
+
+
+def _scene_text(claim):
+    # The family's name, or the mesh file's.
+    return f"mesh {os.path.basename(claim.mesh)}" if claim.mesh else claim.scene
 
 
 def _series_label(claim, ids, values, mode="quick"):
@@ -271,7 +280,7 @@ def _series_label(claim, ids, values, mode="quick"):
         swept = f", {claim.sweep_param} from {values.min():g} to {values.max():g}"
         if claim.sweep_param == "eps":
             swept = f", eps from {values.max():g} down to {values.min():g}"
-    return f"{', '.join(ids)}: {claim.scene} {fixed}{swept}"
+    return f"{', '.join(ids)}: {_scene_text(claim)} {fixed}{swept}"
 
 
 def _symbol(text):
@@ -445,7 +454,7 @@ def _details(o):
     a, c = o.assessment, o.claim
     options = option_argv(c.options_for(o.mode))
     measured = (f"- what is measured: y = `{c.y.text}` against x = `{c.x.text}`, "
-                f"{c.scene} {', '.join(f'{k}={v:g}' for k, v in c.params.items())}"
+                f"{_scene_text(c)} {', '.join(f'{k}={v:g}' for k, v in c.params.items())}"
                 + (f", eps={c.eps:g}" if c.eps is not None else "")
                 + (f", min_area={c.min_area:g}" if c.min_area is not None else "")
                 + (f", max_depth={c.max_depth}" if c.max_depth is not None else "")

@@ -87,7 +87,12 @@ def expand_claim(claim, mode, hrbench, version):
     """
     points = []
     options = claim.options_for(mode)
-    key_options = tuple((name, option_text(v)) for name, v in sorted(options.items()))
+    key_options = dict((name, option_text(v)) for name, v in options.items())
+    if claim.mesh is not None:
+        # The file by its path on the command line, by its bytes in the cache key.
+        options = options | {"mesh": claim.mesh}
+        key_options["mesh"] = f"sha256:{claim.mesh_sha256}"
+    key_options = tuple(sorted(key_options.items()))
     grid = [dict(zip(claim.grid, combo, strict=True))
             for combo in itertools.product(*claim.grid.values())]
     for fixed in grid:

@@ -248,8 +248,8 @@ def test_numbers_on_the_command_line_are_exact():
 
 
 @pytest.mark.parametrize("call, match", [
-    (lambda: option_argv({"threads": True}), r"options\['threads'\] must be a string, an "
-                                             "integer or a float, got True"),
+    (lambda: option_argv({"threads": False}), r"options\['threads'\] must be a string, an "
+                                              "integer, a float or True \\(a flag\\), got False"),
     (lambda: option_argv([("threads", 2)]), "options must be a dict"),
     (lambda: run_argv("e", "parallel", {"l": "8"}, 0.1, "garmann"),
      r"params\['l'\] must be a number, got '8'"),

@@ -68,7 +68,7 @@ def test_option_names_become_dashed_flags():
 
 
 @pytest.mark.parametrize("extra, key, match", [
-    ("options = { rays_per_side = true }\n", "options.rays_per_side", "string, an integer"),
+    ("options = { rays_per_side = false }\n", "options.rays_per_side", "string, an integer"),
     ("options = { rays_per_side = [1, 2] }\n", "options.rays_per_side", "string, an integer"),
     ('options = { visibility = "--all" }\n', "options.visibility", "plain word"),
     ('options = { visibility = "a b" }\n', "options.visibility", "plain word"),
