@@ -3,7 +3,7 @@ PYTHON := .venv/bin/python
 CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release
 
 .PHONY: setup build build-asan build-fuzz test test-cpp test-asan test-python reproduce \
-        reproduce-full bench baseline fuzz fuzz-smoke lint format clean
+        reproduce-full bench baseline examples fuzz fuzz-smoke lint format clean
 
 setup:
 	@bash scripts/setup.sh
@@ -47,6 +47,11 @@ bench: build
 	  --benchmark_out_format=json $(BENCH_FLAGS)
 	$(PYTHON) tools/merge_bench.py results/bench.json results/bench-refine.json \
 	  results/bench-translation.json
+
+# The example consumer project, built against the package installed from build/ and
+# with hrbench as a subproject (examples/build_consumer.sh).
+examples: build
+	@bash examples/build_consumer.sh build
 
 # Rewrite tests/baseline/counts.json from the current engine, on purpose (`make test`
 # checks it, as the CTest test count_baseline).
