@@ -31,10 +31,10 @@ test-python: build
 test: test-cpp test-asan test-python
 
 reproduce: build
-	$(PYTHON) -m analysis.reproduce --quick
+	$(PYTHON) -m hrbench_analysis.reproduce --quick
 
 reproduce-full: build
-	$(PYTHON) -m analysis.reproduce --full
+	$(PYTHON) -m hrbench_analysis.reproduce --full
 
 # The Google Benchmark suites (about a minute and a half), merged into results/bench.json.
 # Extra flags, e.g. BENCH_FLAGS=--benchmark_repetitions=5 for tools/compare_bench.py.

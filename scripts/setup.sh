@@ -36,3 +36,9 @@ if [ ! -f "$stamp" ] || ! cmp -s "$requirements" "$stamp"; then
   .venv/bin/python -m pip install -q -r "$requirements"
   cp "$requirements" "$stamp"
 fi
+# The analysis package itself, editable: `python -m hrbench_analysis.reproduce` runs the
+# sources in analysis/hrbench_analysis/.
+if ! .venv/bin/python -c "import hrbench_analysis" 2>/dev/null; then
+  echo "setup: installing the analysis package (pip install -e .)"
+  .venv/bin/python -m pip install -q --no-deps -e .
+fi

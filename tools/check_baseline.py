@@ -27,10 +27,10 @@ import os
 import sys
 
 _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-# tools/ for benchtools, the repository root for analysis.engine (standard library only).
-sys.path[:0] = [os.path.join(_ROOT, "tools"), _ROOT]
+# tools/ for benchtools, analysis/ for hrbench_analysis.engine (standard library only), so
+# that the check runs with any Python 3.11, without the package installed.
+sys.path[:0] = [os.path.join(_ROOT, "tools"), os.path.join(_ROOT, "analysis")]
 
-from analysis.engine import EngineError, get_capabilities  # noqa: E402
 from benchtools.baseline import (  # noqa: E402
     DEFAULT_RUNS,
     RunDiff,
@@ -42,6 +42,7 @@ from benchtools.baseline import (  # noqa: E402
     print_baseline_report,
     run_counts,
 )
+from hrbench_analysis.engine import EngineError, get_capabilities  # noqa: E402
 
 
 def _parse_args(argv):

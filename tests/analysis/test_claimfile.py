@@ -1,20 +1,18 @@
-from pathlib import Path
 
 import pytest
 
-from analysis.claimfile import (
+from hrbench_analysis.claimfile import (
     ClaimsFileError,
     SweepRange,
     check_names,
     load_claims,
     load_claims_dir,
 )
-
-ROOT = Path(__file__).resolve().parents[2]
+from hrbench_analysis.reproduce import CLAIMS_DIR
 
 
 def test_shipped_claims_load_and_cover_c1_to_c4():
-    claims = load_claims_dir(ROOT / "analysis" / "claims")
+    claims = load_claims_dir(CLAIMS_DIR)
     ids = {c.id for c in claims}
     assert {"C1", "C2", "C3", "C4"} <= ids
     by_id = {c.id: c for c in claims}
@@ -191,7 +189,7 @@ def test_absurd_ranges_are_refused_when_loaded(tmp_path, data_dir, new, key, lin
 
 
 def test_range_limits():
-    from analysis.claimfile import MAX_PER_DECADE, MAX_RANGE_POINTS
+    from hrbench_analysis.claimfile import MAX_PER_DECADE, MAX_RANGE_POINTS
     assert len(SweepRange(1.0, 1e-9, MAX_PER_DECADE).values()) == 9001
     assert len(SweepRange(1.0, 10.0 ** (-MAX_RANGE_POINTS / 1000 + 1e-3), 1000).values()) \
         <= MAX_RANGE_POINTS

@@ -12,9 +12,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis.claimfile import load_claims_dir
-from analysis.engine import engine_version, get_capabilities
-from analysis.loader import (
+from hrbench_analysis.claimfile import load_claims_dir
+from hrbench_analysis.engine import engine_version, get_capabilities
+from hrbench_analysis.loader import (
     COUNTERS,
     SCHEMA_VERSION,
     ResultFormatError,
@@ -22,7 +22,7 @@ from analysis.loader import (
     read_links_csv,
     run_environment,
 )
-from analysis.reproduce import check_claims
+from hrbench_analysis.reproduce import CLAIMS_DIR, check_claims
 
 ROOT = Path(__file__).resolve().parents[2]
 HRBENCH = ROOT / "build" / "hrbench"
@@ -118,7 +118,7 @@ def test_engine_capabilities_describe_its_run_records():
     result = parse_run_json(proc.stdout, counters=caps.scalar_counters)
     assert set(result.counters) == {*caps.scalar_counters, "patches", "seconds"}
     # Every shipped claim names an oracle and formula names this engine offers.
-    errors, _ = check_claims(load_claims_dir(ROOT / "analysis" / "claims"), "full", caps)
+    errors, _ = check_claims(load_claims_dir(CLAIMS_DIR), "full", caps)
     assert errors == []
 
 

@@ -20,7 +20,7 @@ def test_two_sweeps_on_one_cache_run_every_point_exactly_once(tmp_path, data_dir
                PYTHONPATH=str(ROOT))
     procs = []
     for name in ("a", "b"):
-        argv = [sys.executable, "-m", "analysis.reproduce", "--claims",
+        argv = [sys.executable, "-m", "hrbench_analysis.reproduce", "--claims",
                 str(data_dir / "small_claims.toml"), "--hrbench", str(fake_hrbench),
                 "--results", str(tmp_path / name), "--cache", str(cache), "--jobs", "2",
                 "--no-tiling"]

@@ -1,4 +1,4 @@
-"""analysis.engine: capabilities, checks of claims against them, command lines, processes.
+"""hrbench_analysis.engine: capabilities, checks of claims against them, command lines, processes.
 
 The capabilities come from the fake engine (``data/fake_hrbench.py``, its own families
 and oracles) or from a document written here after the format's specification.
@@ -10,7 +10,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from analysis.engine import (
+from hrbench_analysis.engine import (
     CapabilitiesError,
     EngineError,
     find_engine,
@@ -25,7 +25,7 @@ from analysis.engine import (
     run_engine,
     run_links,
 )
-from analysis.reproduce import main
+from hrbench_analysis.reproduce import main
 
 #: A capabilities document as the format's specification shows it (shortened).
 SPEC = {

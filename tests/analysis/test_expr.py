@@ -2,7 +2,7 @@ import math
 
 import pytest
 
-from analysis.expr import Expression, ExpressionError
+from hrbench_analysis.expr import Expression, ExpressionError
 
 
 def test_arithmetic_over_named_values():

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from analysis.fit import (
+from hrbench_analysis.fit import (
     compare_models,
     exponent_interval,
     fit_power_law,

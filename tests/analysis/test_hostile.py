@@ -10,10 +10,10 @@ from types import SimpleNamespace
 
 import pytest
 
-from analysis import reproduce
-from analysis.claimfile import SweepRange
-from analysis.engine import param_errors, parse_capabilities
-from analysis.reproduce import main
+from hrbench_analysis import reproduce
+from hrbench_analysis.claimfile import SweepRange
+from hrbench_analysis.engine import param_errors, parse_capabilities
+from hrbench_analysis.reproduce import main
 
 
 def _param(name, low=0.0, high=None, low_open=True, integer=False):
@@ -251,7 +251,7 @@ def test_exit_codes_are_listed():
 def test_an_engine_that_cannot_be_started_is_an_environment_error():
     import numpy as np
 
-    from analysis.sweep import ClaimData
+    from hrbench_analysis.sweep import ClaimData
     claim = SimpleNamespace(path="c.toml", line=6, id="T", sweep_param="eps")
     data = ClaimData(value=np.zeros(0), x=np.zeros(0), y=np.zeros(0), failures=[
         {"value": 0.5, "exit_code": 127, "stderr": "cannot run build/hrbench: [Errno 2] No "

@@ -1,4 +1,4 @@
-"""Hierarchy statistics (analysis/lemmas.py): hand-computed values, real runs, the cache.
+"""Hierarchy statistics (hrbench_analysis.lemmas): hand-computed values, real runs, the cache.
 
 The definitions are in docs/lemmas.md. The tests that run ``build/hrbench`` are skipped
 when it is not built.
@@ -12,16 +12,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import analysis.sweep as sweep
-from analysis.claimfile import check_names, load_claims
-from analysis.engine import (
+import hrbench_analysis.sweep as sweep
+from hrbench_analysis.claimfile import check_names, load_claims
+from hrbench_analysis.engine import (
     engine_version,
     get_capabilities,
     missing_capability,
     param_errors,
     save_argv,
 )
-from analysis.lemmas import (
+from hrbench_analysis.lemmas import (
     RECORD_FIELD,
     STATISTICS,
     STATISTICS_MODE,
@@ -34,9 +34,10 @@ from analysis.lemmas import (
     read_link_dump,
     read_scene_segments,
 )
-from analysis.loader import read_links_csv
-from analysis.store import ResultStore, StoredPoint, StoreError
-from analysis.sweep import expand_claim, get_claim_data, run_points
+from hrbench_analysis.loader import read_links_csv
+from hrbench_analysis.reproduce import CLAIMS_DIR
+from hrbench_analysis.store import ResultStore, StoredPoint, StoreError
+from hrbench_analysis.sweep import expand_claim, get_claim_data, run_points
 
 ROOT = Path(__file__).resolve().parents[2]
 HRBENCH = ROOT / "build" / "hrbench"
@@ -148,12 +149,12 @@ def test_reading_errors(tmp_path):
 
 
 def test_lemma_claims_are_marked_and_read_statistics():
-    claims = load_claims(ROOT / "analysis" / "claims" / "garmann2003_lemmas.toml")
+    claims = load_claims(CLAIMS_DIR / "garmann2003_lemmas.toml")
     assert len(claims) >= 5
     for claim in claims:
         assert is_lemma(claim) and "lemma" in claim.statement
         assert claim.statistics and claim.statistics <= set(STATISTICS)
-    others = load_claims(ROOT / "analysis" / "claims" / "garmann2003.toml")
+    others = load_claims(CLAIMS_DIR / "garmann2003.toml")
     assert not any(c.statistics for c in others) and not any(is_lemma(c) for c in others)
 
 

@@ -9,10 +9,15 @@ from pathlib import Path
 
 import pytest
 
-from analysis.claimfile import ClaimsFileError, load_claims
-from analysis.engine import engine_version, get_capabilities, missing_capability, option_argv
-from analysis.reproduce import main
-from analysis.sweep import expand_claim
+from hrbench_analysis.claimfile import ClaimsFileError, load_claims
+from hrbench_analysis.engine import (
+    engine_version,
+    get_capabilities,
+    missing_capability,
+    option_argv,
+)
+from hrbench_analysis.reproduce import main
+from hrbench_analysis.sweep import expand_claim
 
 ROOT = Path(__file__).resolve().parents[2]
 HRBENCH = ROOT / "build" / "hrbench"

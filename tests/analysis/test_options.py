@@ -8,18 +8,18 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from analysis.claimfile import ClaimsFileError, SweepRange, load_claims
-from analysis.engine import (
+from hrbench_analysis.claimfile import ClaimsFileError, SweepRange, load_claims
+from hrbench_analysis.engine import (
     engine_version,
     format_number,
     get_capabilities,
     missing_capability,
     option_argv,
 )
-from analysis.plots import PowerLawSeries, plot_power_law_comparison
-from analysis.reproduce import main
-from analysis.store import PointKey, ResultStore, StoredPoint
-from analysis.sweep import expand_claim, get_claim_data, run_points
+from hrbench_analysis.plots import PowerLawSeries, plot_power_law_comparison
+from hrbench_analysis.reproduce import main
+from hrbench_analysis.store import PointKey, ResultStore, StoredPoint
+from hrbench_analysis.sweep import expand_claim, get_claim_data, run_points
 
 HEADER = '''[source]
 key = "test"

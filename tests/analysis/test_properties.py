@@ -16,10 +16,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from analysis.claimfile import MAX_RANGE_POINTS, ClaimsFileError, load_claims
-from analysis.expr import FUNCTIONS, Expression, ExpressionError
-from analysis.fit import fit_power_law
-from analysis.store import PointKey, ResultStore, StoredPoint
+from hrbench_analysis.claimfile import MAX_RANGE_POINTS, ClaimsFileError, load_claims
+from hrbench_analysis.expr import FUNCTIONS, Expression, ExpressionError
+from hrbench_analysis.fit import fit_power_law
+from hrbench_analysis.store import PointKey, ResultStore, StoredPoint
 
 DATA = Path(__file__).resolve().parent / "data"
 
@@ -231,7 +231,7 @@ _JSON = st.recursive(
                                                   "max_depth", "eps", "params", "seconds"]),
                                  _JSON).map(lambda d: json.dumps({"schema_version": 1, **d}))))
 def test_run_records_raise_only_their_own_error(text):
-    from analysis.loader import ResultFormatError, parse_run_json, run_environment
+    from hrbench_analysis.loader import ResultFormatError, parse_run_json, run_environment
     try:
         result = parse_run_json(text)
     except ResultFormatError:

@@ -2,7 +2,7 @@ import json
 
 import pytest
 
-from analysis.reproduce import main
+from hrbench_analysis.reproduce import main
 
 
 def run(argv, capsys):

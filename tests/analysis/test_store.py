@@ -1,4 +1,4 @@
-"""analysis.store: the cache is checked when opened, and leases share the work of sweeps."""
+"""hrbench_analysis.store: the cache is checked when opened, and leases share the work of sweeps."""
 
 import json
 import sqlite3
@@ -8,7 +8,7 @@ import time
 
 import pytest
 
-from analysis.store import (
+from hrbench_analysis.store import (
     ACQUIRED,
     APPLICATION_ID,
     BUSY,
@@ -115,8 +115,8 @@ def test_not_a_file_or_not_writable(tmp_path):
 
 
 def test_unreadable_record_is_a_store_error(tmp_path, data_dir):
-    from analysis.claimfile import load_claims
-    from analysis.sweep import expand_claim, get_claim_data
+    from hrbench_analysis.claimfile import load_claims
+    from hrbench_analysis.sweep import expand_claim, get_claim_data
     (claim,) = load_claims(data_dir / "small_claims.toml")
     points = expand_claim(claim, "quick", "hrbench", "v")[:1]
     with ResultStore(tmp_path / "c.sqlite") as store:

@@ -7,10 +7,10 @@ import sys
 import time
 from pathlib import Path
 
-from analysis.claimfile import load_claims
-from analysis.engine import engine_version
-from analysis.store import ResultStore
-from analysis.sweep import expand_claim, get_claim_data, run_points
+from hrbench_analysis.claimfile import load_claims
+from hrbench_analysis.engine import engine_version
+from hrbench_analysis.store import ResultStore
+from hrbench_analysis.sweep import expand_claim, get_claim_data, run_points
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -94,7 +94,7 @@ def test_killed_sweep_resumes_without_lost_or_duplicated_points(tmp_path, data_d
     log = tmp_path / "runs.log"
     env = dict(os.environ, FAKE_HRBENCH_DELAY="0.25", FAKE_HRBENCH_LOG=str(log),
                PYTHONPATH=str(ROOT))
-    argv = [sys.executable, "-m", "analysis.reproduce", "--claims",
+    argv = [sys.executable, "-m", "hrbench_analysis.reproduce", "--claims",
             str(data_dir / "small_claims.toml"), "--hrbench", str(fake_hrbench),
             "--results", str(results), "--jobs", "2", "--no-tiling"]
     db = results / "hrbench.sqlite"

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from analysis.verdict import get_verdict
+from hrbench_analysis.verdict import get_verdict
 
 
 def step_counts(decades=3.0, per_decade=12):

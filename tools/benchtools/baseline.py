@@ -6,7 +6,7 @@ every entry again (always ``--json --count-only``) and reports each counter that
 changed; updating rewrites the counters on purpose.
 
 The counter names are the engine's: ``hrbench capabilities --json`` lists them (its
-``counters`` table, read by :mod:`analysis.engine`; their meaning is in
+``counters`` table, read by :mod:`hrbench_analysis.engine`; their meaning is in
 docs/conventions.md). A check compares exactly the counters the baseline holds: a
 counter the engine lists but the baseline lacks is mentioned once ("not in
 baseline") and does not fail the check; a counter the baseline holds but the engine
@@ -17,7 +17,7 @@ entry.
 import json
 from dataclasses import dataclass, field
 
-from analysis.engine import EngineError, run_engine
+from hrbench_analysis.engine import EngineError, run_engine
 
 __all__ = ["BASELINE_SCHEMA_VERSION", "DEFAULT_RUNS", "RunError", "CounterChange", "RunDiff",
            "CounterCoverage", "load_baseline", "make_baseline", "run_counts",

@@ -1,11 +1,11 @@
 """Sweeps: expand claims into ``hrbench run`` invocations and run them in parallel.
 
-Every run is looked up in the :class:`~analysis.store.ResultStore` first; only missing
+Every run is looked up in the :class:`~hrbench_analysis.store.ResultStore` first; only missing
 points are run, on a pool of worker threads (each runs one ``hrbench`` process), and
 each finished point is committed to the store as soon as it finishes. Before a point
 runs, the sweep takes its lease in the store, so that sweeps sharing one cache run each
 point once: a point another sweep is running is skipped and its result read when it is
-stored. The command lines and the processes themselves are :mod:`analysis.engine`'s.
+stored. The command lines and the processes themselves are :mod:`hrbench_analysis.engine`'s.
 """
 
 import itertools
@@ -51,7 +51,7 @@ class SweepPoint:
     argv : tuple of str
         Command line (the engine path first).
     statistics : StatisticsJob or None
-        For a claim whose formulas read hierarchy statistics (:mod:`analysis.lemmas`):
+        For a claim whose formulas read hierarchy statistics (:mod:`hrbench_analysis.lemmas`):
         the commands that measure them after the run; ``None`` otherwise.
     series : str
         The values of ``sweep.grid`` this run belongs to, e.g. ``"l=16"`` ("" without a
@@ -83,7 +83,7 @@ def expand_claim(claim, mode, hrbench, version):
     points : list of SweepPoint
         One per value of the swept parameter, in sweep order, for every combination of
         the values of ``sweep.grid`` (in the order given); command lines as in
-        :func:`analysis.engine.run_argv`.
+        :func:`hrbench_analysis.engine.run_argv`.
     """
     points = []
     options = claim.options_for(mode)
@@ -117,7 +117,7 @@ def expand_claim(claim, mode, hrbench, version):
 
 
 def _with_statistics(claim, points, hrbench):
-    # A claim whose formulas read hierarchy statistics (analysis/lemmas.py) measures them
+    # A claim whose formulas read hierarchy statistics (lemmas.py) measures them
     # at every point: under its own cache key (mode STATISTICS_MODE, so that a record
     # without them is never reused), with the commands that dump and measure the links.
     if not claim.statistics:
@@ -250,7 +250,7 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS)
     at most `jobs` leases are held at a time. A point leased by another live sweep waits
     until that sweep stores it (it is then read back, even if it failed) or its lease
     lapses (the owner died or stopped renewing; then this sweep runs it). Leases are
-    renewed every :data:`~analysis.store.LEASE_RENEW` seconds while their points run, and
+    renewed every :data:`~hrbench_analysis.store.LEASE_RENEW` seconds while their points run, and
     released when the sweep ends, normally or not.
     """
     since = time.time()
@@ -357,14 +357,14 @@ def get_claim_data(claim, points, store, counters=None):
     counters : sequence of str, optional
         Names of the engine's scalar counters (``Capabilities.scalar_counters``), which
         the formulas may read; by default every integer field of a record (see
-        :func:`analysis.loader.parse_run_json`).
+        :func:`hrbench_analysis.loader.parse_run_json`).
 
     Returns
     -------
     data : ClaimData
         Points whose x or y is ``nan`` (undefined arithmetic, such as ``log(0)``) or not
         positive are dropped (they cannot enter a log-log fit) and reported as failures.
-        Formulas read the hierarchy statistics a record holds (:mod:`analysis.lemmas`)
+        Formulas read the hierarchy statistics a record holds (:mod:`hrbench_analysis.lemmas`)
         like counters.
 
     Raises

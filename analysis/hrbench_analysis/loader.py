@@ -2,7 +2,7 @@
 
 Every other module of the analysis works on plain numbers and arrays; this is the only
 place that knows the field names of the engine's output. The names of the counters are
-the engine's own (``hrbench capabilities --json``, read by :mod:`analysis.engine`); this
+the engine's own (``hrbench capabilities --json``, read by :mod:`hrbench_analysis.engine`); this
 module needs only the few it reads by name (:data:`COUNTERS`). Their meaning is in
 docs/conventions.md.
 """
@@ -36,7 +36,7 @@ SCHEMA_VERSION = 1
 #: The counters the analysis itself reads by name, which every run record must hold:
 #: ``nodes`` and ``links`` (the aliases ``N`` and ``L``), ``leaves``, ``oracle_calls`` and
 #: ``max_depth``. They are not the full list: the engine names all its counters in
-#: ``hrbench capabilities --json`` (:attr:`analysis.engine.Capabilities.scalar_counters`),
+#: ``hrbench capabilities --json`` (:attr:`hrbench_analysis.engine.Capabilities.scalar_counters`),
 #: and a record is read generically (see :func:`parse_run_json`). Their meaning is in
 #: docs/conventions.md.
 COUNTERS = ("nodes", "leaves", "links", "oracle_calls", "max_depth")
@@ -169,7 +169,7 @@ def parse_run_json(text, counters=None):
         The standard output of one run.
     counters : sequence of str, optional
         Names of the engine's scalar counters
-        (:attr:`analysis.engine.Capabilities.scalar_counters`), when an engine is at hand.
+        (:attr:`hrbench_analysis.engine.Capabilities.scalar_counters`), when an engine is at hand.
 
     Returns
     -------
@@ -256,7 +256,7 @@ def environment_names(params, counters):
         Names of the scene parameters.
     counters : iterable of str
         Names of the scalar counters (e.g. the engine's
-        :attr:`~analysis.engine.Capabilities.scalar_counters`).
+        :attr:`~hrbench_analysis.engine.Capabilities.scalar_counters`).
 
     Returns
     -------

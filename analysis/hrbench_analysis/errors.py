@@ -3,10 +3,10 @@
 Every error the analysis raises on purpose (a malformed claims file, a bad formula, an
 engine that cannot be used or refuses a run as input error, an unusable results cache,
 an unreadable record) derives from :class:`AnalysisError`. The command line
-(:mod:`analysis.reproduce`) turns any of them into one line on standard error and exit
+(:mod:`hrbench_analysis.reproduce`) turns any of them into one line on standard error and exit
 code 2; any other exception is a bug of the analysis (exit code 70, with its traceback).
 
-Standard library only, like :mod:`analysis.engine`, so that ``tools/`` can use it too.
+Standard library only, like :mod:`hrbench_analysis.engine`, so that ``tools/`` can use it too.
 """
 
 __all__ = ["AnalysisError", "one_line"]

@@ -108,7 +108,7 @@ class PointKey:
         ``--max-depth`` (levels), if given.
     mode : str
         ``"count-only"`` or ``"store"``; ``"count-only+hierarchy-statistics-v1"``
-        (:data:`analysis.lemmas.STATISTICS_MODE`) for a run whose record also holds the
+        (:data:`hrbench_analysis.lemmas.STATISTICS_MODE`) for a run whose record also holds the
         hierarchy statistics of its link list, so that it never shares a key with a
         record without them.
     options : tuple of (str, str)

@@ -672,7 +672,7 @@ def param_errors(claim, capabilities, modes=("quick", "full")):
     ``capabilities --json``). Such a claim would only collect runs refused with exit
     code 2, so it is an error (the analysis exits with code 2), not a skip. So is a claim
     whose formulas read hierarchy statistics (``claim.statistics``, see
-    :mod:`analysis.lemmas`) that cannot be measured for it: on a 3D scene, or with an
+    :mod:`hrbench_analysis.lemmas`) that cannot be measured for it: on a 3D scene, or with an
     option ``hrbench links`` does not take (``--method translation``).
 
     Parameters
@@ -781,13 +781,13 @@ def missing_capability(claim, mode, capabilities):
 
 
 #: Engine commands that measuring the hierarchy statistics of a run needs
-#: (:mod:`analysis.lemmas`): ``save`` for the patches, ``links`` for the link list.
+#: (:mod:`hrbench_analysis.lemmas`): ``save`` for the patches, ``links`` for the link list.
 STATISTICS_COMMANDS = ("save", "links")
 
 
 def _statistics_errors(claim, family, capabilities, modes):
     # Why the hierarchy statistics a claim's formulas read (claim.statistics, see
-    # analysis/lemmas.py) can never be measured for it: they come from the link list of
+    # lemmas.py) can never be measured for it: they come from the link list of
     # a 2D scene, made by 'hrbench links' with the options of the claim's runs.
     names = sorted(getattr(claim, "statistics", None) or ())
     if not names:

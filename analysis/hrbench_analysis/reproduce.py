@@ -1,11 +1,11 @@
-"""Reproduce the published complexity claims: ``python -m analysis.reproduce``.
+"""Reproduce the published complexity claims: ``python -m hrbench_analysis.reproduce``.
 
 Runs the sweeps of every claim (reusing cached points), fits the exponents, draws the
 figures, and writes ``report.md``, ``report.html`` and ``claims.json`` to the results
 directory.
 
 Before any run, the claims are checked against the engine's capabilities
-(``hrbench capabilities --json``, see :mod:`analysis.engine`). A claim whose oracle the
+(``hrbench capabilities --json``, see :mod:`hrbench_analysis.engine`). A claim whose oracle the
 engine does not list, whose scene parameters the family lacks or has out of their range
 (the swept values included), or whose formulas read a name no run provides, is an error.
 A claim that needs a scene family, option or option value the engine lacks, or an oracle
@@ -27,6 +27,7 @@ import argparse
 import datetime
 import os
 import platform
+import shutil
 import sys
 import time
 import traceback
@@ -58,7 +59,21 @@ from .verdict import assess_claim, skipped_assessment
 __all__ = ["main", "check_claims", "engine_refusals", "EXIT_CODES", "AS_EXPECTED", "REFUTED",
            "USAGE_ERROR", "INTERNAL_ERROR", "INTERRUPTED"]
 
-ROOT = Path(__file__).resolve().parent.parent
+#: The claims shipped with the package.
+CLAIMS_DIR = Path(__file__).resolve().parent / "claims"
+
+
+def default_engine():
+    """The engine to run when ``--hrbench`` is not given: ``$HRBENCH`` if set, else
+    ``build/hrbench`` under the current directory if it exists, else ``hrbench`` on the
+    ``PATH`` (``build/hrbench`` when there is none, so that the error names it)."""
+    if os.environ.get("HRBENCH"):
+        return Path(os.environ["HRBENCH"])
+    local = Path("build") / "hrbench"
+    if local.exists():
+        return local
+    found = shutil.which("hrbench")
+    return Path(found) if found else local
 
 #: The refinement drawn as a link tiling: scene, parameters, eps, oracle.
 TILING = ("parallel", {"l": 16.0, "d": 1.0}, 0.3, "garmann")
@@ -70,7 +85,7 @@ REFUTED = 1
 #: Exit code for bad input or environment: usage errors, malformed claims files, bad
 #: formulas or ranges, parameters out of range, claims the engine can never run, an
 #: engine that cannot be run or refuses runs as input errors, an unusable cache. Every
-#: :class:`~analysis.errors.AnalysisError` ends the command with it.
+#: :class:`~hrbench_analysis.errors.AnalysisError` ends the command with it.
 USAGE_ERROR = 2
 #: Exit code for an internal error of the analysis, a bug (``EX_SOFTWARE`` of
 #: sysexits.h); its traceback is printed.
@@ -90,7 +105,7 @@ EXIT_CODES = {
 
 def _parser():
     p = argparse.ArgumentParser(
-        prog="python -m analysis.reproduce",
+        prog="python -m hrbench_analysis.reproduce",
         description="Sweep the hrbench engine, fit exponents and judge the published claims.")
     mode = p.add_mutually_exclusive_group()
     mode.add_argument("--quick", dest="mode", action="store_const", const="quick",
@@ -99,16 +114,18 @@ def _parser():
                       help="longer sweeps over more decades")
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
                    help="concurrent engine runs (default: number of cores, %(default)s)")
-    p.add_argument("--results", type=Path, default=ROOT / "results", metavar="DIR",
-                   help="results directory: cache, report, plots (default: results/)")
+    p.add_argument("--results", type=Path, default=Path("results"), metavar="DIR",
+                   help="results directory: cache, report, plots (default: results/ under "
+                   "the current directory)")
     p.add_argument("--cache", type=Path, default=None, metavar="FILE",
                    help="the results cache, which sweeps running at the same time may "
                    "share (default: DIR/hrbench.sqlite of --results)")
-    p.add_argument("--hrbench", type=Path, default=ROOT / "build" / "hrbench",
-                   metavar="PATH", help="the engine executable (default: build/hrbench)")
-    p.add_argument("--claims", type=Path, default=ROOT / "analysis" / "claims",
-                   metavar="PATH", help="a claims file, or a directory of *.toml claims "
-                   "files (default: analysis/claims/)")
+    p.add_argument("--hrbench", type=Path, default=None, metavar="PATH",
+                   help="the engine executable (default: $HRBENCH, else build/hrbench under "
+                   "the current directory, else hrbench on the PATH)")
+    p.add_argument("--claims", type=Path, default=CLAIMS_DIR, metavar="PATH",
+                   help="a claims file, or a directory of *.toml claims files (default: "
+                   "the claims shipped with the package)")
     p.add_argument("--claim", action="append", default=[], metavar="ID",
                    help="judge only this claim (repeatable)")
     p.add_argument("--no-tiling", action="store_true",
@@ -131,14 +148,14 @@ def check_claims(claims, mode, capabilities):
     -------
     errors : list of str
         One line per problem that means the engine can never run a claim: an oracle it
-        does not list (:func:`~analysis.engine.oracle_error`), a scene parameter the
+        does not list (:func:`~hrbench_analysis.engine.oracle_error`), a scene parameter the
         family lacks or a value (fixed or swept, in either mode) out of its range
-        (:func:`~analysis.engine.param_errors`), or a formula name no run provides
-        (:func:`~analysis.claimfile.check_names`; checked for the claims not skipped).
+        (:func:`~hrbench_analysis.engine.param_errors`), or a formula name no run provides
+        (:func:`~hrbench_analysis.claimfile.check_names`; checked for the claims not skipped).
         Each line names the file, the line and the claim.
     skipped : dict of str to str
         Claim id to the reason the engine cannot run it now
-        (:func:`~analysis.engine.missing_capability`), in claim order.
+        (:func:`~hrbench_analysis.engine.missing_capability`), in claim order.
     """
     errors, skipped = [], {}
     for c in claims:
@@ -207,7 +224,7 @@ def _tiling_iv(capabilities):
 def main(argv=None):
     """Run the command line; return the exit code (see :data:`EXIT_CODES`).
 
-    Any :class:`~analysis.errors.AnalysisError` (bad input or environment) becomes one
+    Any :class:`~hrbench_analysis.errors.AnalysisError` (bad input or environment) becomes one
     line on standard error and exit code 2, an interrupt exit code 130, and any other
     exception, a bug, its traceback and exit code 70. Usage errors of the options exit
     with code 2 through :class:`SystemExit` (argparse).
@@ -245,6 +262,8 @@ def _main(argv):
                   f"{', '.join(c.id for c in claims)}", file=sys.stderr)
             return USAGE_ERROR
         claims = [c for c in claims if c.id in args.claim]
+    if args.hrbench is None:
+        args.hrbench = default_engine()
     version = engine_version(args.hrbench)
     capabilities = get_capabilities(args.hrbench)
     if capabilities.run_schema_version != SCHEMA_VERSION:

@@ -7,14 +7,14 @@ Adding a claim needs no code: see ``docs/analysis.md`` for the format.
 
 Loading checks a file offline: its syntax, keys, types and formulas. What depends on the
 engine is checked against its capabilities before any run starts: the oracle (see
-:func:`analysis.engine.oracle_error`), the names the formulas read (:func:`check_names`),
-and the scene family, parameters and options (:func:`analysis.engine.param_errors`,
-:func:`analysis.engine.missing_capability`).
+:func:`hrbench_analysis.engine.oracle_error`), the names the formulas read (:func:`check_names`),
+and the scene family, parameters and options (:func:`hrbench_analysis.engine.param_errors`,
+:func:`hrbench_analysis.engine.missing_capability`).
 
 The work a claims file can ask for is bounded when it is loaded: a file has at most
 :data:`MAX_FILE_BYTES` bytes of UTF-8 text, a sweep range at most :data:`MAX_PER_DECADE`
 points per decade and :data:`MAX_RANGE_POINTS` points, a formula the limits of
-:mod:`analysis.expr`.
+:mod:`hrbench_analysis.expr`.
 """
 
 import hashlib
@@ -335,7 +335,7 @@ class Claim:
     @property
     def statistics(self):
         """frozenset of str: the hierarchy statistics its formulas read
-        (:data:`analysis.lemmas.STATISTICS`); each point then also measures its links."""
+        (:data:`hrbench_analysis.lemmas.STATISTICS`); each point then also measures its links."""
         return claim_statistics(self)
 
     def options_for(self, mode):
@@ -735,8 +735,8 @@ def check_names(claim, counters, scene_params=()):
     A formula may read the scene parameters (the claim's and the family's), ``eps``,
     ``g`` (with ``l`` and ``d``), the engine's scalar counters, the measures
     ``patches`` and ``seconds``, the aliases ``N`` and ``L`` (see
-    :func:`analysis.loader.run_environment`), and the hierarchy statistics of
-    :data:`analysis.lemmas.STATISTICS`. Any other name is a typo: the analysis
+    :func:`hrbench_analysis.loader.run_environment`), and the hierarchy statistics of
+    :data:`hrbench_analysis.lemmas.STATISTICS`. Any other name is a typo: the analysis
     exits with code 2 before any run.
 
     Parameters
@@ -744,7 +744,7 @@ def check_names(claim, counters, scene_params=()):
     claim : Claim
     counters : iterable of str
         Names of the engine's scalar counters
-        (:attr:`analysis.engine.Capabilities.scalar_counters`).
+        (:attr:`hrbench_analysis.engine.Capabilities.scalar_counters`).
     scene_params : iterable of str, optional
         Parameter names of the claim's scene family (they have defaults, so a run
         reports them even where the claim does not set them).
@@ -756,8 +756,8 @@ def check_names(claim, counters, scene_params=()):
         names and the known ones.
     """
     known = environment_names({*claim.params, *claim.grid, *scene_params}, counters)
-    # The hierarchy statistics (analysis/lemmas.py); where they cannot be measured (a 3D
-    # scene, --method translation) analysis.engine.param_errors says so.
+    # The hierarchy statistics (lemmas.py); where they cannot be measured (a 3D
+    # scene, --method translation) hrbench_analysis.engine.param_errors says so.
     known |= set(STATISTICS)
     for key, expr in (("x", claim.x), ("y", claim.y)):
         unknown = expr.names - known

@@ -4,7 +4,7 @@ Modules
 -------
 errors      AnalysisError, the base of every error that means bad input (exit code 2)
 engine      the one module that runs the engine: version, capabilities, command lines
-claimfile   read and check the claims files (``analysis/claims/*.toml``)
+claimfile   read and check the claims files (``analysis/hrbench_analysis/claims/*.toml``)
 expr        the safe formula evaluator used for a claim's x and y
 loader      read the engine's output (run JSON, link CSV)
 store       the SQLite results cache: checked when opened, leases for concurrent sweeps
@@ -13,7 +13,7 @@ fit         power-law fits, bootstrap intervals, local slopes, Theta checks, mod
 verdict     the verdict of a claim
 plots       plotting functions (each draws on a given Axes)
 report      the Markdown, HTML and JSON report
-reproduce   the command line: ``python -m analysis.reproduce``
+reproduce   the command line: ``python -m hrbench_analysis.reproduce``
 """
 
-__version__ = "0.2.0"
+__version__ = "0.4.0"

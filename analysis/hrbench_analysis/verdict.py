@@ -139,11 +139,11 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
         (default 10).
     step_octaves : int, optional
         Period of the counts' staircase in octaves of x (default 1; 2 for quadtree
-        subdivision), see :func:`analysis.fit.exponent_interval`.
+        subdivision), see :func:`hrbench_analysis.fit.exponent_interval`.
     n_boot : int, optional
         Bootstrap resamples of the exponent's interval (default 2000).
     seed : int, optional
-        Bootstrap seed (default :data:`analysis.fit.DEFAULT_SEED`).
+        Bootstrap seed (default :data:`hrbench_analysis.fit.DEFAULT_SEED`).
 
     Returns
     -------
@@ -162,11 +162,11 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
        windows shifted across a step cancels what is left of the step oscillation, so
        the oscillation of neighbour-to-neighbour slopes does not count as unsettled,
        while a crossover to another exponent does.
-    3. ``refuted`` if the interval of the exponent (:func:`analysis.fit.exponent_interval`:
+    3. ``refuted`` if the interval of the exponent (:func:`hrbench_analysis.fit.exponent_interval`:
        the 95% bootstrap interval joined with the systematic error) lies wholly outside
        ``[k - tolerance, k + tolerance]``.
     4. ``reproduced`` if the interval lies wholly inside that band and ``y / x^k`` stays in
-       a bounded, flat band (:func:`analysis.fit.theta_check`).
+       a bounded, flat band (:func:`hrbench_analysis.fit.theta_check`).
     5. ``inconclusive`` otherwise (the interval straddles the edge of the band, or the
        ratio's band is too wide).
     """
@@ -263,7 +263,7 @@ def assess_claim(claim, data, n_boot=2000):
     ----------
     claim : Claim
     data : ClaimData
-        The claim's points (see :func:`analysis.sweep.get_claim_data`).
+        The claim's points (see :func:`hrbench_analysis.sweep.get_claim_data`).
     n_boot : int, optional
         Bootstrap resamples.
 

@@ -11,7 +11,7 @@ and reduces them to a few numbers per run, the *hierarchy statistics*
 (:data:`STATISTICS`), which claim formulas may read like counters. The definitions are
 in ``docs/lemmas.md``.
 
-How a sweep uses them (:mod:`analysis.sweep`): a claim whose ``x`` or ``y`` reads a
+How a sweep uses them (:mod:`hrbench_analysis.sweep`): a claim whose ``x`` or ``y`` reads a
 statistic (:func:`claim_statistics`) runs each point as usual (``hrbench run ...
 --count-only --json``) and then :func:`measure`: the scene's patches
 (``hrbench save``), the link list into a temporary file (``hrbench links``, deleted
@@ -118,7 +118,7 @@ class LinkDumpError(AnalysisError, ValueError):
 def read_link_dump(path):
     """Read the columns of a 2D link list (``hrbench links --out``) that the statistics need.
 
-    Like :func:`analysis.loader.read_links_csv`, but with numpy's C reader, since a
+    Like :func:`hrbench_analysis.loader.read_links_csv`, but with numpy's C reader, since a
     link list of a sweep point holds up to a few hundred thousand rows.
 
     Parameters
@@ -508,7 +508,7 @@ def record_statistics(result):
     Parameters
     ----------
     result : RunResult
-        As from :func:`analysis.loader.parse_run_json` (the statistics are in ``extra``).
+        As from :func:`hrbench_analysis.loader.parse_run_json` (the statistics are in ``extra``).
 
     Returns
     -------
