@@ -3,7 +3,8 @@ PYTHON := .venv/bin/python
 CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release
 
 .PHONY: setup build build-asan build-fuzz test test-cpp test-asan test-python reproduce \
-        reproduce-full bench baseline examples fuzz fuzz-smoke lint format clean
+        reproduce-full bench baseline examples python-package fuzz fuzz-smoke lint format \
+        clean
 
 setup:
 	@bash scripts/setup.sh
@@ -36,9 +37,10 @@ reproduce: build
 reproduce-full: build
 	$(PYTHON) -m hrbench_analysis.reproduce --full
 
-# The Google Benchmark suites (about a minute and a half), merged into results/bench.json.
-# Extra flags, e.g. BENCH_FLAGS=--benchmark_repetitions=5 for tools/compare_bench.py.
-BENCH_FLAGS :=
+# The Google Benchmark suites, merged into results/bench.json: 9 repetitions of each
+# benchmark, so that hrbench-compare (tools/compare_bench.py) and Google Benchmark's own
+# compare.py can run their U tests on two such files. BENCH_FLAGS replaces these flags.
+BENCH_FLAGS := --benchmark_repetitions=9 --benchmark_min_time=0.1
 bench: build
 	@mkdir -p results
 	build/refine_bench --benchmark_out=results/bench-refine.json \
@@ -49,9 +51,25 @@ bench: build
 	  results/bench-translation.json
 
 # The example consumer project, built against the package installed from build/ and
-# with hrbench as a subproject (examples/build_consumer.sh).
+# with hrbench as a subproject, and the tiny kernel of examples/tiny_kernel, whose link
+# dump the installed `hrbench check-links` must accept (examples/build_consumer.sh).
 examples: build
 	@bash examples/build_consumer.sh build
+
+# The analysis as another project installs it: `pip install .` into a fresh venv, then,
+# from /, its import, its three commands, and a reproduction on the external engine of
+# examples/external_engine/ (CI).
+python-package: setup
+	@tmp=$$(mktemp -d) && python3 -m venv $$tmp/venv && $$tmp/venv/bin/python -m pip install -q . \
+	  && cd / && $$tmp/venv/bin/python -c "import hrbench_analysis" \
+	  && $$tmp/venv/bin/hrbench-reproduce --help >/dev/null \
+	  && $$tmp/venv/bin/hrbench-sweep --help >/dev/null \
+	  && $$tmp/venv/bin/hrbench-compare --help >/dev/null \
+	  && HRBENCH_ENGINE="python3 $(CURDIR)/examples/external_engine/engine.py" \
+	     $$tmp/venv/bin/hrbench-reproduce --claims $(CURDIR)/examples/external_engine/claims.toml \
+	     --results $$tmp/results >/dev/null 2>&1; status=$$?; rm -rf $$tmp; \
+	  if [ $$status -ne 0 ]; then echo "python-package: failed (exit code $$status)" >&2; exit 1; fi; \
+	  echo "python-package: installed, imported and run from /"
 
 # Rewrite tests/baseline/counts.json from the current engine, on purpose (`make test`
 # checks it, as the CTest test count_baseline).
@@ -83,7 +101,7 @@ fuzz-smoke: build-fuzz
 CXX_SOURCES = git ls-files --cached --others --exclude-standard '*.cpp' '*.h'
 lint: setup
 	@$(CXX_SOURCES) | xargs clang-format --dry-run --Werror
-	@.venv/bin/ruff check analysis tools tests
+	@.venv/bin/ruff check analysis tools tests examples
 	@echo "lint: clean"
 
 format: setup

@@ -3,6 +3,8 @@
 # `hrbench run parallel l=64 d=1 --eps 0.25`: against the package installed from the
 # build folder $1 (default build) into a scratch prefix (find_package(hrbench)), and with
 # hrbench as a subproject (add_subdirectory), which must not need Catch2 or Python.
+# Then builds examples/tiny_kernel against the installed probe, and checks its link dump
+# with the installed `hrbench check-links`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -32,3 +34,18 @@ check() {  # check NAME CMAKE-ARGS...: configure, build and run the consumer
 }
 check installed -DCMAKE_PREFIX_PATH="$scratch/prefix"
 check subproject -DHRBENCH_SOURCE_DIR="$PWD" -DCMAKE_CXX_COMPILER_LAUNCHER="${CMAKE_CXX_COMPILER_LAUNCHER:-}"
+
+# The independent kernel: its own recursion, only <hrbench/probe.h> from the package.
+cmake -S examples/tiny_kernel -B "$scratch/tiny" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_PREFIX_PATH="$scratch/prefix" >"$scratch/tiny.log" 2>&1 &&
+  cmake --build "$scratch/tiny" >>"$scratch/tiny.log" 2>&1 ||
+  { cat "$scratch/tiny.log" >&2; echo "examples: the tiny kernel build failed" >&2; exit 1; }
+got=$("$scratch/tiny/tiny_kernel" 64 1 0.25 "$scratch/tiny.dump" | grep -E '^links ')
+if [ "$got" != "links 5092" ]; then
+  echo "examples: the tiny kernel counted '$got', not 'links 5092'" >&2
+  exit 1
+fi
+"$scratch/prefix/bin/hrbench" check-links parallel l=64 d=1 --eps 0.25 \
+  --links "$scratch/tiny.dump" >"$scratch/check.txt" ||
+  { echo "examples: check-links rejected the tiny kernel's dump" >&2; exit 1; }
+echo "examples: tiny kernel built; check-links accepts its $got"

@@ -37,8 +37,12 @@ if [ ! -f "$stamp" ] || ! cmp -s "$requirements" "$stamp"; then
   cp "$requirements" "$stamp"
 fi
 # The analysis package itself, editable: `python -m hrbench_analysis.reproduce` runs the
-# sources in analysis/hrbench_analysis/.
-if ! .venv/bin/python -c "import hrbench_analysis" 2>/dev/null; then
+# sources in analysis/hrbench_analysis/. Installed again when pyproject.toml changes (its
+# console scripts, hrbench-reproduce, hrbench-sweep, hrbench-compare, come from there).
+package_stamp=.venv/.pyproject-installed
+if ! .venv/bin/python -c "import hrbench_analysis" 2>/dev/null \
+    || ! cmp -s pyproject.toml "$package_stamp"; then
   echo "setup: installing the analysis package (pip install -e .)"
   .venv/bin/python -m pip install -q --no-deps -e .
+  cp pyproject.toml "$package_stamp"
 fi

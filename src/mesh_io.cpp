@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numeric>
 #include <set>
 #include <string_view>
 #include <utility>
@@ -19,8 +20,10 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/IO/OBJ.h>
 #include <CGAL/IO/OFF.h>
+#include <CGAL/Polygon_2_algorithms.h>
 
 #include "hrbench/util/error.h"
+#include "hrbench/util/format.h"
 
 namespace hrbench {
 
@@ -75,6 +78,13 @@ std::string Shown(std::string_view word) {
 std::string Quoted(std::string_view word) { return "'" + Shown(word) + "'"; }
 
 bool IsBlank(char c) { return c == ' ' || c == '\t'; }
+
+// _value_ with 3 significant digits, for measures in messages.
+std::string ThreeDigits(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", value);
+    return text;
+}
 
 // The statements of one file's text, line by line, numbered from 1; errors name the file
 // and the line. A statement line is one that is neither blank nor only a comment.
@@ -245,28 +255,246 @@ double ReadColour(const Lines &lines, Words &words, size_t count, const std::str
     return integers ? sum / (3 * 255.0) : sum / 3;
 }
 
-// Reads the coordinates x y z of a vertex.
-Vec3 ReadPoint(const Lines &lines, Words &words) {
+// Reads the coordinates x y z of a vertex, each multiplied by _scale_.
+Vec3 ReadPoint(const Lines &lines, Words &words, double scale) {
     std::array<double, 3> xyz;
     std::string_view word;
     for (double &c : xyz) {
         words.Next(word);
-        c = Finite(lines, word, "coordinate");
+        c = Finite(lines, word, "coordinate") * scale;
+        if (scale != 1 && (!std::isfinite(c) || (c != 0 && !std::isnormal(c))))
+            lines.Fail("coordinate " + Quoted(word) + " times the scale " + FormatDouble(scale) +
+                       (std::isfinite(c) ? " underflows double precision (smallest normal 2.2e-308)"
+                                         : " overflows double precision (largest 1.8e308)"));
     }
     return Vec3(xyz[0], xyz[1], xyz[2]);
 }
 
-// Appends the face with _n_ (3 or 4) _corners_ to _patches_, or fails at the current line
-// when it cannot be a patch (Polygon::Problem): errors come in file order.
-void AddFace(const Lines &lines, const std::array<Vec3, 4> &corners, int n,
-             const Material &material, Patches<Polygon> &patches) {
-    Polygon polygon{corners, n};
-    if (n == 3)
-        polygon.v[3] = polygon.v[2];
-    std::string problem = polygon.Problem();
-    if (!problem.empty())
-        lines.Fail("face " + std::to_string(patches.size() + 1) + " " + problem);
-    patches.push_back({polygon, material});
+// ---------------------------------------------------------------------------------------
+// Faces: patches as they are, or split into triangles (docs/3d.md, "Mesh input")
+
+// The patches read from a mesh file, with the line and the number (from 1) of the face
+// each comes from, for messages.
+struct MeshPatches {
+    Patches<Polygon> patches;
+    std::vector<std::pair<size_t, size_t>> origins;  // line, face
+
+    void Add(const Polygon &shape, const Material &material, size_t line, size_t face) {
+        patches.push_back({shape, material});
+        origins.emplace_back(line, face);
+    }
+};
+
+// Corner indices of a triangle of a split face, counter-clockwise like the face.
+using CornerTriangle = std::array<size_t, 3>;
+
+// Largest number of corners of a face that is split by ear clipping (a non-convex one):
+// the clipping takes up to n^3 steps.
+constexpr size_t kMaxClippedCorners = 512;
+
+// Why _quad_ (of a face that Polygon::Problem refuses) is not planar or not convex, with
+// corners numbered from 1; "" when it is neither, but degenerate, not finite or too
+// large. Same measures and tolerances as Polygon::Problem.
+std::string QuadShapeProblem(const Polygon &quad) {
+    double diameter = quad.Diameter();
+    Vec3 areaVector = quad.AreaVector();
+    double twiceArea = areaVector.norm();
+    if (!std::isfinite(diameter) || !std::isfinite(twiceArea) ||
+        !(twiceArea > 2e-12 * diameter * diameter))
+        return "";
+    Vec3 normal = areaVector / twiceArea;
+    // The diagonals are perpendicular to the normal, so all four corners lie equally far
+    // from the plane through their mean, on alternate sides.
+    Vec3 centroid = 0.25 * (quad.v[0] + quad.v[1] + quad.v[2] + quad.v[3]);
+    double distance = std::abs((quad.v[0] - centroid).dot(normal));
+    for (int k = 1; k < 4; ++k)
+        distance = std::max(distance, std::abs((quad.v[k] - centroid).dot(normal)));
+    if (distance > kMeshPlanarityTolerance * diameter)
+        return "is not planar: its corners lie " + ThreeDigits(distance) +
+               " off their mean plane, " + ThreeDigits(distance / diameter) +
+               " of the face's diameter " + ThreeDigits(diameter) + " (tolerance " +
+               ThreeDigits(kMeshPlanarityTolerance) + " of the diameter)";
+    for (int k = 0; k < 4; ++k) {
+        const Vec3 &a = quad.v[k], &b = quad.v[(k + 1) % 4], &c = quad.v[(k + 2) % 4];
+        if (!((b - a).cross(c - b).dot(normal) > 1e-12 * diameter * diameter))
+            return "is not a convex quad: corner " + std::to_string((k + 1) % 4 + 1) +
+                   " turns the wrong way or goes straight on";
+    }
+    return "";
+}
+
+// The corners of a face seen along its normal: each corner's two coordinates other than
+// the one where the face's area vector is largest (ties: x before y before z), exactly
+// as read, in the order that keeps the face counter-clockwise.
+class ProjectedFace {
+  public:
+    using Point2 = Kernel::Point_2;
+
+    ProjectedFace(const std::vector<Vec3> &corners, int dropped) {
+        int u = (dropped + 1) % 3, w = (dropped + 2) % 3;
+        for (const Vec3 &c : corners)
+            points_.emplace_back(c[u], c[w]);
+    }
+
+    // Whether the projected polygon is simple (no two edges cross or touch, no corner
+    // repeats), decided exactly; if so, it fixes the orientation.
+    bool IsSimple() {
+        const Kernel traits{};  // a named one: GCC warns that a temporary is uninitialized
+        if (!CGAL::is_simple_2(points_.begin(), points_.end(), traits))
+            return false;
+        clockwise_ = CGAL::orientation_2(points_.begin(), points_.end(), traits) == CGAL::CLOCKWISE;
+        return true;
+    }
+
+    // +1 when a, b, c turn left (counter-clockwise seen from the front), -1 when right,
+    // 0 when collinear; exact.
+    int Turn(size_t a, size_t b, size_t c) const {
+        int turn = int(CGAL::orientation(points_[a], points_[b], points_[c]));
+        return clockwise_ ? -turn : turn;
+    }
+
+    bool StrictlyConvex() const {
+        size_t n = points_.size();
+        for (size_t k = 0; k < n; ++k)
+            if (Turn((k + n - 1) % n, k, (k + 1) % n) <= 0)
+                return false;
+        return true;
+    }
+
+    // Whether _b_ with its neighbours _a_ and _c_ among the _remaining_ corners is an ear:
+    // it turns left, and no other remaining corner lies in or on the triangle a b c.
+    bool IsEar(size_t a, size_t b, size_t c, const std::vector<size_t> &remaining) const {
+        if (Turn(a, b, c) <= 0)
+            return false;
+        for (size_t x : remaining)
+            if (x != a && x != b && x != c && Turn(a, b, x) >= 0 && Turn(b, c, x) >= 0 &&
+                Turn(c, a, x) >= 0)
+                return false;
+        return true;
+    }
+
+  private:
+    std::vector<Point2> points_;
+    bool clockwise_ = false;
+};
+
+// Splits the face with _corners_ (named _face_ in messages) into triangles:
+//  - a quad convex seen along its normal: along its shorter diagonal (ties: v1v3 only
+//    when strictly shorter than v0v2), as a fan from the diagonal's first corner;
+//  - a polygon of 5 or more corners that is strictly convex seen along its normal: a fan
+//    from its first corner, (v0, vk, vk+1) for k = 1 .. n-2;
+//  - any other simple polygon: ear clipping, walking the corners from the first; an ear
+//    is cut off as (previous, current, next), and the walk goes back to the previous
+//    corner, otherwise on to the next; the last three corners, in their order, make the
+//    last triangle.
+// Fails at the current line of _lines_ when the face is degenerate or not simple.
+std::vector<CornerTriangle> Triangulate(const Lines &lines, const std::string &face,
+                                        const std::vector<Vec3> &corners) {
+    size_t n = corners.size();
+    // Twice the area vector, relative to the first corner so that it does not depend on
+    // where the face lies.
+    Vec3 areaVector = Vec3::Zero();
+    Vec3 low = corners[0], high = corners[0];
+    for (size_t k = 0; k < n; ++k) {
+        areaVector += (corners[k] - corners[0]).cross(corners[(k + 1) % n] - corners[0]);
+        low = low.cwiseMin(corners[k]);
+        high = high.cwiseMax(corners[k]);
+    }
+    double size = (high - low).norm();  // the bounding box's diagonal: O(n), unlike the diameter
+    if (!areaVector.allFinite() || !std::isfinite(size))
+        lines.Fail(face + " is too large for double precision (its size or area overflows)");
+    if (!(areaVector.norm() > 2e-12 * size * size))
+        lines.Fail(face + " is degenerate (its area is zero), so it cannot be triangulated");
+    int dropped = 0;
+    for (int axis = 1; axis < 3; ++axis)
+        if (std::abs(areaVector[axis]) > std::abs(areaVector[dropped]))
+            dropped = axis;
+    ProjectedFace projected(corners, dropped);
+    if (!projected.IsSimple())
+        lines.Fail(face + " is not a simple polygon seen along its normal (two edges cross or "
+                          "touch, or a corner repeats), so it cannot be triangulated");
+
+    std::vector<CornerTriangle> triangles;
+    if (projected.StrictlyConvex()) {
+        if (n == 4) {
+            bool v1v3 =
+                (corners[3] - corners[1]).squaredNorm() < (corners[2] - corners[0]).squaredNorm();
+            return v1v3 ? std::vector<CornerTriangle>{{1, 2, 3}, {1, 3, 0}}
+                        : std::vector<CornerTriangle>{{0, 1, 2}, {0, 2, 3}};
+        }
+        for (size_t k = 1; k + 1 < n; ++k)
+            triangles.push_back({0, k, k + 1});
+        return triangles;
+    }
+    if (n > kMaxClippedCorners)
+        lines.Fail(face + " is a non-convex polygon of " + std::to_string(n) +
+                   " corners; at most " + std::to_string(kMaxClippedCorners) +
+                   " can be triangulated");
+    std::vector<size_t> ring(n);
+    std::iota(ring.begin(), ring.end(), size_t(0));
+    size_t at = 0, misses = 0;
+    while (ring.size() > 3) {
+        size_t r = ring.size();
+        size_t a = ring[(at + r - 1) % r], b = ring[at], c = ring[(at + 1) % r];
+        if (projected.IsEar(a, b, c, ring)) {
+            triangles.push_back({a, b, c});
+            ring.erase(ring.begin() + std::ptrdiff_t(at));
+            at = (at + r - 2) % (r - 1);  // back to the previous corner
+            misses = 0;
+        } else {
+            at = (at + 1) % r;
+            // A simple polygon always has an ear: a full round without one cannot happen.
+            if (++misses > r)
+                lines.Fail(face + " cannot be triangulated (no ear found)");
+        }
+    }
+    triangles.push_back({ring[0], ring[1], ring[2]});
+    return triangles;
+}
+
+// Fails at the current line of _lines_ unless _face_ may have _n_ corners: at least 3,
+// and at most 4 unless faces are triangulated.
+void CheckCornerCount(const Lines &lines, const std::string &face, uint64_t n, bool triangulate) {
+    if (n < 3)
+        lines.Fail(face + " has " + std::to_string(n) + " corners (a face needs at least 3)");
+    if (n > 4 && !triangulate)
+        lines.Fail(face + " has " + std::to_string(n) +
+                   " corners (triangles and quads are read as they are; --triangulate splits "
+                   "polygons into triangles)");
+}
+
+// Appends face number _number_ (from 1; _face_ is "face N") with _corners_ (as
+// CheckCornerCount allows) to
+// _patches_ with _material_: as it is when it can be a patch (Polygon::Problem), split
+// into triangles when _triangulate_ and it is a polygon of 5 or more corners or a quad
+// that is not planar or not convex; otherwise fails at the current line of _lines_
+// saying why.
+void AddFace(const Lines &lines, size_t number, const std::string &face,
+             const std::vector<Vec3> &corners, const Material &material, bool triangulate,
+             MeshPatches &patches) {
+    size_t n = corners.size();
+    if (n <= 4) {
+        Polygon polygon = n == 3 ? Polygon::Triangle(corners[0], corners[1], corners[2])
+                                 : Polygon::Quad(corners[0], corners[1], corners[2], corners[3]);
+        std::string problem = polygon.Problem();
+        if (problem.empty())
+            return patches.Add(polygon, material, lines.Number(), number);
+        std::string shape = n == 4 ? QuadShapeProblem(polygon) : "";
+        if (shape.empty())
+            lines.Fail(face + " " + problem);
+        if (!triangulate)
+            lines.Fail(face + " " + shape + "; --triangulate splits it into triangles");
+    }
+    std::vector<CornerTriangle> triangles = Triangulate(lines, face, corners);
+    for (size_t k = 0; k < triangles.size(); ++k) {
+        const CornerTriangle &t = triangles[k];
+        Polygon triangle = Polygon::Triangle(corners[t[0]], corners[t[1]], corners[t[2]]);
+        std::string problem = triangle.Problem();
+        if (!problem.empty())
+            lines.Fail(face + ", triangle " + std::to_string(k + 1) + " of " +
+                       std::to_string(triangles.size()) + " of its triangulation, " + problem);
+        patches.Add(triangle, material, lines.Number(), number);
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -275,10 +503,10 @@ void AddFace(const Lines &lines, const std::array<Vec3, 4> &corners, int n,
 // Reads an OFF or COFF file: the keyword, the counts, the vertex lines, the face lines.
 class OffReader {
   public:
-    OffReader(std::string_view text, const std::string &source)
-        : lines_(text, "mesh file '" + source + "'") {}
+    OffReader(std::string_view text, const std::string &source, const MeshOptions &options)
+        : lines_(text, "mesh file '" + source + "'"), options_(options) {}
 
-    Patches<Polygon> Read() {
+    MeshPatches Read() {
         ReadHeader();
         ReadVertices();
         ReadFaces();
@@ -372,7 +600,7 @@ class OffReader {
             lines_.Fail("a COFF vertex needs 3 coordinates and optionally a colour of 3 or 4 "
                         "values, this line has " +
                         std::to_string(n) + " values");
-        vertices_.push_back(ReadPoint(lines_, words));
+        vertices_.push_back(ReadPoint(lines_, words, options_.scale));
         if (n > 3)
             ReadColour(lines_, words, n - 3, "vertex colour component");
     }
@@ -383,31 +611,29 @@ class OffReader {
             if (!lines_.Next())
                 lines_.FailAtEnd("truncated: the file ends after " + std::to_string(k) +
                                  " of the " + std::to_string(numFaces_) + " faces");
-            ReadFace();
+            ReadFace(k + 1);
         }
     }
 
     // Reads `k i1 .. ik [colour]`: indices count from 0, the colour gives the reflectance.
-    void ReadFace() {
-        std::string face = "face " + std::to_string(patches_.size() + 1);
+    void ReadFace(uint64_t number) {
+        std::string face = "face " + std::to_string(number);
         Words words(lines_.Line());
         std::string_view word;
         words.Next(word);
         uint64_t n = Count(lines_, word, face + ": corner count");
-        if (n != 3 && n != 4)
-            lines_.Fail(face + " has " + std::to_string(n) +
-                        " corners (only triangles and quads are supported)");
+        CheckCornerCount(lines_, face, n, options_.triangulate);
         if (words.Left() < n)
             lines_.Fail(face + " announces " + std::to_string(n) + " corners but lists only " +
                         std::to_string(words.Left()));
-        std::array<Vec3, 4> corners;
-        for (uint64_t k = 0; k < n; ++k) {
+        corners_.resize(n);
+        for (Vec3 &corner : corners_) {
             words.Next(word);
             uint64_t index = Count(lines_, word, face + ": vertex index");
             if (index >= vertices_.size())
                 lines_.Fail(face + " refers to vertex " + std::to_string(index) + " of " +
                             std::to_string(vertices_.size()) + " (OFF vertices count from 0)");
-            corners[k] = vertices_[index];
+            corner = vertices_[index];
         }
         size_t rest = words.Left();
         if (rest != 0 && rest != 3 && rest != 4)
@@ -417,16 +643,18 @@ class OffReader {
         if (rest > 0)
             material.reflectance =
                 CappedReflectance(ReadColour(lines_, words, rest, face + ": colour component"));
-        AddFace(lines_, corners, int(n), material, patches_);
+        AddFace(lines_, number, face, corners_, material, options_.triangulate, patches_);
     }
 
     Lines lines_;
+    MeshOptions options_;
     bool coff_ = false;
     uint64_t numVertices_ = 0;
     uint64_t numFaces_ = 0;
     size_t countsLine_ = 0;
     std::vector<Vec3> vertices_;
-    Patches<Polygon> patches_;
+    std::vector<Vec3> corners_;  // of the face being read
+    MeshPatches patches_;
 };
 
 // ---------------------------------------------------------------------------------------
@@ -523,13 +751,15 @@ void ReadMaterials(std::string_view text, const std::string &library, Materials 
 // references of faces; vp, o, g and s ignored.
 class ObjReader {
   public:
-    ObjReader(std::string_view text, const std::string &source, const LibraryReader &readLibrary)
-        : lines_(text, "mesh file '" + source + "'"), source_(source), readLibrary_(readLibrary) {}
+    ObjReader(std::string_view text, const std::string &source, const LibraryReader &readLibrary,
+              const MeshOptions &options)
+        : lines_(text, "mesh file '" + source + "'"), source_(source), readLibrary_(readLibrary),
+          options_(options) {}
 
-    Patches<Polygon> Read() {
+    MeshPatches Read() {
         while (lines_.Next())
             ReadStatement();
-        if (patches_.empty())
+        if (numFaces_ == 0)
             lines_.FailAtEnd(lines_.Number() == 0 ? "the file is empty" : "the file has no faces");
         return std::move(patches_);
     }
@@ -564,26 +794,25 @@ class ObjReader {
         if (n != 3 && n != 4)
             lines_.Fail("a vertex needs 3 coordinates and an optional weight, this line has " +
                         std::to_string(n) + " values");
-        vertices_.push_back(ReadPoint(lines_, words));
+        vertices_.push_back(ReadPoint(lines_, words, options_.scale));
         std::string_view weight;
         if (words.Next(weight))
             Finite(lines_, weight, "weight");
     }
 
-    // Reads `f c1 c2 c3 [c4]` with the current material.
+    // Reads `f c1 c2 c3 ...` with the current material.
     void ReadFace(Words &words) {
-        std::string face = "face " + std::to_string(patches_.size() + 1);
+        size_t number = ++numFaces_;
+        std::string face = "face " + std::to_string(number);
         size_t n = words.Left();
-        if (n != 3 && n != 4)
-            lines_.Fail(face + " has " + std::to_string(n) +
-                        " corners (only triangles and quads are supported)");
-        std::array<Vec3, 4> corners;
+        CheckCornerCount(lines_, face, n, options_.triangulate);
+        corners_.resize(n);
         std::string_view word;
-        for (size_t k = 0; k < n; ++k) {
+        for (Vec3 &corner : corners_) {
             words.Next(word);
-            corners[k] = vertices_[ReadCorner(word, face)];
+            corner = vertices_[ReadCorner(word, face)];
         }
-        AddFace(lines_, corners, int(n), current_, patches_);
+        AddFace(lines_, number, face, corners_, current_, options_.triangulate, patches_);
     }
 
     // Reads a corner of _face_, `i`, `i/t`, `i/t/n` or `i//n`, and returns the index of
@@ -666,37 +895,61 @@ class ObjReader {
     Lines lines_;
     std::string source_;
     const LibraryReader &readLibrary_;
+    MeshOptions options_;
     std::vector<Vec3> vertices_;
+    std::vector<Vec3> corners_;  // of the face being read
+    size_t numFaces_ = 0;
     size_t numTextures_ = 0;
     size_t numNormals_ = 0;
     std::set<std::string> librariesRead_;
     Materials materials_;
     Material current_ = kDefaultMaterial;
-    Patches<Polygon> patches_;
+    MeshPatches patches_;
 };
 
 }  // namespace
 
 Scene ParseMesh(const std::string &text, MeshFormat format, const std::string &source,
-                const LibraryReader &readMaterialLibrary) {
+                const LibraryReader &readMaterialLibrary, const MeshOptions &options) {
+    if (!(options.scale > 0) || !std::isfinite(options.scale))
+        throw InputError("the scale of mesh file '" + source +
+                         "' must be a finite number greater than 0");
+    MeshPatches read = format == MeshFormat::Off
+                           ? OffReader(text, source, options).Read()
+                           : ObjReader(text, source, readMaterialLibrary, options).Read();
     Scene scene;
     scene.family = "mesh";
     scene.file = source;
-    if (format == MeshFormat::Off)
-        scene.patches = OffReader(text, source).Read();
-    else
-        scene.patches = ObjReader(text, source, readMaterialLibrary).Read();
+    if (options.scale != 1)
+        scene.params["scale"] = options.scale;
+    if (options.triangulate)
+        scene.params["triangulate"] = 1;
+    scene.patches = read.patches;
     // The readers check each face where they read it; this keeps the scene contract
-    // should ValidateScene come to check more.
+    // should ValidateScene come to check more, naming the face's line.
     try {
         ValidateScene(scene);
-    } catch (const InputError &e) {
-        throw InputError("mesh file '" + source + "': " + e.what());
+    } catch (const InputError &) {
+        for (size_t k = 0; k < read.patches.size(); ++k) {
+            Scene one;
+            one.patches = Patches<Polygon>{read.patches[k]};
+            try {
+                ValidateScene(one);
+            } catch (const InputError &e) {
+                std::string what = e.what(), prefix = "patch 0 ";
+                if (what.rfind(prefix, 0) == 0)
+                    what.erase(0, prefix.size());
+                auto [line, face] = read.origins[k];
+                throw InputError("mesh file '" + source + "', line " + std::to_string(line) +
+                                 ": face " + std::to_string(face) + " " + what);
+            }
+        }
+        throw;
     }
     return scene;
 }
 
-Scene LoadMesh(const std::string &path, size_t maxInputBytes) {
+Scene LoadMesh(const std::string &path, size_t maxInputBytes, const MeshOptions &options) {
     MeshFormat format = FormatOf(path);
     std::string text = ReadInputFile(path, "mesh file", maxInputBytes);
     auto readLibrary = [&](const std::string &name) -> std::string {
@@ -707,7 +960,7 @@ Scene LoadMesh(const std::string &path, size_t maxInputBytes) {
             return "";  // a missing library leaves its faces at the defaults (docs/3d.md)
         return ReadInputFile(libraryPath, "material library", maxInputBytes);
     };
-    return ParseMesh(text, format, path, readLibrary);
+    return ParseMesh(text, format, path, readLibrary, options);
 }
 
 void SaveMesh(const Scene &scene, const std::string &path) {

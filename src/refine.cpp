@@ -96,9 +96,17 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
 
     // Classify every root pair and refine it down to the task depth.
     const uint32_t numPatches = uint32_t(patches.size());
+    RefineProgress *progress = options.progress;
+    std::vector<uint64_t> pairOrdinal;  // of each refined pair among all root pairs, from 1
+    if (progress) {
+        progress->rootPairs = uint64_t(numPatches) * (numPatches - 1) / 2;
+        progress->StartPass(1);
+    }
     for (uint32_t p = 0; p < numPatches; ++p) {
         for (uint32_t q = p + 1; q < numPatches; ++q) {
             ++counters.rootPairs;
+            if (progress)
+                progress->At(counters.rootPairs);
             PairRelation relation = ClassifyPair(patches[p].shape, patches[q].shape);
             if (relation == PairRelation::Culled) {
                 ++counters.culledPairs;
@@ -112,6 +120,8 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
             topKernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), topLinks, &tasks);
             result.pairs.push_back({p, q, topKernel.tally.links - before.links,
                                     topKernel.tally.oracleCalls - before.oracleCalls});
+            if (progress)
+                pairOrdinal.push_back(counters.rootPairs);
         }
     }
 
@@ -131,12 +141,16 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     std::atomic<size_t> next{0};
     std::atomic<bool> failed{false};
     std::vector<std::pair<size_t, std::exception_ptr>> errors(numWorkers, {SIZE_MAX, nullptr});
+    if (progress)
+        progress->StartPass(2);
     auto work = [&](size_t w) {
         ProjectKernel<F, kArity, Oracle, kStoreLinks, false, Visibility> kernel(
             forests[w], oracle, options, budget.maxLinks / numWorkers, visibility);
         LinkBuffer unused;
         LinkBuffer &links = kStoreLinks ? workerLinks[w] : unused;
         for (size_t t; !failed && (t = next++) < tasks.size();) {
+            if (progress)
+                progress->At(pairOrdinal[tasks[t].pair]);
             try {
                 uint64_t linksBefore = kernel.tally.links, calls = kernel.tally.oracleCalls;
                 kernel.Project(tasks[t].call, tasks[t].pair, links, nullptr);

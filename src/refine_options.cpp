@@ -1,9 +1,12 @@
 #include "hrbench/refine_options.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 #include "hrbench/oracles/registry.h"
+#include "hrbench/scene.h"
 #include "hrbench/util/error.h"
 
 namespace hrbench {
@@ -50,6 +53,37 @@ void ValidateOptions(const RefineOptions &o, int dimension) {
                          "recursion limit; set one with --min-area or --max-depth");
     if (dimension == 2 && o.subdivision != Subdivision::Binary)
         throw InputError("--subdivision quadtree applies to 3D scenes only (segments are halved)");
+}
+
+std::string MinAreaWarning(const Scene &scene, const RefineOptions &options) {
+    if (!(options.minArea > 0))
+        return "";
+    double largest = std::visit(
+        [](const auto &patches) {
+            double measure = 0;
+            for (const auto &patch : patches)
+                measure = std::max(measure, patch.shape.Measure());
+            return measure;
+        },
+        scene.patches);
+    std::string size = scene.Dimension() == 2 ? "length" : "area";
+    std::string units = " (are the scene and --min-area in the same units? --scale rescales a "
+                        "mesh)";
+    auto shown = [](double value) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.3g", value);
+        return std::string(text);
+    };
+    if (options.minArea > largest)
+        return "--min-area " + shown(options.minArea) + " exceeds the largest patch's " + size +
+               ", " + shown(largest) + ": no element will be split" + units;
+    if (options.minArea < kMinAreaWarnFraction * largest)
+        return "--min-area " + shown(options.minArea) + " is below " + shown(kMinAreaWarnFraction) +
+               " of the largest patch's " + size + ", " + shown(largest) +
+               ": elements may be halved " +
+               std::to_string(int(std::ceil(std::log2(largest) - std::log2(options.minArea)))) +
+               " times before it applies" + units;
+    return "";
 }
 
 size_t EffectiveBudget(const RefineOptions &options) {

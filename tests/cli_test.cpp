@@ -170,6 +170,97 @@ TEST_CASE("A mesh runs like the family it copies, and is named in the record", "
         CHECK(a[key] == b[key]);
 }
 
+TEST_CASE("The published Cornell boxes run with --triangulate, and fail without it",
+          "[cli][mesh]") {
+    const std::string original = kData + "/meshes/CornellBox-Original.obj",
+                      measured = kData + "/meshes/cornell_box.obj";
+    CheckError("run --mesh " + original + " --eps 0.5", 2,
+               "line 62: face 5 is not planar: its corners lie 0.005 off their mean plane, "
+               "0.00176 of the face's diameter 2.84 (tolerance 1e-06 of the diameter); "
+               "--triangulate splits it into triangles");
+    CheckError("links --mesh " + measured + " --eps 0.5 --out " + Scratch("cornell.csv"), 2,
+               "line 77: face 8 is not planar: its corners lie 0.8 off their mean plane, 0.00102 "
+               "of the face's diameter 784 (tolerance 1e-06 of the diameter); --triangulate");
+
+    // Counts pinned from this engine; the same with 3 threads, and 2 L - (refined pairs)
+    // oracle calls. The walls touch, so a recursion limit is needed.
+    for (const char *threads : {"1", "3"}) {
+        INFO("threads " << threads);
+        CliResult r = Cli("run --mesh " + original +
+                          " --triangulate --eps 0.5 --min-area 0.01 "
+                          "--count-only --json --threads " +
+                          threads);
+        REQUIRE(r.exitCode == 0);
+        CHECK(r.err.empty());
+        json j = json::parse(r.out);
+        CHECK(j["patches"] == 19);
+        CHECK(j["params"] == json({{"triangulate", 1.0}}));
+        CHECK(j["mesh_file"] == original);
+        CHECK(j["root_pairs"] == 171);
+        CHECK(j["culled_pairs"] == 78);
+        CHECK(j["nodes"] == 2769);
+        CHECK(j["leaves"] == 1394);
+        CHECK(j["links"] == 6834);
+        CHECK(j["oracle_calls"] == 13575);
+        CHECK(j["forced_links"] == 1214);
+        CHECK(j["oracle_calls"] == 2 * j["links"].get<int>() - (171 - 78));
+    }
+    json m = json::parse(Cli("run --mesh " + measured +
+                             " --triangulate --scale 0.001 --eps 0.5 "
+                             "--min-area 0.01 --count-only --json")
+                             .out);
+    CHECK(m["params"] == json({{"scale", 0.001}, {"triangulate", 1.0}}));
+    CHECK(m["patches"] == 19);
+    CHECK(m["culled_pairs"] == 90);
+    CHECK(m["links"] == 1549);
+    CHECK(m["oracle_calls"] == 3017);
+    CHECK(m["nodes"] == 381);
+
+    std::string saved = Scratch("cornell_triangulated.json");
+    REQUIRE(Cli("save --mesh " + original + " --triangulate --out " + saved).exitCode == 0);
+    CHECK(json::parse(Cli("run --scene-file " + saved +
+                          " --eps 0.5 --min-area 0.01 --count-only "
+                          "--json")
+                          .out)["links"] == 6834);
+}
+
+TEST_CASE("A --min-area far from the scene's size is warned about, on one line", "[cli][mesh]") {
+    // The measured Cornell box is in millimetres: its ceiling, 556 x 559.2 = 3.11e5 mm^2,
+    // is 3e8 times --min-area 1e-3, which was meant in square metres.
+    CliResult mm = Cli("run --mesh " + kData +
+                       "/meshes/cornell_box.obj --triangulate --eps 0.5 "
+                       "--min-area 1e-3 --max-depth 2 --count-only --json");
+    CHECK(mm.exitCode == 0);
+    CHECK(mm.err == "hrbench: warning: --min-area 0.001 is below 1e-08 of the largest patch's "
+                    "area, 3.11e+05: elements may be halved 29 times before it applies (are the "
+                    "scene and --min-area in the same units? --scale rescales a mesh)\n");
+    CHECK(json::parse(mm.out)["patches"] == 19);
+    CHECK(Cli("run --mesh " + kData +
+              "/meshes/cornell_box.obj --triangulate --scale 0.001 "
+              "--eps 0.5 --min-area 1e-3 --max-depth 2 --count-only")
+              .err.empty());
+    // Larger than every patch, for any scene source.
+    CliResult big = Cli("links parallel l=1 --eps 0.5 --min-area 2 --out " + Scratch("big.csv"));
+    CHECK(big.exitCode == 0);
+    CHECK(big.err == "hrbench: warning: --min-area 2 exceeds the largest patch's length, 1: no "
+                     "element will be split (are the scene and --min-area in the same units? "
+                     "--scale rescales a mesh)\n");
+    CHECK(Cli("run cornell --eps 0.5 --min-area 1e-3").err.empty());
+}
+
+TEST_CASE("--scale and --triangulate are checked and apply to meshes only", "[cli][mesh]") {
+    const std::string mesh = " --mesh " + kData + "/two_plates.obj --eps 0.5";
+    CheckError("run" + mesh + " --scale 0", 2, "--scale must be a finite number greater than 0");
+    CheckError("run" + mesh + " --scale -2", 2, "--scale must be a finite number greater than 0");
+    CheckError("run" + mesh + " --scale inf", 2, "--scale");
+    CheckError("run" + mesh + " --scale 1e308", 2,
+               "line 12: face 1 is too large for double precision (its size or area overflows)");
+    CheckError("run parallel --eps 0.5 --triangulate", 2, "--triangulate applies to --mesh only");
+    CheckError("save room --scale 2", 2, "--scale applies to --mesh only");
+    json j = json::parse(Cli("run" + mesh + " --scale 2 --json").out);
+    CHECK(j["params"] == json({{"scale", 2.0}}));
+}
+
 TEST_CASE("3D scenes save, load and write links with areas and centroids", "[cli][3d]") {
     std::string scenePath = Scratch("plates.json"), csvPath = Scratch("links3d.csv");
     REQUIRE(Cli("save parallel3d l=2 --out " + scenePath).exitCode == 0);
@@ -361,5 +452,13 @@ TEST_CASE("Limits reached during refinement give exit code 3", "[cli][errors]") 
     CheckError("run parallel l=1024 --eps 0.01 --max-memory 1", 3, "memory budget");
     CheckError("run parallel l=1024 --eps 1e-8 --count-only --method translation --max-memory 1", 3,
                "--method translation would exceed the memory budget");
-    CheckError("run perpendicular gap=0 --eps 0.5 --min-area 1e-300", 3, "safety depth");
+    // A --min-area that small draws the warning of a scene and --min-area in other units.
+    CliResult deep = Cli("run perpendicular gap=0 --eps 0.5 --min-area 1e-300");
+    CHECK(deep.exitCode == 3);
+    CHECK(deep.out.empty());
+    CHECK_THAT(deep.err, Catch::StartsWith("hrbench: warning: --min-area 1e-300 is below 1e-08 "
+                                           "of the largest patch's length, 1:") &&
+                             Catch::Contains("\nhrbench: error: ") &&
+                             Catch::Contains("safety depth"));
+    CHECK(std::count(deep.err.begin(), deep.err.end(), '\n') == 2);
 }

@@ -359,7 +359,10 @@ TEST_CASE("Hostile OFF files are refused with one line naming the file and line"
         CHECK(OffError(kTriangleOff + "3.0 0 1 2\n") ==
               at + "line 6: face 1: corner count '3.0' is not an integer");
         CHECK(OffError(kTriangleOff + "5 0 1 2 0 1\n") ==
-              at + "line 6: face 1 has 5 corners (only triangles and quads are supported)");
+              at + "line 6: face 1 has 5 corners (triangles and quads are read as they are; "
+                   "--triangulate splits polygons into triangles)");
+        CHECK(OffError(kTriangleOff + "2 0 1   \n") ==
+              at + "line 6: face 1 has 2 corners (a face needs at least 3)");
         CHECK(OffError(kTriangleOff + "3 0  1\n") ==
               at + "line 6: face 1 announces 3 corners but lists only 2");
         CHECK(OffError(kTriangleOff + "3 0 1 3\n") ==
@@ -453,7 +456,7 @@ TEST_CASE("Hostile OBJ files are refused with one line naming the file and line"
         CHECK(ObjError("f 1 2 3\n" + kTriangleObj) ==
               at + "line 1: face 1 refers to vertex 1 of 0 defined so far");
         CHECK(ObjError(kTriangleObj + "f 1 2\n") ==
-              at + "line 4: face 1 has 2 corners (only triangles and quads are supported)");
+              at + "line 4: face 1 has 2 corners (a face needs at least 3)");
         CHECK(ObjError(kTriangleObj + "f 1 2 3\nf 1 1 2\n") ==
               at + "line 5: face 2 is degenerate (triangle with zero area)");
     }
@@ -537,4 +540,224 @@ TEST_CASE("Mesh files and libraries are read within the input limit, never a fol
     CHECK_THAT(LoadError(objPath, 1 << 20),
                Catch::StartsWith("mesh file '" + objPath + "', line 1: material library '" +
                                  dir.path + "/lib.mtl' has "));
+}
+
+// ---------------------------------------------------------------------------------------
+// --triangulate and --scale (docs/3d.md, "Mesh input")
+
+namespace {
+
+const MeshOptions kTriangulate{true, 1};
+
+// ParseMesh on _text_ as 't.obj' or 't.off' with _options_ and no material library.
+Scene ParseWith(const std::string &text, MeshFormat format, const MeshOptions &options) {
+    return ParseMesh(text, format, format == MeshFormat::Off ? "t.off" : "t.obj", {}, options);
+}
+
+// The one-line error of ParseWith, or "no error".
+std::string ErrorWith(const std::string &text, MeshFormat format, const MeshOptions &options) {
+    try {
+        ParseWith(text, format, options);
+    } catch (const InputError &e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+// Expects _patch_ to be the triangle a b c, corners in that order.
+void CheckTriangle(const Patch<Polygon> &patch, const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+    REQUIRE(patch.shape.n == 3);
+    CHECK(patch.shape.v[0] == a);
+    CHECK(patch.shape.v[1] == b);
+    CHECK(patch.shape.v[2] == c);
+}
+
+double TotalArea(const Patches<Polygon> &patches) {
+    double sum = 0;
+    for (const Patch<Polygon> &p : patches)
+        sum += p.shape.Area();
+    return sum;
+}
+
+}  // namespace
+
+TEST_CASE("--triangulate splits a quad that is not planar along its shorter diagonal", "[mesh]") {
+    // A B C D with C lifted by 0.1: BD (length sqrt 5) is shorter than AC (sqrt 5.01), so
+    // the fan from B: (B, C, D) of area |(0,1,0.1) x (-2,1,0)| / 2 = sqrt(4.05) / 2, and
+    // (B, D, A) of area 1. The face's colour (255 0 0: reflectance 1/3) goes to both.
+    const Vec3 a(0, 0, 0), b(2, 0, 0), c(2, 1, 0.1), d(0, 1, 0);
+    const std::string off = "OFF\n4 1 0\n0 0 0\n2 0 0\n2 1 0.1\n0 1 0\n4 0 1 2 3 255 0 0\n";
+    Patches<Polygon> p = ParseWith(off, MeshFormat::Off, kTriangulate).Get<Polygon>();
+    REQUIRE(p.size() == 2);
+    CheckTriangle(p[0], b, c, d);
+    CheckTriangle(p[1], b, d, a);
+    CHECK(p[0].shape.Area() == Approx(std::sqrt(4.05) / 2).epsilon(1e-14));
+    CHECK(p[1].shape.Area() == Approx(1).epsilon(1e-14));
+    for (const Patch<Polygon> &t : p)
+        CHECK(t.material.reflectance == Approx(1.0 / 3).epsilon(1e-14));
+
+    // Diagonals of equal length (both sqrt 2): v0v2, the fan from A, (A B C) and (A C D).
+    const Vec3 e(0, 0, 0), f(1, 0, 1), g(1, 1, 0), h(0, 1, 1);
+    Patches<Polygon> tie =
+        ParseWith("v 0 0 0\nv 1 0 1\nv 1 1 0\nv 0 1 1\nf 1 2 3 4\n", MeshFormat::Obj, kTriangulate)
+            .Get<Polygon>();
+    REQUIRE(tie.size() == 2);
+    CheckTriangle(tie[0], e, f, g);
+    CheckTriangle(tie[1], e, g, h);
+
+    // Without --triangulate: the line, the face, the measure and the tolerance. The four
+    // corners lie 0.1 / |(-0.1, -0.2, 4)| = 0.02496 off their mean plane; the diameter
+    // is |AC| = sqrt(5.01) = 2.2383.
+    CHECK(ObjError("# a twisted quad\nv 0 0 0\nv 2 0 0\nv 2 1 0.1\nv 0 1 0\nf 1 2 3 4\n") ==
+          "mesh file 't.obj', line 6: face 1 is not planar: its corners lie 0.025 off their "
+          "mean plane, 0.0112 of the face's diameter 2.24 (tolerance 1e-06 of the diameter); "
+          "--triangulate splits it into triangles");
+}
+
+TEST_CASE("--triangulate keeps triangles and valid quads, and splits n-gons", "[mesh]") {
+    // A planar convex quad and a triangle stay as they are.
+    Scene plates = LoadMesh(kData + "/two_plates.obj");
+    CheckSameFaces(LoadMesh(kData + "/two_plates.obj", kDefaultMaxInputBytes, kTriangulate),
+                   plates);
+    CHECK(ParseWith(kTriangleObj + "f 1 2 3\n", MeshFormat::Obj, kTriangulate).NumPatches() == 1);
+
+    SECTION("a convex pentagon: a fan from its first corner") {
+        // Triangles of areas 1, 4 and 2: the pentagon's 7 (shoelace: (0+2+8+4+0) / 2).
+        std::string obj = kTriangleObj + "f 1 2 3\nv 0 0 5\nv 2 0 5\nv 3 1 5\nv 1 3 5\n"
+                                         "v -1 1 5\nf -5 -4 -3 -2 -1\n";
+        Patches<Polygon> p = ParseWith(obj, MeshFormat::Obj, kTriangulate).Get<Polygon>();
+        REQUIRE(p.size() == 4);
+        const Vec3 v0(0, 0, 5), v1(2, 0, 5), v2(3, 1, 5), v3(1, 3, 5), v4(-1, 1, 5);
+        CheckTriangle(p[1], v0, v1, v2);
+        CheckTriangle(p[2], v0, v2, v3);
+        CheckTriangle(p[3], v0, v3, v4);
+        CHECK(p[1].shape.Area() == 1);
+        CHECK(p[2].shape.Area() == 4);
+        CHECK(p[3].shape.Area() == 2);
+        CHECK(ObjError(obj) == "mesh file 't.obj', line 10: face 2 has 5 corners (triangles and "
+                               "quads are read as they are; --triangulate splits polygons into "
+                               "triangles)");
+    }
+    SECTION("a non-convex hexagon: ear clipping") {
+        // An L of area 3 with its reflex corner at v3 = (1, 1): the walk cuts v1, is sent
+        // back to v0 (not an ear: v3 lies in v5 v0 v2), cuts v2, then v0; v3 v4 v5 remain.
+        std::string off = "OFF\n6 1 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n"
+                          "6 0 1 2 3 4 5\n";
+        Patches<Polygon> p = ParseWith(off, MeshFormat::Off, kTriangulate).Get<Polygon>();
+        REQUIRE(p.size() == 4);
+        const Vec3 v0(0, 0, 0), v1(2, 0, 0), v2(2, 1, 0), v3(1, 1, 0), v4(1, 2, 0), v5(0, 2, 0);
+        CheckTriangle(p[0], v0, v1, v2);
+        CheckTriangle(p[1], v0, v2, v3);
+        CheckTriangle(p[2], v5, v0, v3);
+        CheckTriangle(p[3], v3, v4, v5);
+        CHECK(TotalArea(p) == 3);
+    }
+    SECTION("a quad with a straight corner: ear clipping") {
+        Patches<Polygon> p = ParseWith("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 1 1 0\nf 1 2 3 4\n",
+                                       MeshFormat::Obj, kTriangulate)
+                                 .Get<Polygon>();
+        REQUIRE(p.size() == 2);
+        CheckTriangle(p[0], Vec3(1, 1, 0), Vec3(0, 0, 0), Vec3(1, 0, 0));
+        CheckTriangle(p[1], Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(1, 1, 0));
+        CHECK(ObjError("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 1 1 0\nf 1 2 3 4\n") ==
+              "mesh file 't.obj', line 5: face 1 is not a convex quad: corner 2 turns the wrong "
+              "way or goes straight on; --triangulate splits it into triangles");
+    }
+    SECTION("faces that cannot be triangulated") {
+        // A pentagram: its edges cross.
+        CHECK(ErrorWith("v 0 10 0\nv 6 -8 0\nv -10 3 0\nv 10 3 0\nv -6 -8 0\nf 1 2 3 4 5\n",
+                        MeshFormat::Obj, kTriangulate) ==
+              "mesh file 't.obj', line 6: face 1 is not a simple polygon seen along its normal "
+              "(two edges cross or touch, or a corner repeats), so it cannot be triangulated");
+        CHECK(ErrorWith("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nv 4 0 0\nf 1 2 3 4 5\n",
+                        MeshFormat::Obj, kTriangulate) ==
+              "mesh file 't.obj', line 6: face 1 is degenerate (its area is zero), so it cannot "
+              "be triangulated");
+        // Faces keep their number in the file after a face split into triangles.
+        CHECK(ErrorWith("v 0 0 0\nv 2 0 0\nv 3 1 0\nv 1 3 0\nv -1 1 0\nf 1 2 3 4 5\n"
+                        "f 1 1 2\n",
+                        MeshFormat::Obj, kTriangulate) ==
+              "mesh file 't.obj', line 7: face 2 is degenerate (triangle with zero area)");
+        CHECK(ErrorWith("OFF\n5 2 0\n0 0 0\n2 0 0\n3 1 0\n1 3 0\n-1 1 0\n5 0 1 2 3 4\n"
+                        "3 0 1 9\n",
+                        MeshFormat::Off, kTriangulate) ==
+              "mesh file 't.off', line 9: face 2 refers to vertex 9 of 5 (OFF vertices count "
+              "from 0)");
+        // A bow tie is refused as before: its area is zero.
+        CHECK(ErrorWith("v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\n", MeshFormat::Obj,
+                        kTriangulate) == "mesh file 't.obj', line 5: face 1 is degenerate or "
+                                         "self-intersecting (quad with zero area)");
+    }
+}
+
+TEST_CASE("--scale multiplies every coordinate, within double precision", "[mesh]") {
+    Scene scaled = ParseWith("v 1000 0 0\nv 0 1000 0\nv 0 0 0\nf 3 1 2\n", MeshFormat::Obj,
+                             MeshOptions{false, 0.001});
+    const Polygon &t = scaled.Get<Polygon>()[0].shape;
+    CHECK(t.v[0] == Vec3(0, 0, 0));
+    CHECK(t.v[1] == Vec3(1, 0, 0));  // 1000 * 0.001 rounds to 1 exactly
+    CHECK(t.v[2] == Vec3(0, 1, 0));
+    CHECK(scaled.params == ParamMap{{"scale", 0.001}});
+    CHECK(ParseWith(kTriangleObj + "f 1 2 3\n", MeshFormat::Obj, kTriangulate).params ==
+          ParamMap{{"triangulate", 1}});
+    CHECK(Parse(kTriangleObj + "f 1 2 3\n", MeshFormat::Obj).params.empty());
+
+    // Doubling is exact: every corner of the OFF file, times 2.
+    Scene plain = LoadMesh(kData + "/tetra_colours.off");
+    Scene doubled = LoadMesh(kData + "/tetra_colours.off", kDefaultMaxInputBytes, {false, 2});
+    for (size_t k = 0; k < plain.NumPatches(); ++k)
+        for (int v = 0; v < 3; ++v)
+            CHECK(doubled.Get<Polygon>()[k].shape.v[v] == 2 * plain.Get<Polygon>()[k].shape.v[v]);
+
+    CHECK(ErrorWith("OFF\n3 1 0\n1e300 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", MeshFormat::Off,
+                    {false, 1e10}) ==
+          "mesh file 't.off', line 3: coordinate '1e300' times the scale 1e+10 overflows "
+          "double precision (largest 1.8e308)");
+    CHECK(ErrorWith("v 1 0 0\nv 0 1e-300 0\nv 0 0 0\nf 1 2 3\n", MeshFormat::Obj, {false, 1e-10}) ==
+          "mesh file 't.obj', line 2: coordinate '1e-300' times the scale 1e-10 underflows "
+          "double precision (smallest normal 2.2e-308)");
+    for (double bad : {0.0, -1.0, std::numeric_limits<double>::infinity()})
+        CHECK(ErrorWith(kTriangleObj + "f 1 2 3\n", MeshFormat::Obj, {false, bad}) ==
+              "the scale of mesh file 't.obj' must be a finite number greater than 0");
+}
+
+TEST_CASE("The published Cornell box OBJ files load with --triangulate only", "[mesh]") {
+    const std::string dir = kData + "/meshes/";
+    SECTION("Morgan McGuire's CornellBox-Original.obj (CRLF lines, with its MTL)") {
+        std::string path = dir + "CornellBox-Original.obj";
+        // The red left wall: its corners lie 5 mm off one plane.
+        CHECK(LoadError(path) == "mesh file '" + path +
+                                     "', line 62: face 5 is not planar: its corners lie 0.005 "
+                                     "off their mean plane, 0.00176 of the face's diameter 2.84 "
+                                     "(tolerance 1e-06 of the diameter); --triangulate splits it "
+                                     "into triangles");
+        Patches<Polygon> p = LoadMesh(path, kDefaultMaxInputBytes, kTriangulate).Get<Polygon>();
+        REQUIRE(p.size() == 19);  // 18 quads, the left wall in two triangles
+        // Its diagonal v0v2 (squared length 8.0811) is shorter than v1v3 (8.0819).
+        const Vec3 w0(-1.01, 0, 0.99), w1(-0.99, 0, -1.04), w2(-1.02, 1.99, -1.04),
+            w3(-1.02, 1.99, 0.99);
+        CheckTriangle(p[4], w0, w1, w2);
+        CheckTriangle(p[5], w0, w2, w3);
+        for (int k : {4, 5})
+            CHECK(p[k].material.reflectance == Approx((0.63 + 0.065 + 0.05) / 3));
+        CHECK(p[18].material.emission == Approx(11));  // the light: Ke 17 12 4
+        for (int k : {0, 1, 2, 3, 6, 18})
+            CHECK(p[k].shape.n == 4);
+    }
+    SECTION("cornell_box.obj of the measured data, in millimetres (its MTL not stored)") {
+        std::string path = dir + "cornell_box.obj";
+        CHECK(LoadError(path) == "mesh file '" + path +
+                                     "', line 77: face 8 is not planar: its corners lie 0.8 off "
+                                     "their mean plane, 0.00102 of the face's diameter 784 "
+                                     "(tolerance 1e-06 of the diameter); --triangulate splits it "
+                                     "into triangles");
+        Scene scene = LoadMesh(path, kDefaultMaxInputBytes, {true, 0.001});
+        Patches<Polygon> p = scene.Get<Polygon>();
+        REQUIRE(p.size() == 19);  // 18 quads, the red wall in two triangles
+        CHECK(p[7].shape.n == 3);
+        CHECK(p[8].shape.n == 3);
+        CHECK(p[0].shape.v[3] == Vec3(549.6 * 0.001, 0, 559.2 * 0.001));  // mm read as metres
+        for (const Patch<Polygon> &patch : p)
+            CHECK(patch.material.reflectance == kMeshDefaultReflectance);
+    }
 }

@@ -11,9 +11,16 @@ import json
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# analysis/ for hrbench_analysis.gbench (standard library only), so that the merge runs
+# with any Python 3.11, without the package installed.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                                "analysis"))
 
-from benchtools.gbench import InputError, load_benchmark_file, merge_benchmark_files  # noqa: E402
+from hrbench_analysis.gbench import (  # noqa: E402
+    InputError,
+    load_benchmark_file,
+    merge_benchmark_files,
+)
 
 
 def main(argv=None):

@@ -13,7 +13,14 @@ fit         power-law fits, bootstrap intervals, local slopes, Theta checks, mod
 verdict     the verdict of a claim
 plots       plotting functions (each draws on a given Axes)
 report      the Markdown, HTML and JSON report
-reproduce   the command line: ``python -m hrbench_analysis.reproduce``
+reproduce   the command lines ``hrbench-reproduce`` (``python -m hrbench_analysis.reproduce``)
+            and ``hrbench-sweep``
+gbench      read Google Benchmark JSON files
+benchcompare  ``hrbench-compare``: the timing comparison of two benchmark runs
+
+An engine other than hrbench works if it keeps the engine contract
+(docs/engine-contract.md); its run records are described by
+schemas/run-record.schema.json.
 """
 
 __version__ = "0.4.0"

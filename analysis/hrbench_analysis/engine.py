@@ -20,6 +20,8 @@ This module uses the standard library only, so that ``tools/`` can use it too.
 import json
 import math
 import os
+import shlex
+import shutil
 import subprocess
 import time
 from dataclasses import dataclass
@@ -43,6 +45,8 @@ __all__ = [
     "Counter",
     "Capabilities",
     "EngineRun",
+    "engine_argv",
+    "engine_text",
     "find_engine",
     "engine_version",
     "get_capabilities",
@@ -504,29 +508,66 @@ def parse_capabilities(text, engine="hrbench"):
 # Finding the engine, its version and its capabilities.
 
 
-def find_engine(hrbench):
-    """Check that an engine executable exists and may be run.
+def engine_argv(hrbench):
+    """The words that start every command line of an engine.
 
     Parameters
     ----------
-    hrbench : str or path-like
-        Path of the executable.
+    hrbench : str, path-like or sequence of them
+        The path of an executable (one word, never split), or a command of several words,
+        e.g. ``("python3", "examples/external_engine/engine.py")``.
 
     Returns
     -------
-    path : str
-        `hrbench` as a string.
+    words : list of str
 
     Raises
     ------
     EngineError
-        If it is not an executable file.
+        If `hrbench` is an empty sequence.
     """
-    path = os.fspath(hrbench)
-    if not os.path.isfile(path) or not os.access(path, os.X_OK):
-        raise EngineError(f"engine not found or not executable: {path} "
-                          "(build it first, or pass --hrbench PATH)")
-    return path
+    if isinstance(hrbench, (str, os.PathLike)):
+        return [os.fspath(hrbench)]
+    words = [os.fspath(word) for word in hrbench]
+    if not words:
+        raise EngineError("the engine command is empty")
+    return words
+
+
+def engine_text(hrbench):
+    """The engine command as one line of shell text, for messages and reports."""
+    return shlex.join(engine_argv(hrbench))
+
+
+def find_engine(hrbench):
+    """Check that an engine can be started: its program exists and may be run.
+
+    Parameters
+    ----------
+    hrbench : str, path-like or sequence of them
+        As in :func:`engine_argv`. A program named with a ``/`` is a path (relative to
+        the current directory); one without is looked up on the ``PATH``.
+
+    Returns
+    -------
+    words : list of str
+        :func:`engine_argv` of `hrbench`.
+
+    Raises
+    ------
+    EngineError
+        If the program is not an executable file, or not on the ``PATH``.
+    """
+    words = engine_argv(hrbench)
+    program = words[0]
+    if os.sep in program or (os.altsep and os.altsep in program):
+        found = os.path.isfile(program) and os.access(program, os.X_OK)
+    else:
+        found = shutil.which(program) is not None
+    if not found:
+        raise EngineError(f"engine not found or not executable: {program} "
+                          "(build it first, or pass --engine CMD)")
+    return words
 
 
 def engine_version(hrbench):
@@ -534,8 +575,8 @@ def engine_version(hrbench):
 
     Parameters
     ----------
-    hrbench : str or path-like
-        Path of the executable.
+    hrbench : str, path-like or sequence of them
+        The engine: a path, or a command of several words (:func:`engine_argv`).
 
     Returns
     -------
@@ -547,11 +588,12 @@ def engine_version(hrbench):
     EngineError
         If the executable is missing or ``--version`` fails.
     """
-    path = find_engine(hrbench)
-    run = run_engine([path, "--version"], timeout=60)
+    words = find_engine(hrbench)
+    run = run_engine([*words, "--version"], timeout=60)
     lines = run.stdout.strip().splitlines()
     if run.exit_code != 0 or not lines:
-        raise EngineError(f"{path} --version failed with exit code {run.exit_code}"
+        raise EngineError(f"{shlex.join(words)} --version failed with exit code "
+                          f"{run.exit_code}"
                           + (f": {run.message}" if run.message else ""))
     return lines[0].strip()
 
@@ -561,8 +603,8 @@ def get_capabilities(hrbench, timeout=60):
 
     Parameters
     ----------
-    hrbench : str or path-like
-        Path of the executable.
+    hrbench : str, path-like or sequence of them
+        The engine: a path, or a command of several words (:func:`engine_argv`).
     timeout : float, optional
         Seconds to wait for the command.
 
@@ -579,8 +621,9 @@ def get_capabilities(hrbench, timeout=60):
         something else than the format. The message is one line naming the engine; the
         analysis then exits with code 2.
     """
-    path = find_engine(hrbench)
-    run = run_engine([path, "capabilities", "--json"], timeout=timeout)
+    words = find_engine(hrbench)
+    path = shlex.join(words)
+    run = run_engine([*words, "capabilities", "--json"], timeout=timeout)
     if run.exit_code != 0:
         raise CapabilitiesError(
             f"engine {path} has no usable 'capabilities --json' command (exit code "
@@ -947,8 +990,8 @@ def run_argv(hrbench, scene, params, eps, oracle, min_area=None, max_depth=None,
 
     Parameters
     ----------
-    hrbench : str or path-like
-        Path of the engine.
+    hrbench : str, path-like or sequence of them
+        The engine: a path, or a command of several words (:func:`engine_argv`).
     scene : str
         Scene family.
     params : dict of str to float
@@ -980,8 +1023,8 @@ def links_argv(hrbench, scene, params, eps, out, oracle="garmann", min_area=None
 
     Parameters
     ----------
-    hrbench : str or path-like
-        Path of the engine.
+    hrbench : str, path-like or sequence of them
+        The engine: a path, or a command of several words (:func:`engine_argv`).
     scene : str
         Scene family.
     params : dict of str to float
@@ -1008,7 +1051,7 @@ def links_argv(hrbench, scene, params, eps, out, oracle="garmann", min_area=None
 def _refine_argv(hrbench, command, scene, params, eps, oracle, min_area, max_depth,
                  options):
     # The words `run` and `links` share: scene, threshold, oracle, limits, options.
-    argv = [os.fspath(hrbench), command, *_scene_argv(scene, params),
+    argv = [*engine_argv(hrbench), command, *_scene_argv(scene, params),
             "--eps", format_number(eps), "--oracle", oracle]
     if min_area is not None:
         argv += ["--min-area", format_number(min_area)]
@@ -1022,8 +1065,8 @@ def save_argv(hrbench, scene, params):
 
     Parameters
     ----------
-    hrbench : str or path-like
-        Path of the engine.
+    hrbench : str, path-like or sequence of them
+        The engine: a path, or a command of several words (:func:`engine_argv`).
     scene : str
         Scene family.
     params : dict of str to float
@@ -1033,7 +1076,7 @@ def save_argv(hrbench, scene, params):
     -------
     argv : list of str
     """
-    return [os.fspath(hrbench), "save", *_scene_argv(scene, params)]
+    return [*engine_argv(hrbench), "save", *_scene_argv(scene, params)]
 
 
 # ---------------------------------------------------------------------------------------

@@ -1,10 +1,13 @@
 """Reading what the ``hrbench`` command line writes: run records (JSON) and link lists (CSV).
 
 Every other module of the analysis works on plain numbers and arrays; this is the only
-place that knows the field names of the engine's output. The names of the counters are
-the engine's own (``hrbench capabilities --json``, read by :mod:`hrbench_analysis.engine`); this
-module needs only the few it reads by name (:data:`COUNTERS`). Their meaning is in
-docs/conventions.md.
+place that knows the field names of the engine's output. Any engine may write the
+records (docs/engine-contract.md); their fields are those of the JSON Schema
+``schemas/run-record.schema.json``, and :func:`parse_run_json` checks the fields the
+analysis reads, naming the first one that is missing or of the wrong type. The names of
+the counters are the engine's own (``hrbench capabilities --json``, read by
+:mod:`hrbench_analysis.engine`); this module needs only the few it reads by name
+(:data:`COUNTERS`). Their meaning is in docs/conventions.md.
 """
 
 import csv
@@ -110,7 +113,8 @@ class RunResult:
 def _number(obj, key, where):
     value = obj.get(key)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ResultFormatError(f"{where}: field {key!r} must be a number, got {value!r}")
+        raise ResultFormatError(f"{where}: field {key!r} must be a number, got "
+                                f"{_short(value)}")
     _float_iv(value, f"{where}: field {key!r}")
     return value
 
@@ -142,14 +146,89 @@ def _read_counters(obj, counters):
             if not _is_integer(obj[key]):
                 raise ResultFormatError(f"run output: counter {key!r} must be an integer, "
                                         f"got {obj[key]!r}")
+            if obj[key] < 0 and key in _REQUIRED:
+                raise ResultFormatError(f"run output: counter {key!r} must not be negative, "
+                                        f"got {obj[key]!r}")
             out[key] = obj[key]
     for key in MEASURES:
         if obj.get(key) is not None:
             out[key] = _number(obj, key, "run output")
     for key in _REQUIRED:
+        if key in obj and not _is_integer(obj[key]):
+            raise ResultFormatError(f"run output: counter {key!r} must be an integer, got "
+                                    f"{_short(obj[key])}")
         if key not in out:
             raise ResultFormatError(f"run output: required counter {key!r} is missing")
     return out
+
+
+def _short(value):
+    # A value for an error message: at most 60 characters of its repr.
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _string_iv(obj, key, required=True):
+    # obj[key] as a string; a missing optional field reads as "".
+    if key not in obj and not required:
+        return ""
+    if key not in obj:
+        raise ResultFormatError(f"run output: required field {key!r} is missing")
+    if not isinstance(obj[key], str):
+        raise ResultFormatError(f"run output: field {key!r} must be a string, got "
+                                f"{_short(obj[key])}")
+    return obj[key]
+
+
+def _params_iv(obj):
+    # The scene parameters: an object of numbers (names as on the command line).
+    if "params" not in obj:
+        raise ResultFormatError("run output: required field 'params' is missing (an object "
+                                "of the scene parameters, {} for none)")
+    params = obj["params"]
+    if not isinstance(params, dict):
+        raise ResultFormatError(f"run output: field 'params' must be an object, got "
+                                f"{_short(params)}")
+    out = {}
+    for name, value in params.items():
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ResultFormatError(f"run output: field 'params.{name}' must be a number, "
+                                    f"got {_short(value)}")
+        out[name] = _float_iv(value, f"run output: parameter {name!r}")
+    return out
+
+
+def _optional_iv(obj, key, is_kind, kind):
+    # obj[key] when it is null, missing (None) or of `kind`.
+    value = obj.get(key)
+    if value is not None and not is_kind(value):
+        raise ResultFormatError(f"run output: field {key!r} must be {kind} or null, got "
+                                f"{_short(value)}")
+    return value
+
+
+def _histogram_iv(obj, key):
+    # A per-depth histogram: a list of integers >= 0 (missing or null: empty).
+    values = obj.get(key)
+    if values is None:
+        return []
+    if not isinstance(values, list) or not all(_is_integer(v) and v >= 0 for v in values):
+        raise ResultFormatError(f"run output: field {key!r} must be a list of integers >= 0, "
+                                f"got {_short(values)}")
+    return list(values)
+
+
+def _eps_iv(obj):
+    # The oracle threshold: a finite number > 0.
+    eps = float(_number(obj, "eps", "run output"))
+    if not (eps > 0 and math.isfinite(eps)):
+        raise ResultFormatError(f"run output: field 'eps' must be a finite number > 0, got "
+                                f"{_short(obj['eps'])}")
+    return eps
+
+
+def _is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
 def parse_run_json(text, counters=None):
@@ -162,6 +241,13 @@ def parse_run_json(text, counters=None):
     :data:`COUNTERS` must be
     there; the measures of :data:`MEASURES`, the per-depth histograms, ``min_area`` and
     ``max_depth_limit`` may be missing. Other fields are kept in ``extra``.
+
+    The fields the analysis reads are checked as ``schemas/run-record.schema.json``
+    states them: ``version``, ``scene`` and ``oracle`` are strings, ``params`` an object of
+    numbers, ``eps`` a number, the counters of :data:`COUNTERS` integers ``>= 0``; where
+    present, ``mode`` is a string, ``min_area`` a number or null, ``max_depth_limit`` an
+    integer or null, the histograms lists of integers ``>= 0``. An engine's record that
+    breaks one of these rules is refused with a message that names the field.
 
     Parameters
     ----------
@@ -179,9 +265,9 @@ def parse_run_json(text, counters=None):
     ------
     ResultFormatError
         If the text is not a JSON object, its ``schema_version`` is not
-        :data:`SCHEMA_VERSION`, a counter is not an integer, a counter of
-        :data:`COUNTERS` is missing, or a number does not fit in float64. No other
-        exception comes out of arbitrary text.
+        :data:`SCHEMA_VERSION`, a field above is missing or of the wrong type, a counter
+        is not an integer, or a number does not fit in float64. The message names the
+        field. No other exception comes out of arbitrary text.
     """
     try:
         obj = json.loads(text)
@@ -192,28 +278,28 @@ def parse_run_json(text, counters=None):
                                 f"{type(exc).__name__}") from None
     if not isinstance(obj, dict):
         raise ResultFormatError("run output is not a JSON object")
-    schema = obj.get("schema_version")
-    if schema != SCHEMA_VERSION:
-        raise ResultFormatError(
-            f"run output has schema_version {schema!r}; this analysis reads {SCHEMA_VERSION}")
+    if "schema_version" not in obj:
+        raise ResultFormatError("run output: required field 'schema_version' is missing")
+    schema = obj["schema_version"]
+    if schema != SCHEMA_VERSION or isinstance(schema, bool):
+        raise ResultFormatError(f"run output: field 'schema_version' is {_short(schema)}; "
+                                f"this analysis reads {SCHEMA_VERSION}")
     values = _read_counters(obj, counters)
-    params = obj.get("params") or {}
-    if not isinstance(params, dict):
-        raise ResultFormatError("run output: field 'params' must be an object")
+    if "eps" not in obj:
+        raise ResultFormatError("run output: required field 'eps' is missing")
     known = {*_RECORD_FIELDS, *_counter_names(obj, counters), *MEASURES}
     return RunResult(
-        version=str(obj.get("version", "")),
-        scene=str(obj.get("scene", "")),
-        params={k: _float_iv(v, f"run output: parameter {k!r}") for k, v in params.items()
-                if isinstance(v, (int, float)) and not isinstance(v, bool)},
-        eps=float(_number(obj, "eps", "run output")),
-        oracle=str(obj.get("oracle", "")),
-        mode=str(obj.get("mode", "")),
-        min_area=obj.get("min_area"),
-        max_depth_limit=obj.get("max_depth_limit"),
+        version=_string_iv(obj, "version"),
+        scene=_string_iv(obj, "scene"),
+        params=_params_iv(obj),
+        eps=_eps_iv(obj),
+        oracle=_string_iv(obj, "oracle"),
+        mode=_string_iv(obj, "mode", required=False),
+        min_area=_optional_iv(obj, "min_area", _is_number, "a number"),
+        max_depth_limit=_optional_iv(obj, "max_depth_limit", _is_integer, "an integer"),
         counters=values,
-        nodes_per_depth=list(obj.get("nodes_per_depth") or []),
-        links_per_depth=list(obj.get("links_per_depth") or []),
+        nodes_per_depth=_histogram_iv(obj, "nodes_per_depth"),
+        links_per_depth=_histogram_iv(obj, "links_per_depth"),
         extra={k: v for k, v in obj.items() if k not in known},
     )
 

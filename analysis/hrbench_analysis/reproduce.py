@@ -2,7 +2,13 @@
 
 Runs the sweeps of every claim (reusing cached points), fits the exponents, draws the
 figures, and writes ``report.md``, ``report.html`` and ``claims.json`` to the results
-directory.
+directory. The command ``hrbench-reproduce`` is :func:`main`; ``hrbench-sweep``
+(:func:`sweep_main`) runs the same sweeps and writes their points as CSV instead.
+
+The engine is ``--engine CMD`` (split into words like a shell), ``--hrbench PATH`` (one
+executable), ``$HRBENCH_ENGINE``, ``build/hrbench`` under the current directory or
+``hrbench`` on the ``PATH``, the first that is given (:func:`default_engine`); any
+executable that keeps the engine contract of ``docs/engine-contract.md`` will do.
 
 Before any run, the claims are checked against the engine's capabilities
 (``hrbench capabilities --json``, see :mod:`hrbench_analysis.engine`). A claim whose oracle the
@@ -24,13 +30,16 @@ internal error of the analysis (a bug: the traceback is printed); 130 when inter
 """
 
 import argparse
+import csv
 import datetime
 import os
 import platform
+import shlex
 import shutil
 import sys
 import time
 import traceback
+from dataclasses import dataclass
 from pathlib import Path
 
 import matplotlib
@@ -41,6 +50,7 @@ from .engine import (
     INPUT_ERROR,
     NOT_STARTED,
     EngineError,
+    engine_text,
     engine_version,
     format_number,
     get_capabilities,
@@ -53,27 +63,70 @@ from .errors import AnalysisError, one_line
 from .loader import SCHEMA_VERSION, ResultFormatError, read_links_csv
 from .report import ClaimOutcome, get_claims_table, get_figures, print_claims_table, write_report
 from .store import ResultStore
-from .sweep import ClaimData, expand_claim, get_claim_data, run_points
+from .sweep import UNREADABLE_RECORD, ClaimData, expand_claim, get_claim_data, run_points
 from .verdict import assess_claim, skipped_assessment
 
-__all__ = ["main", "check_claims", "engine_refusals", "EXIT_CODES", "AS_EXPECTED", "REFUTED",
-           "USAGE_ERROR", "INTERNAL_ERROR", "INTERRUPTED"]
+__all__ = ["main", "sweep_main", "default_engine", "check_claims", "engine_refusals",
+           "EXIT_CODES", "AS_EXPECTED", "REFUTED", "USAGE_ERROR", "INTERNAL_ERROR",
+           "INTERRUPTED", "ENGINE_ENV"]
 
 #: The claims shipped with the package.
 CLAIMS_DIR = Path(__file__).resolve().parent / "claims"
 
+#: The environment variable that names the engine command when ``--engine`` is not given.
+ENGINE_ENV = "HRBENCH_ENGINE"
+
+
+def _engine_words(text, where=""):
+    # A command line as its words (shell quoting rules), or a one-line error.
+    where = f"{where}: " if where else ""
+    try:
+        words = shlex.split(text)
+    except ValueError as exc:
+        raise EngineError(f"{where}cannot split {text!r} into words ({exc})") from None
+    if not words:
+        raise EngineError(f"{where}the engine command is empty")
+    return tuple(words)
+
 
 def default_engine():
-    """The engine to run when ``--hrbench`` is not given: ``$HRBENCH`` if set, else
-    ``build/hrbench`` under the current directory if it exists, else ``hrbench`` on the
-    ``PATH`` (``build/hrbench`` when there is none, so that the error names it)."""
-    if os.environ.get("HRBENCH"):
-        return Path(os.environ["HRBENCH"])
+    """The engine to run when neither ``--engine`` nor ``--hrbench`` is given.
+
+    In this order: the command in ``$HRBENCH_ENGINE`` (:data:`ENGINE_ENV`, split into words
+    like a shell); ``build/hrbench`` under the current directory, if it exists;
+    ``hrbench`` on the ``PATH``.
+
+    Returns
+    -------
+    engine : tuple of str or Path
+        A command of several words, or the path of an executable
+        (:func:`~hrbench_analysis.engine.engine_argv`).
+
+    Raises
+    ------
+    EngineError
+        If there is none of them (one line naming the three ways to give one).
+    """
+    text = os.environ.get(ENGINE_ENV, "")
+    if text.strip():
+        return _engine_words(text, f"${ENGINE_ENV}")
     local = Path("build") / "hrbench"
     if local.exists():
         return local
     found = shutil.which("hrbench")
-    return Path(found) if found else local
+    if found:
+        return Path(found)
+    raise EngineError(f"no engine: pass --engine CMD, set ${ENGINE_ENV}, run from a "
+                      "directory that holds build/hrbench, or put hrbench on the PATH")
+
+
+def _engine_arg(text):
+    # argparse type of --engine: the words of a command.
+    try:
+        return _engine_words(text)
+    except EngineError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
 
 #: The refinement drawn as a link tiling: scene, parameters, eps, oracle.
 TILING = ("parallel", {"l": 16.0, "d": 1.0}, 0.3, "garmann")
@@ -103,10 +156,10 @@ EXIT_CODES = {
 }
 
 
-def _parser():
-    p = argparse.ArgumentParser(
-        prog="python -m hrbench_analysis.reproduce",
-        description="Sweep the hrbench engine, fit exponents and judge the published claims.")
+def _parser(prog="hrbench-reproduce",
+            description="Sweep the hrbench engine, fit exponents and judge the published "
+                        "claims."):
+    p = argparse.ArgumentParser(prog=prog, description=description)
     mode = p.add_mutually_exclusive_group()
     mode.add_argument("--quick", dest="mode", action="store_const", const="quick",
                       help="short sweeps, a few minutes on two cores (default)")
@@ -120,17 +173,36 @@ def _parser():
     p.add_argument("--cache", type=Path, default=None, metavar="FILE",
                    help="the results cache, which sweeps running at the same time may "
                    "share (default: DIR/hrbench.sqlite of --results)")
-    p.add_argument("--hrbench", type=Path, default=None, metavar="PATH",
-                   help="the engine executable (default: $HRBENCH, else build/hrbench under "
-                   "the current directory, else hrbench on the PATH)")
+    engine = p.add_mutually_exclusive_group()
+    engine.add_argument("--engine", type=_engine_arg, default=None, metavar="CMD",
+                        help="the engine command, split into words like a shell, e.g. "
+                        "'python3 my_engine.py' (default: $HRBENCH_ENGINE, else "
+                        "build/hrbench under the current directory, else hrbench on the "
+                        "PATH); docs/engine-contract.md says what it must do")
+    engine.add_argument("--hrbench", dest="engine", type=Path, metavar="PATH",
+                        help="the engine as the path of one executable (never split)")
     p.add_argument("--claims", type=Path, default=CLAIMS_DIR, metavar="PATH",
                    help="a claims file, or a directory of *.toml claims files (default: "
                    "the claims shipped with the package)")
     p.add_argument("--claim", action="append", default=[], metavar="ID",
                    help="judge only this claim (repeatable)")
+    p.set_defaults(mode="quick")
+    return p
+
+
+def _reproduce_parser():
+    p = _parser()
     p.add_argument("--no-tiling", action="store_true",
                    help="skip the link tiling figure (needs 'hrbench links')")
-    p.set_defaults(mode="quick")
+    return p
+
+
+def _sweep_parser():
+    p = _parser(prog="hrbench-sweep",
+                description="Run the sweeps of claims (reusing the results cache) and write "
+                "their measured points as CSV, without fits or verdicts.")
+    p.add_argument("--out", type=Path, default=None, metavar="FILE",
+                   help="CSV file to write (default: standard output)")
     return p
 
 
@@ -185,8 +257,10 @@ def engine_refusals(claim, data):
     A run that exits with the engine's input-error code (2: a value the engine refuses,
     touching patches without a recursion limit, ...) or that could not be started (127)
     is not a measurement that failed but bad input or environment: the command exits
-    with code 2 instead of judging the claim. Runs that reached a limit (exit code 3) or
-    crashed stay failed points of the claim.
+    with code 2 instead of judging the claim. So is a run that succeeded but printed a
+    record the analysis cannot read (a field missing or of the wrong type; the engine
+    breaks its contract, docs/engine-contract.md). Runs that reached a limit (exit code
+    3) or crashed stay failed points of the claim.
 
     Parameters
     ----------
@@ -199,10 +273,19 @@ def engine_refusals(claim, data):
         E.g. ``"x.toml:6: claim 'T': the engine refused 11 of 11 runs as input errors
         (exit code 2), first at eps=1: hrbench: ..."``.
     """
+    total = data.x.size + len(data.failures) + data.missing
+    unreadable = [f for f in data.failures
+                  if f["exit_code"] == 0 and f["stderr"].startswith(UNREADABLE_RECORD)]
+    if unreadable:
+        first = unreadable[0]
+        return one_line(f"{claim.path}:{claim.line}: claim {claim.id!r}: the engine's run "
+                        f"record breaks the engine contract in {len(unreadable)} of {total} "
+                        f"runs, first at {claim.sweep_param}={format_number(first['value'])}: "
+                        f"{first['stderr'][len(UNREADABLE_RECORD):]} (command: "
+                        f"{first['command']}; see docs/engine-contract.md)")
     refused = [f for f in data.failures if f["exit_code"] in (INPUT_ERROR, NOT_STARTED)]
     if not refused:
         return None
-    total = data.x.size + len(data.failures) + data.missing
     first = refused[0]
     what = ("could not start the engine for" if first["exit_code"] == NOT_STARTED
             else "the engine refused")
@@ -229,8 +312,27 @@ def main(argv=None):
     exception, a bug, its traceback and exit code 70. Usage errors of the options exit
     with code 2 through :class:`SystemExit` (argparse).
     """
+    return _guarded(_main, argv)
+
+
+def sweep_main(argv=None):
+    """Run ``hrbench-sweep``; return its exit code.
+
+    It loads and checks the claims as :func:`main` does, runs their sweeps into the
+    results cache, and writes one CSV row per point of every claim the engine can run:
+    ``claim, series, param, value, x, y, status`` (``status`` is ``ok``, or why the point
+    has no measurement: the engine's exit code and message, or an ``x`` or ``y`` that is
+    not positive). Exit codes: 0 when the sweep finished (failed points are rows, not
+    errors), 2 for bad input or environment (as :func:`main`), 70 for a bug, 130 when
+    interrupted.
+    """
+    return _guarded(_sweep_main, argv)
+
+
+def _guarded(body, argv):
+    # Run a command's body with the exit codes of EXIT_CODES for errors and interrupts.
     try:
-        return _main(argv)
+        return body(argv)
     except KeyboardInterrupt:
         print("\ninterrupted: finished points are kept in the results cache; run again to "
               "resume", file=sys.stderr)
@@ -245,14 +347,22 @@ def main(argv=None):
         return INTERNAL_ERROR
 
 
-def _main(argv):
-    parser = _parser()
-    args = parser.parse_args(argv)
+@dataclass
+class _Setup:
+    # What both commands prepare before any run: the claims to judge, the engine, its
+    # version and capabilities, and the claims it cannot run now (id -> reason).
+    claims: list
+    engine: object
+    version: str
+    capabilities: object
+    skipped: dict
+
+
+def _prepare(args, parser):
+    # Load the claims, find the engine and check the claims against it. Returns a
+    # _Setup, or the exit code after printing the problems (one line each).
     if args.jobs < 1:
         parser.error("--jobs must be at least 1")
-    start = time.perf_counter()
-
-    # Load the claims and check the engine.
     claims = (load_claims_dir(args.claims) if args.claims.is_dir()
               else load_claims(args.claims))
     if args.claim:
@@ -262,12 +372,11 @@ def _main(argv):
                   f"{', '.join(c.id for c in claims)}", file=sys.stderr)
             return USAGE_ERROR
         claims = [c for c in claims if c.id in args.claim]
-    if args.hrbench is None:
-        args.hrbench = default_engine()
-    version = engine_version(args.hrbench)
-    capabilities = get_capabilities(args.hrbench)
+    engine = args.engine if args.engine is not None else default_engine()
+    version = engine_version(engine)
+    capabilities = get_capabilities(engine)
     if capabilities.run_schema_version != SCHEMA_VERSION:
-        print(f"error: engine {args.hrbench} writes run records of schema_version "
+        print(f"error: engine {engine_text(engine)} writes run records of schema_version "
               f"{capabilities.run_schema_version}; this analysis reads {SCHEMA_VERSION}",
               file=sys.stderr)
         return USAGE_ERROR
@@ -280,8 +389,13 @@ def _main(argv):
         return USAGE_ERROR
     for claim_id, reason in skipped.items():
         print(f"warning: claim {claim_id} skipped: {reason}", file=sys.stderr)
+    return _Setup(claims, engine, version, capabilities, skipped)
 
+
+def _sweep(args, setup):
     # Run the sweeps, reusing the cache (shared with any other sweep running on it).
+    # Returns (summary, {claim id: (points, ClaimData)} for the claims not skipped,
+    # error lines of claims whose runs the engine refused), or INTERRUPTED.
     try:
         args.results.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -289,8 +403,8 @@ def _main(argv):
                             f"({exc.strerror or exc})") from None
     cache = args.cache if args.cache is not None else args.results / "hrbench.sqlite"
     with ResultStore(cache) as store:
-        points = {c.id: expand_claim(c, args.mode, args.hrbench, version) for c in claims
-                  if c.id not in skipped}
+        points = {c.id: expand_claim(c, args.mode, setup.engine, setup.version)
+                  for c in setup.claims if c.id not in setup.skipped}
         try:
             summary = run_points([p for ps in points.values() for p in ps], store,
                                  jobs=args.jobs)
@@ -298,26 +412,92 @@ def _main(argv):
             print(f"\ninterrupted: finished points are kept in {store.path}; "
                   "run again to resume", file=sys.stderr)
             return INTERRUPTED
-        outcomes, refusals = [], []
-        for c in claims:
-            if c.id in skipped:
-                empty = np.zeros(0)
-                data = ClaimData(value=empty, x=empty, y=empty)
-                outcomes.append(ClaimOutcome(c, data, skipped_assessment(c, skipped[c.id]),
-                                             args.mode))
+        measured, refusals = {}, []
+        for c in setup.claims:
+            if c.id in setup.skipped:
                 continue
-            data = get_claim_data(c, points[c.id], store, capabilities.scalar_counters)
+            data = get_claim_data(c, points[c.id], store,
+                                  setup.capabilities.scalar_counters)
             line = engine_refusals(c, data)
             if line is not None:
                 refusals.append(line)
                 continue
-            family = capabilities.family(c.scene)
-            outcomes.append(ClaimOutcome(c, data, assess_claim(c, data), args.mode,
-                                         family.dimension if family else None))
+            measured[c.id] = (points[c.id], data)
+    return summary, measured, refusals
+
+
+def _sweep_main(argv):
+    parser = _sweep_parser()
+    args = parser.parse_args(argv)
+    setup = _prepare(args, parser)
+    if isinstance(setup, int):
+        return setup
+    swept = _sweep(args, setup)
+    if swept == INTERRUPTED:
+        return INTERRUPTED
+    summary, measured, refusals = swept
     for line in refusals:
         print(f"error: {line}", file=sys.stderr)
     if refusals:
         return USAGE_ERROR
+    rows = []
+    for c in setup.claims:
+        if c.id not in measured:
+            continue
+        points, data = measured[c.id]
+        series = {p.value: p.series for p in points}
+        for value, x, y, s in zip(data.value, data.x, data.y, data.series, strict=True):
+            rows.append((c.id, s, c.sweep_param, format_number(value), repr(float(x)),
+                         repr(float(y)), "ok"))
+        for f in data.failures:
+            status = f"exit code {f['exit_code']}: {f['stderr'] or 'no message'}"
+            rows.append((c.id, series.get(f["value"], ""), c.sweep_param,
+                         format_number(f["value"]), "", "", one_line(status)))
+    try:
+        out = open(args.out, "w", newline="") if args.out is not None else sys.stdout
+    except OSError as exc:
+        raise AnalysisError(f"--out {args.out}: cannot write ({exc.strerror or exc})") from None
+    try:
+        writer = csv.writer(out, lineterminator="\n")
+        writer.writerow(("claim", "series", "param", "value", "x", "y", "status"))
+        writer.writerows(rows)
+    finally:
+        if out is not sys.stdout:
+            out.close()
+    print(f"{summary['total']} points ({summary['cached']} cached, {summary['ran']} run, "
+          f"{summary['failed']} failed)" + (f"; CSV in {args.out}" if args.out else ""),
+          file=sys.stderr)
+    return AS_EXPECTED
+
+
+def _main(argv):
+    parser = _reproduce_parser()
+    args = parser.parse_args(argv)
+    start = time.perf_counter()
+    setup = _prepare(args, parser)
+    if isinstance(setup, int):
+        return setup
+    swept = _sweep(args, setup)
+    if swept == INTERRUPTED:
+        return INTERRUPTED
+    summary, measured, refusals = swept
+    for line in refusals:
+        print(f"error: {line}", file=sys.stderr)
+    if refusals:
+        return USAGE_ERROR
+    capabilities, skipped = setup.capabilities, setup.skipped
+    outcomes = []
+    for c in setup.claims:
+        if c.id in skipped:
+            empty = np.zeros(0)
+            data = ClaimData(value=empty, x=empty, y=empty)
+            outcomes.append(ClaimOutcome(c, data, skipped_assessment(c, skipped[c.id]),
+                                         args.mode))
+            continue
+        data = measured[c.id][1]
+        family = capabilities.family(c.scene)
+        outcomes.append(ClaimOutcome(c, data, assess_claim(c, data), args.mode,
+                                     family.dimension if family else None))
 
     # Draw the link tiling of one small refinement.
     links, links_title = None, ""
@@ -327,7 +507,7 @@ def _main(argv):
         csv_path = args.results / f"links-{scene}-{name}-eps{eps:g}.csv"
         try:
             _tiling_iv(capabilities)
-            run_links(args.hrbench, scene, params, eps, csv_path, oracle)
+            run_links(setup.engine, scene, params, eps, csv_path, oracle)
             links = read_links_csv(csv_path)
             links_title = (f"{scene} " + " ".join(f"{k}={v:g}" for k, v in params.items())
                            + f", eps={eps:g}, oracle {oracle}: {len(links)} links")
@@ -339,8 +519,8 @@ def _main(argv):
     context = {
         "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "mode": args.mode,
-        "engine": str(args.hrbench),
-        "engine version": version,
+        "engine": engine_text(setup.engine),
+        "engine version": setup.version,
         "host": f"{platform.node()} ({os.cpu_count()} cores, {args.jobs} jobs)",
         "points": (f"{summary['total']} ({summary['cached']} cached, {summary['ran']} run, "
                    f"{summary['failed']} failed)"),

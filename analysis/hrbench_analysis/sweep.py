@@ -32,10 +32,16 @@ __all__ = [
     "run_points",
     "get_claim_data",
     "POLL_SECONDS",
+    "UNREADABLE_RECORD",
 ]
 
 #: Seconds between two looks at the points another sweep is running.
 POLL_SECONDS = 0.2
+
+#: How the message of a point whose run succeeded but printed a record the analysis cannot
+#: read (:class:`~hrbench_analysis.loader.ResultFormatError`) starts; such a point is not
+#: cached as final, and the command line reports it as an error of the engine.
+UNREADABLE_RECORD = "unreadable output: "
 
 
 @dataclass(frozen=True)
@@ -49,7 +55,7 @@ class SweepPoint:
     value : float
         Value of the swept parameter.
     argv : tuple of str
-        Command line (the engine path first).
+        Command line (the engine's words first).
     statistics : StatisticsJob or None
         For a claim whose formulas read hierarchy statistics (:mod:`hrbench_analysis.lemmas`):
         the commands that measure them after the run; ``None`` otherwise.
@@ -73,8 +79,9 @@ def expand_claim(claim, mode, hrbench, version):
     claim : Claim
     mode : {"quick", "full"}
         Which of the claim's ranges to sweep.
-    hrbench : str or path-like
-        Path of the engine.
+    hrbench : str, path-like or sequence of them
+        The engine: a path, or a command of several words
+        (:func:`~hrbench_analysis.engine.engine_argv`).
     version : str
         Engine version, part of every cache key.
 
@@ -145,7 +152,7 @@ def _execute(point):
         try:
             result = parse_run_json(run.stdout)
         except ResultFormatError as exc:
-            ok, last = False, f"unreadable output: {exc}"
+            ok, last = False, f"{UNREADABLE_RECORD}{exc}"
         else:
             last = _options_mismatch(result, point.key.options)
             ok = not last

@@ -1,10 +1,12 @@
 // The public surface of the hrbench engine: one include for the CLI, tests and benchmarks.
 #pragma once
 
+#include "hrbench/check_links.h"
 #include "hrbench/culling.h"
 #include "hrbench/forest.h"
 #include "hrbench/geometry/polygon.h"
 #include "hrbench/geometry/segment.h"
+#include "hrbench/link_dump.h"
 #include "hrbench/links_csv.h"
 #include "hrbench/mesh_io.h"
 #include "hrbench/oracles/registry.h"

@@ -2,6 +2,7 @@
 // for either shape, with its forest, links and run record.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <variant>
 #include <vector>
@@ -13,6 +14,28 @@
 #include "hrbench/scene.h"
 
 namespace hrbench {
+
+// Where a refinement is, for a display on another thread (RefineOptions::progress):
+// written at most once per root pair in the first pass (which refines every pair down
+// to the task depth, kernel.h) and once per task after it, never inside the recursion.
+struct RefineProgress {
+    std::atomic<uint64_t> rootPairs{0};  // of the scene, set when the run starts
+    std::atomic<uint64_t> pair{0};       // the root pair being refined, from 1; 0: none yet
+    std::atomic<int> pass{0};            // 1: the first pass, 2: the tasks
+
+    // Starts pass _number_ (single-threaded).
+    void StartPass(int number) {
+        pair.store(0, std::memory_order_relaxed);
+        pass.store(number, std::memory_order_relaxed);
+    }
+    // Moves on to root pair _ordinal_, unless a later one has been reached (threads).
+    void At(uint64_t ordinal) {
+        uint64_t seen = pair.load(std::memory_order_relaxed);
+        while (seen < ordinal &&
+               !pair.compare_exchange_weak(seen, ordinal, std::memory_order_relaxed)) {
+        }
+    }
+};
 
 // Per root pair tallies, for the invariant oracle_calls = 2 * links - 1.
 struct PairTally {

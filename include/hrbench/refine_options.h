@@ -8,6 +8,9 @@
 
 namespace hrbench {
 
+struct RefineProgress;  // refine.h
+struct Scene;           // scene.h
+
 // How refinement treats occlusion (`--visibility`; docs/3d.md).
 enum class VisibilityMode {
     None,      // ignore occlusion (the setting of the papers; the default)
@@ -37,6 +40,8 @@ struct RefineOptions {
     Subdivision subdivision = Subdivision::Binary;     // 3D: two halves or four quarters
     VisibilityMode visibility = VisibilityMode::None;  // how occlusion counts (docs/3d.md)
     int raysPerSide = 3;  // k: sample points per element side for visibility, 1..16
+    // Where the run reports its progress (refine.h), if anywhere: not a setting of the run.
+    RefineProgress *progress = nullptr;
 
     bool HasRecursionLimit() const { return minArea > 0 || maxDepth >= 0; }
 };
@@ -44,6 +49,16 @@ struct RefineOptions {
 // Throws InputError naming the option when _options_ are out of range or do not apply
 // to a scene of dimension _dimension_ (2 or 3).
 void ValidateOptions(const RefineOptions &options, int dimension);
+
+// Below this fraction of the largest root patch's measure, --min-area draws a warning.
+constexpr double kMinAreaWarnFraction = 1e-8;
+
+// A warning (one line, "" for none) when the scene's size and --min-area disagree by
+// orders of magnitude, as when a scene is in other units than intended: --min-area
+// larger than the largest root patch's measure (length in 2D, area in 3D), so that no
+// element is ever split, or below kMinAreaWarnFraction of it, so that elements may be
+// halved some 27 times or more before it applies.
+std::string MinAreaWarning(const Scene &scene, const RefineOptions &options);
 
 // The memory budget of a run in bytes: the option, or 90% of the free memory.
 size_t EffectiveBudget(const RefineOptions &options);

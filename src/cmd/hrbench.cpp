@@ -3,8 +3,12 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -12,6 +16,8 @@
 #include "cmd/options.h"
 #include "hrbench/generators/generators.h"
 #include "hrbench/hrbench.h"
+#include "hrbench/progress.h"
+#include "hrbench/util/input_file.h"
 #include "hrbench/util/output.h"
 
 namespace hrbench {
@@ -19,7 +25,7 @@ namespace {
 
 Scene SceneOf(const Options &o) {
     if (!o.mesh.empty())
-        return LoadMesh(o.mesh, o.maxInputBytes);
+        return LoadMesh(o.mesh, o.maxInputBytes, {o.triangulate, o.scale.value_or(1)});
     if (!o.sceneFile.empty())
         return LoadScene(o.sceneFile, o.maxInputBytes);
     return MakeScene(o.scene, ParseParams(o.params));
@@ -38,6 +44,15 @@ void ListScenes() {
     std::cout << "\noracles (--oracle):\n";
     for (const OracleInfo &info : OracleInfos())
         std::printf("  %-9s %s\n", info.name, info.doc);
+}
+
+// `hrbench check-links`: the summary on success; a violation is a LinkViolation.
+int CheckLinksCommand(const Scene &scene, const Options &o) {
+    std::istringstream text(ReadInputFile(o.linksFile, "link dump", o.maxInputBytes));
+    LinkDump dump =
+        ReadLinkDump(text, o.linksFile, SubdivisionArity(o.refine.subdivision), scene.NumPatches());
+    PrintLinkCheck(CheckLinks(scene, o.refine, dump), dump, o.refine, std::cout);
+    return kExitOk;
 }
 
 int Main(int argc, char **argv) {
@@ -69,16 +84,37 @@ int Main(int argc, char **argv) {
             SaveScene(scene, o.out);
         return kExitOk;
     }
+    // Refining: a warning when the scene's size and --min-area disagree by orders of
+    // magnitude, and a progress line on a terminal (not with --json, which is for programs),
+    // stopped before anything else is printed.
+    RefineProgress progress;
+    std::optional<ProgressDisplay> display;
+    if (o.command == "run" || o.command == "links") {
+        std::string warning = MinAreaWarning(scene, o.refine);
+        if (!warning.empty())
+            std::cerr << "hrbench: warning: " << warning << std::endl;
+        if (!o.json && isatty(fileno(stderr))) {
+            o.refine.progress = &progress;
+            display.emplace(progress, stderr);
+        }
+    }
     if (o.command == "links") {
         AnyRefinement refinement = Refine(scene, o.refine);
+        display.reset();
         std::ofstream out(o.out, std::ios::binary);
         if (!out)
             throw InputError("cannot write links file '" + o.out + "'");
-        WriteLinksCsv(refinement, out);
+        if (o.linksFormat == "probe")
+            WriteLinkDump(refinement, out);
+        else
+            WriteLinksCsv(refinement, out);
         CheckOutput(out, "links file '" + o.out + "'");
         return kExitOk;
     }
+    if (o.command == "check-links")
+        return CheckLinksCommand(scene, o);
     nlohmann::json record = RunToJson(scene, o.refine, Count(scene, o.refine, o.method));
+    display.reset();
     if (o.json)
         std::cout << record.dump() << "\n";
     else

@@ -57,6 +57,8 @@ std::string MethodDoc() {
 }
 
 const std::vector<std::string> kRefining = {"run", "links"};
+// The options that define what ProjectKernel links: check-links takes them too.
+const std::vector<std::string> kLinking = {"run", "links", "check-links"};
 
 }  // namespace
 
@@ -66,6 +68,8 @@ const std::vector<CommandSpec> &Commands() {
          "refine a scene, print its counters"},
         {"links", "links SCENE [key=value ...] --eps E --out F.csv",
          "write every link (store mode) as CSV"},
+        {"check-links", "check-links SCENE ... --eps E --links F",
+         "validate a link dump (docs/probe.md): tiling, oracle, counts"},
         {"save", "save SCENE [key=value ...] [--out F.json]", "write a scene file"},
         {"scenes", "scenes", "list scene families with their parameters, and the oracles"},
         {"capabilities", "capabilities --json",
@@ -81,16 +85,16 @@ const std::vector<OptionSpec> &OptionTable() {
          "--eps",
          "E",
          {},
-         kRefining,
+         kLinking,
          "oracle threshold, a finite number > 0 (required)",
          [](Options &o, S v) { o.eps = ParseDouble(v, "--eps"); }},
-        {"oracle", "--oracle", "NAME", OracleNames(), kRefining, OracleDoc(),
+        {"oracle", "--oracle", "NAME", OracleNames(), kLinking, OracleDoc(),
          [](Options &o, S v) { o.refine.oracle = FindOracle(v).name; }},
         {"min_area",
          "--min-area",
          "A",
          {},
-         kRefining,
+         kLinking,
          "link a pair whose preferred element is smaller than A (length in\n2D, area in 3D; "
          "forced link)",
          [](Options &o, S v) { o.refine.minArea = ParseDouble(v, "--min-area"); }},
@@ -98,7 +102,7 @@ const std::vector<OptionSpec> &OptionTable() {
          "--max-depth",
          "D",
          {},
-         kRefining,
+         kLinking,
          "link a pair whose preferred element has depth D (0..48; forced link)",
          [](Options &o, S v) { o.refine.maxDepth = ClampedInt(v, "--max-depth"); }},
         {"count_only",
@@ -133,7 +137,7 @@ const std::vector<OptionSpec> &OptionTable() {
          "--max-input",
          "MIB",
          {},
-         {"run", "links", "save"},
+         {"run", "links", "check-links", "save"},
          "size limit of a scene or mesh file in MiB (default 256)",
          [](Options &o, S v) { o.maxInputBytes = ParseMib(v, "--max-input"); }},
         {"json",
@@ -147,22 +151,42 @@ const std::vector<OptionSpec> &OptionTable() {
          "--scene-file",
          "F",
          {},
-         {"run", "links", "save"},
+         {"run", "links", "check-links", "save"},
          "load the scene from a JSON scene file instead of a family",
          [](Options &o, S v) { o.sceneFile = v; }},
         {"mesh",
          "--mesh",
          "F",
          {},
-         {"run", "links", "save"},
+         {"run", "links", "check-links", "save"},
          "load a 3D scene from an OFF or OBJ file (triangles, planar\nconvex quads; default "
          "reflectance 0.5, emission 0)",
          [](Options &o, S v) { o.mesh = v; }},
+        {"triangulate",
+         "--triangulate",
+         "",
+         {},
+         {"run", "links", "check-links", "save"},
+         "with --mesh: split quads that are not planar or not convex\nand polygons of 5 or more "
+         "corners into triangles (docs/3d.md)",
+         [](Options &o, S) { o.triangulate = true; }},
+        {"scale",
+         "--scale",
+         "S",
+         {},
+         {"run", "links", "check-links", "save"},
+         "with --mesh: multiply every coordinate by S, a finite number > 0\n(0.001 reads "
+         "millimetres as metres)",
+         [](Options &o, S v) {
+             o.scale = ParseDouble(v, "--scale");
+             if (!(*o.scale > 0))
+                 throw InputError("--scale must be a finite number greater than 0, not " + v);
+         }},
         {"subdivision",
          "--subdivision",
          "S",
          {"binary", "quadtree"},
-         kRefining,
+         kLinking,
          "3D: binary (default, two halves across the longer edges) or\nquadtree (four children)",
          [](Options &o, S v) { o.refine.subdivision = ParseSubdivision(v); }},
         {"visibility",
@@ -189,6 +213,20 @@ const std::vector<OptionSpec> &OptionTable() {
          {"links", "save"},
          "output file (links: CSV; save: JSON, default standard output)",
          [](Options &o, S v) { o.out = v; }},
+        {"format",
+         "--format",
+         "F",
+         {"csv", "probe"},
+         {"links"},
+         "links: csv (default) or probe, the link dump of docs/probe.md\nthat check-links reads",
+         [](Options &o, S v) { o.linksFormat = v; }},
+        {"links",
+         "--links",
+         "F",
+         {},
+         {"check-links"},
+         "the link dump to check (docs/probe.md)",
+         [](Options &o, S v) { o.linksFile = v; }},
     };
     return table;
 }
@@ -216,7 +254,7 @@ std::string Usage() {
     row("--help", "print this text", 19);
     row("--version", "print the engine version", 19);
     out << "\nExit codes: 0 success, 2 usage or input error, 3 a refinement limit was reached\n"
-           "(safety depth or memory budget), 1 internal error.\n"
+           "(safety depth or memory budget), 1 internal error or (check-links) a violation.\n"
            "Example: hrbench run parallel l=64 d=1 --eps 0.25 --json\n";
     return out.str();
 }
@@ -272,7 +310,7 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
     }
 
     // Reject combinations that make no sense, naming the flags.
-    bool refines = o.command == "run" || o.command == "links";
+    bool refines = o.command == "run" || o.command == "links" || o.command == "check-links";
     if (refines || o.command == "save") {
         int sources = !o.scene.empty() + !o.sceneFile.empty() + !o.mesh.empty();
         if (sources != 1)
@@ -280,6 +318,9 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
         if (o.scene.empty() && !o.params.empty())
             throw InputError(
                 "key=value parameters apply to a family, not to --scene-file or --mesh");
+        if (o.mesh.empty() && (o.triangulate || o.scale))
+            throw InputError(std::string(o.triangulate ? "--triangulate" : "--scale") +
+                             " applies to --mesh only");
     } else if (!o.scene.empty() || !o.params.empty()) {
         throw InputError(o.command + " takes no scene");
     }
@@ -287,6 +328,8 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
         throw InputError(o.command + " needs --eps");
     if (o.command == "links" && o.out.empty())
         throw InputError("links needs --out F.csv");
+    if (o.command == "check-links" && o.linksFile.empty())
+        throw InputError("check-links needs --links F, the link dump to check");
     if (o.command == "capabilities" && !o.json)
         throw InputError("capabilities prints JSON only; add --json");
     o.refine.eps = o.eps.value_or(0);

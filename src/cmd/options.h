@@ -19,7 +19,11 @@ struct Options {
     std::vector<std::string> params;  // key=value words
     std::string sceneFile;
     std::string mesh;
+    bool triangulate = false;     // --triangulate (mesh only)
+    std::optional<double> scale;  // --scale (mesh only)
     std::string out;
+    std::string linksFormat = "csv";  // links --format: csv or probe
+    std::string linksFile;            // check-links --links: the dump to check
     std::optional<double> eps;
     RefineOptions refine;
     bool json = false;

@@ -1,4 +1,5 @@
-"""Tests of tools/compare_bench.py and benchtools.compare on synthetic runs."""
+"""Tests of tools/compare_bench.py, hrbench-compare and hrbench_analysis.benchcompare on
+synthetic runs."""
 
 import math
 import os
@@ -6,9 +7,13 @@ import os
 import pytest
 
 import compare_bench
-from benchtools.compare import get_comparison_report, get_timing_comparison, min_pvalue
-from benchtools.gbench import InputError, get_repetition_times, load_benchmark_file
 from conftest import DATA
+from hrbench_analysis.benchcompare import (
+    get_comparison_report,
+    get_timing_comparison,
+    min_pvalue,
+)
+from hrbench_analysis.gbench import InputError, get_repetition_times, load_benchmark_file
 
 HEADLINE = "BM_Headline/garmann_count/threads:1/real_time"
 SWEEP = "BM_EpsSweep/garmann_count/inv_eps:64/real_time"
@@ -140,3 +145,23 @@ class TestCommandLine:
         with pytest.raises(SystemExit) as e:
             compare_bench.main([data("base.json"), data("same.json"), *extra])
         assert e.value.code == 2
+
+
+class TestPackagedCommands:
+    def test_hrbench_compare_is_the_same_command(self, capsys):
+        from hrbench_analysis import benchcompare
+        assert benchcompare.main([data("base.json"), data("slower.json")]) == 1
+        assert "1 of 3 benchmarks significantly slower" in capsys.readouterr().out
+        assert benchcompare.main([data("base.json"), data("missing.json")]) == 2
+        assert capsys.readouterr().err.startswith("hrbench-compare: error: cannot read")
+
+    def test_merge_bench_concatenates_the_suites(self, tmp_path, capsys):
+        import merge_bench
+        out = tmp_path / "merged.json"
+        assert merge_bench.main([str(out), data("base.json"), data("two_reps.json")]) == 0
+        merged = load_benchmark_file(out)
+        base, two = (load_benchmark_file(data(n)) for n in ("base.json", "two_reps.json"))
+        assert merged["benchmarks"] == base["benchmarks"] + two["benchmarks"]
+        assert len(merged["context"]["executables"]) == 2
+        assert merge_bench.main([str(out), data("missing.json")]) == 2
+        assert "merge_bench.py: error: cannot read" in capsys.readouterr().err

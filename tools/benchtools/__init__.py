@@ -1,14 +1,12 @@
-"""Regression gates of hrbench: exact counts and timings.
+"""The count baseline of hrbench: running the engine and diffing exact counters.
 
 Modules
 -------
-gbench
-    Reading Google Benchmark JSON files (tolerantly).
-compare
-    Timing comparison of two benchmark runs with repetitions.
 baseline
     The deterministic count baseline: running the engine and diffing counters.
 
-The command-line entry points are the thin scripts ``tools/compare_bench.py``,
-``tools/check_baseline.py`` and ``tools/merge_bench.py``.
+Its command-line entry point is the thin script ``tools/check_baseline.py``. Reading
+Google Benchmark JSON and the timing comparison live in the analysis package
+(``hrbench_analysis.gbench``, ``hrbench_analysis.benchcompare``: ``hrbench-compare``),
+which ``tools/merge_bench.py`` and ``tools/compare_bench.py`` run from the checkout.
 """

@@ -9,9 +9,10 @@ namespace hrbench {
 // Process exit codes shared by every command.
 enum ExitCode : int {
     kExitOk = 0,
-    kExitInternal = 1,  // a bug: should never happen
-    kExitInput = 2,     // usage error or invalid input (scene, parameter, file)
-    kExitLimit = 3,     // refinement reached a safety or memory limit
+    kExitInternal = 1,   // a bug: should never happen
+    kExitInput = 2,      // usage error or invalid input (scene, parameter, file)
+    kExitLimit = 3,      // refinement reached a safety or memory limit
+    kExitViolation = 4,  // check-links: the link dump breaks a rule
 };
 
 // Base of every error the library reports to a user; carries its exit code.

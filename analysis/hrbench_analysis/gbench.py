@@ -1,6 +1,7 @@
-"""Reading Google Benchmark JSON output.
+"""Reading Google Benchmark JSON output (``--benchmark_out_format=json``).
 
-The reader is tolerant: unknown fields are ignored, optional fields may be
+Standard library only, so that ``tools/merge_bench.py`` runs with any Python 3.11. The
+reader is tolerant: unknown fields are ignored, optional fields may be
 missing, and the schema version is checked when the file states one
 (``context.json_schema_version``; Google Benchmark 1.7 does not write it).
 """

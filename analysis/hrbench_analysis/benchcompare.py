@@ -1,4 +1,4 @@
-"""Timing comparison of two Google Benchmark runs with repetitions.
+"""Timing comparison of two Google Benchmark runs with repetitions: ``hrbench-compare``.
 
 Each benchmark is judged on its per-repetition times: the relative change of the
 median, and a one-sided Mann-Whitney U test of whether the new times are
@@ -7,15 +7,24 @@ only if both say so: significant at level `alpha` and slower by more than
 `threshold`. In the spirit of google/benchmark's ``tools/compare.py``
 (https://github.com/google/benchmark/blob/main/tools/gbench/report.py), which
 uses the same test.
+
+The command line (``hrbench-compare BASELINE.json NEW.json``, also
+``tools/compare_bench.py``) is :func:`main`; its exit codes: 0 no significant slowdown
+beyond the threshold, 1 at least one, 2 usage or input error (a missing or malformed
+file, no per-repetition rows, no benchmark in common). See docs/ci.md.
 """
 
+import argparse
 import math
+import sys
 from dataclasses import dataclass
 
 import numpy as np
 
+from .gbench import InputError, get_repetition_times, load_benchmark_file
+
 __all__ = ["TimingComparison", "get_timing_comparison", "get_comparison_report",
-           "print_comparison_report", "min_pvalue"]
+           "print_comparison_report", "min_pvalue", "main"]
 
 
 @dataclass(frozen=True)
@@ -143,7 +152,7 @@ def get_comparison_report(baseline_times, new_times, threshold=0.05, alpha=0.05)
     ----------
     baseline_times, new_times : dict of str to array_like
         Per-repetition times of each benchmark (as from
-        `benchtools.gbench.get_repetition_times`).
+        `hrbench_analysis.gbench.get_repetition_times`).
     threshold, alpha : float, optional
         See `get_timing_comparison`.
 
@@ -208,3 +217,65 @@ def print_comparison_report(comparisons, only_baseline=(), only_new=(), threshol
     out(f"{slower} of {len(comparisons)} benchmarks significantly slower "
         f"(median slower by more than {threshold:.0%}, one-sided Mann-Whitney U, "
         f"alpha {alpha})")
+
+
+# ---------------------------------------------------------------------------------------
+# The command line.
+
+
+def _parse_args(argv, prog):
+    parser = argparse.ArgumentParser(
+        prog=prog,
+        description="Compare two Google Benchmark JSON files run with repetitions; exit 1 "
+                    "on a significant slowdown beyond the threshold.")
+    parser.add_argument("baseline", help="Google Benchmark JSON of the baseline run")
+    parser.add_argument("new", help="Google Benchmark JSON of the new run")
+    parser.add_argument("--threshold", type=float, default=0.05,
+                        help="relative slowdown of the median that fails (default 0.05 = 5%%)")
+    parser.add_argument("--alpha", type=float, default=0.05,
+                        help="significance level of the one-sided U test (default 0.05)")
+    parser.add_argument("--metric", choices=("real_time", "cpu_time"), default="real_time",
+                        help="which time to compare (default real_time)")
+    args = parser.parse_args(argv)
+    if not (args.threshold >= 0 and args.threshold < float("inf")):
+        parser.error("--threshold must be a finite number >= 0")
+    if not 0 < args.alpha < 1:
+        parser.error("--alpha must be in (0, 1)")
+    return args
+
+
+def main(argv=None, prog="hrbench-compare"):
+    """Run the command line; return the exit code (0, 1 or 2, see the module).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default: ``sys.argv[1:]``).
+    prog : str, optional
+        The command's name in its messages.
+    """
+    args = _parse_args(argv, prog)
+    try:
+        baseline = get_repetition_times(load_benchmark_file(args.baseline), args.metric)
+        new = get_repetition_times(load_benchmark_file(args.new), args.metric)
+    except InputError as e:
+        print(f"{prog}: error: {e}", file=sys.stderr)
+        return 2
+    for path, times in ((args.baseline, baseline), (args.new, new)):
+        if not times:
+            print(f"{prog}: error: {path} has no per-repetition rows; run without "
+                  "--benchmark_report_aggregates_only", file=sys.stderr)
+            return 2
+    comparisons, only_baseline, only_new = get_comparison_report(
+        baseline, new, args.threshold, args.alpha)
+    if not comparisons:
+        print(f"{prog}: error: {args.baseline} and {args.new} have no benchmark "
+              "in common", file=sys.stderr)
+        return 2
+    print(f"baseline {args.baseline}, new {args.new}: {args.metric}, median of repetitions")
+    print_comparison_report(comparisons, only_baseline, only_new, args.threshold, args.alpha)
+    return 1 if any(c.slower for c in comparisons) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

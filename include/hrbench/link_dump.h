@@ -1,0 +1,56 @@
+// The link dump of include/hrbench/probe.h (docs/probe.md): every link as the paths of
+// its two elements from their roots. Written by `hrbench links --format probe` and by
+// other kernels through the probe, read by `hrbench check-links`.
+#pragma once
+
+#include <cstdint>
+#include <istream>
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "hrbench/refine.h"
+
+namespace hrbench {
+
+// An element of a dump: root patch and child path, whose digits (0 .. arity-1, one per
+// level) lie in LinkDump::digits from _offset_ on.
+struct DumpElement {
+    uint32_t root;
+    uint8_t depth;
+    size_t offset;
+};
+
+// One link line of a dump, its elements ordered so that i.root < j.root where they
+// differ (a kernel may write either order).
+struct DumpLink {
+    DumpElement i, j;
+    size_t line;  // 1-based line number in the dump
+};
+
+struct LinkDump {
+    std::string name;    // the file, for messages
+    std::string digits;  // child digits of every element, back to back
+    std::vector<DumpLink> links;
+    // The kernel's own counters from the counters line, by name, in the line's order.
+    std::vector<std::pair<std::string, uint64_t>> counters;
+    size_t countersLine = 0;  // its line number, 0 when the dump has none
+
+    int Digit(const DumpElement &e, int level) const { return digits[e.offset + level] - '0'; }
+    // "3" or "3/0110", as the dump writes it.
+    std::string Name(const DumpElement &e) const;
+};
+
+// The names the counters line may use.
+const std::vector<std::string> &DumpCounterNames();
+
+// Reads a dump for a scene of _numPatches_ patches and a subdivision of _arity_ children.
+// Throws InputError "NAME:LINE: ..." for the first malformed line (bad header, token,
+// digit or root, a path deeper than the safety depth, a repeated counters line).
+LinkDump ReadLinkDump(std::istream &in, const std::string &name, int arity, size_t numPatches);
+
+// Writes the stored links of _refinement_ as a dump, ending with its counters.
+void WriteLinkDump(const AnyRefinement &refinement, std::ostream &out);
+
+}  // namespace hrbench

@@ -1,0 +1,103 @@
+// A probe for another project's ProjectKernel: counters as hrbench counts them and a
+// link sink that writes a link dump, which `hrbench check-links` validates against the
+// scene (tiling, oracle, counts; docs/probe.md). Header-only and standard C++17 only:
+// copy it into a project, or use the target hrbench::probe of the installed package.
+//
+//   hrbench::probe::Probe probe(&dumpFile);          // or Probe() to count only
+//   ... for each root patch r:       probe.ElementCreated(0);
+//   ... for each child created:      probe.ElementCreated(depth);
+//   ... in ProjectKernel(i, j):      probe.OracleCall();
+//   ... on a link:                   probe.Link(pathOf(i), pathOf(j), forced);
+//   probe.Finish();                                  // writes the counters line
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <ostream>
+#include <string>
+
+namespace hrbench {
+namespace probe {
+
+// The first line of every link dump: the format's name and version.
+constexpr const char *kDumpHeader = "hrbench-link-dump 1";
+
+// An element as hrbench names it: the index of its root patch in scene order and the
+// path of child indices from that root, one digit per level ('0' is the first child;
+// up to '1' with binary subdivision, '3' with the quadtree). Written "3" for root 3 and
+// "3/0110" for the second child of the second child of ... of the first child of root 3.
+struct ElementPath {
+    uint32_t root = 0;
+    std::string digits;
+
+    static ElementPath Root(uint32_t root) { return {root, {}}; }
+    // The child _c_ (0-based, in hrbench's subdivision order) of this element.
+    ElementPath Child(int c) const { return {root, digits + char('0' + c)}; }
+    int Depth() const { return int(digits.size()); }
+    std::string ToString() const {
+        return digits.empty() ? std::to_string(root) : std::to_string(root) + "/" + digits;
+    }
+};
+
+// What a ProjectKernel counts, named as in `hrbench run`.
+struct Counters {
+    uint64_t oracleCalls = 0;  // ProjectKernel calls, one oracle evaluation each
+    uint64_t links = 0;        // forced links included
+    uint64_t nodes = 0;        // elements created, roots included
+    uint64_t forcedLinks = 0;  // links made by a recursion limit, not the oracle
+    uint64_t maxDepth = 0;     // depth of the deepest element; roots have depth 0
+};
+
+// One link line of a dump: the elements of the pair, either order.
+inline void WriteLinkLine(std::ostream &out, const ElementPath &i, const ElementPath &j) {
+    out << i.ToString() << ' ' << j.ToString() << '\n';
+}
+
+// The counters line that ends a dump; check-links compares it with the links.
+inline void WriteCountersLine(std::ostream &out, const Counters &c) {
+    out << "counters links=" << c.links << " oracle_calls=" << c.oracleCalls << " nodes=" << c.nodes
+        << " forced_links=" << c.forcedLinks << " max_depth=" << c.maxDepth << '\n';
+}
+
+// Counts what a kernel reports and, given a stream, writes the link dump.
+class Probe {
+  public:
+    // _dump_ (may be null: count only) receives the header now, a line per link and
+    // the counters line at Finish().
+    explicit Probe(std::ostream *dump = nullptr) : dump_(dump) {
+        if (dump_)
+            *dump_ << kDumpHeader << '\n';
+    }
+
+    // Once per ProjectKernel call (each evaluates the oracle once).
+    void OracleCall() { ++counters_.oracleCalls; }
+
+    // Once per element when it is created: every root (depth 0), every child.
+    void ElementCreated(int depth) {
+        ++counters_.nodes;
+        counters_.maxDepth = std::max<uint64_t>(counters_.maxDepth, uint64_t(depth));
+    }
+
+    // A link of elements _i_ and _j_; _forced_ when a recursion limit made it.
+    void Link(const ElementPath &i, const ElementPath &j, bool forced = false) {
+        ++counters_.links;
+        counters_.forcedLinks += forced;
+        if (dump_)
+            WriteLinkLine(*dump_, i, j);
+    }
+
+    // Ends the dump with the counters line.
+    void Finish() {
+        if (dump_)
+            WriteCountersLine(*dump_, counters_);
+    }
+
+    const Counters &Counts() const { return counters_; }
+
+  private:
+    std::ostream *dump_;
+    Counters counters_;
+};
+
+}  // namespace probe
+}  // namespace hrbench

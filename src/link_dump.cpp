@@ -1,0 +1,175 @@
+#include "hrbench/link_dump.h"
+
+#include <algorithm>
+
+#include "hrbench/probe.h"
+#include "hrbench/util/error.h"
+
+namespace hrbench {
+
+namespace {
+
+// Reads one dump line by line, with the position for messages.
+class DumpReader {
+  public:
+    DumpReader(const std::string &name, int arity, size_t numPatches, LinkDump &dump)
+        : name_(name), arity_(arity), numPatches_(numPatches), dump_(dump) {}
+
+    // Subsequent messages name line _line_.
+    void At(size_t line) { line_ = line; }
+
+    void Line(const std::string &text) {
+        fields_.clear();
+        for (size_t end = 0;;) {
+            size_t begin = text.find_first_not_of(" \t", end);
+            if (begin == std::string::npos)
+                break;
+            end = std::min(text.find_first_of(" \t", begin), text.size());
+            fields_.push_back(text.substr(begin, end - begin));
+        }
+        const std::vector<std::string> &fields = fields_;
+        if (fields.empty() || fields[0][0] == '#')
+            return;
+        if (fields[0] == "counters")
+            return Counters(fields);
+        if (fields.size() != 2)
+            Fail("expected a link, two elements ROOT or ROOT/PATH, or a counters line; got " +
+                 std::to_string(fields.size()) + " fields");
+        DumpLink link{Element(fields[0]), Element(fields[1]), line_};
+        if (link.i.root > link.j.root)
+            std::swap(link.i, link.j);
+        dump_.links.push_back(link);
+    }
+
+    [[noreturn]] void Fail(const std::string &what) const {
+        throw InputError(name_ + ":" + std::to_string(line_) + ": " + what);
+    }
+
+  private:
+    DumpElement Element(const std::string &token) {
+        size_t slash = token.find('/');
+        std::string root = token.substr(0, slash);
+        if (root.empty() || root.size() > 10 ||
+            !std::all_of(root.begin(), root.end(), [](char c) { return c >= '0' && c <= '9'; }))
+            Fail("bad element '" + token + "': expected ROOT or ROOT/PATH");
+        uint64_t r = std::stoull(root);
+        if (r >= numPatches_)
+            Fail("element '" + token + "': the scene has no patch " + root + " (" +
+                 std::to_string(numPatches_) + " patches)");
+        std::string path = slash == std::string::npos ? "" : token.substr(slash + 1);
+        if (slash != std::string::npos && path.empty())
+            Fail("bad element '" + token + "': empty path after '/'");
+        if (path.size() > size_t(kSafetyDepth))
+            Fail("element '" + token + "' is deeper than the safety depth " +
+                 std::to_string(kSafetyDepth));
+        for (char c : path)
+            if (c < '0' || c >= '0' + arity_)
+                Fail("bad element '" + token + "': path digits must be 0 to " +
+                     std::to_string(arity_ - 1) + " with " + std::to_string(arity_) +
+                     " children per element");
+        DumpElement e{uint32_t(r), uint8_t(path.size()), dump_.digits.size()};
+        dump_.digits += path;
+        return e;
+    }
+
+    void Counters(const std::vector<std::string> &fields) {
+        if (dump_.countersLine != 0)
+            Fail("a second counters line (the first is line " + std::to_string(dump_.countersLine) +
+                 ")");
+        dump_.countersLine = line_;
+        const auto &names = DumpCounterNames();
+        for (size_t k = 1; k < fields.size(); ++k) {
+            size_t eq = fields[k].find('=');
+            std::string key = fields[k].substr(0, eq), value;
+            if (eq != std::string::npos)
+                value = fields[k].substr(eq + 1);
+            if (std::find(names.begin(), names.end(), key) == names.end())
+                Fail("unknown counter '" + key +
+                     "' (the counters line takes links, "
+                     "oracle_calls, nodes, forced_links, max_depth as NAME=VALUE)");
+            if (value.empty() || value.size() > 19 ||
+                !std::all_of(value.begin(), value.end(),
+                             [](char c) { return c >= '0' && c <= '9'; }))
+                Fail("counter " + key + " needs a whole number, as " + key + "=12");
+            for (const auto &kv : dump_.counters)
+                if (kv.first == key)
+                    Fail("counter " + key + " is given twice");
+            dump_.counters.push_back({key, std::stoull(value)});
+        }
+    }
+
+    const std::string &name_;
+    int arity_;
+    size_t numPatches_;
+    LinkDump &dump_;
+    size_t line_ = 0;
+    std::vector<std::string> fields_;  // of the current line, reused
+};
+
+// The path of element _e_ from its root, through the forest's parents.
+template <typename Shape>
+probe::ElementPath PathOf(const Forest<Shape> &forest, uint32_t e) {
+    probe::ElementPath path = probe::ElementPath::Root(forest[e].root);
+    for (; forest.Parent(e) != e; e = forest.Parent(e))
+        path.digits += char('0' + (e - forest[forest.Parent(e)].firstChild));
+    std::reverse(path.digits.begin(), path.digits.end());
+    return path;
+}
+
+}  // namespace
+
+std::string LinkDump::Name(const DumpElement &e) const {
+    std::string root = std::to_string(e.root);
+    return e.depth == 0 ? root : root + "/" + digits.substr(e.offset, e.depth);
+}
+
+const std::vector<std::string> &DumpCounterNames() {
+    static const std::vector<std::string> names = {"links", "oracle_calls", "nodes", "forced_links",
+                                                   "max_depth"};
+    return names;
+}
+
+LinkDump ReadLinkDump(std::istream &in, const std::string &name, int arity, size_t numPatches) {
+    LinkDump dump;
+    dump.name = name;
+    DumpReader reader(name, arity, numPatches, dump);
+    std::string text;
+    size_t line = 0;
+    while (std::getline(in, text)) {
+        reader.At(++line);
+        if (!text.empty() && text.back() == '\r')
+            text.pop_back();
+        if (line == 1) {
+            if (text.find_last_not_of(" \t") != std::string::npos)
+                text.erase(text.find_last_not_of(" \t") + 1);
+            if (text != probe::kDumpHeader)
+                reader.Fail(std::string("not a link dump: the first line must be '") +
+                            probe::kDumpHeader + "'");
+            continue;
+        }
+        reader.Line(text);
+    }
+    if (in.bad())
+        throw InputError("cannot read link dump '" + name + "'");
+    if (line == 0) {
+        reader.At(1);
+        reader.Fail(std::string("empty file; a link dump starts with '") + probe::kDumpHeader +
+                    "'");
+    }
+    return dump;
+}
+
+void WriteLinkDump(const AnyRefinement &refinement, std::ostream &out) {
+    std::visit(
+        [&](const auto &r) {
+            out << probe::kDumpHeader << '\n';
+            for (const Link &link : r.links)
+                probe::WriteLinkLine(out, PathOf(r.forest, link.i), PathOf(r.forest, link.j));
+            const Counters &c = r.record.counters;
+            probe::WriteCountersLine(out,
+                                     {c.oracleCalls, c.links, c.nodes, c.forcedLinks, c.maxDepth});
+        },
+        refinement);
+}
+
+}  // namespace hrbench

@@ -1,0 +1,299 @@
+// The probe (hrbench/probe.h), the link dump and `hrbench check-links`: it accepts the
+// dumps of hrbench and of the independent kernel of examples/tiny_kernel, and rejects a
+// missing, an overlapping and an unacceptable link, each with its line and exit code 4.
+#include <catch2/catch.hpp>
+
+#include <set>
+#include <sstream>
+
+#include "cli_helpers.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
+#include "hrbench/probe.h"
+
+using namespace hrbench_test;
+
+namespace {
+
+// The dump of `parallel l=1 d=1 --eps 0.5`, worked by hand in docs/conventions.md: P is
+// split first (a tie), then Q, and the four quarters are linked.
+const std::string kHeader = "hrbench-link-dump 1\n";
+const std::string kQuarters = "0/0 1/0\n0/0 1/1\n0/1 1/0\n0/1 1/1\n";
+const std::string kSmall = "check-links parallel l=1 d=1 --eps 0.5 --links ";
+
+std::string WriteScratch(const std::string &name, const std::string &text) {
+    std::string path = Scratch(name);
+    std::ofstream(path) << text;
+    return path;
+}
+
+// The link lines of a dump, without the header and the counters line.
+std::multiset<std::string> LinkLines(const std::string &dump) {
+    std::multiset<std::string> lines;
+    std::istringstream in(dump);
+    for (std::string line; std::getline(in, line);)
+        if (line != "hrbench-link-dump 1" && line.rfind("counters", 0) != 0)
+            lines.insert(line);
+    return lines;
+}
+
+// Runs the tiny kernel on parallel plates l, d with _eps_; returns its standard output.
+std::string RunTinyKernel(const std::string &args) {
+    FILE *pipe = popen((std::string(HRBENCH_TINY_KERNEL) + " " + args).c_str(), "r");
+    REQUIRE(pipe);
+    std::string out;
+    char buffer[4096];
+    while (size_t n = fread(buffer, 1, sizeof buffer, pipe))
+        out.append(buffer, n);
+    REQUIRE(pclose(pipe) == 0);
+    return out;
+}
+
+hrbench::LinkDump Parse(const std::string &text, int arity = 2, size_t patches = 2) {
+    std::istringstream in(text);
+    return hrbench::ReadLinkDump(in, "d", arity, patches);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// The probe and the dump format
+
+TEST_CASE("the probe counts as hrbench does and writes the dump format", "[check-links]") {
+    using namespace hrbench::probe;
+    ElementPath p = ElementPath::Root(0), q = ElementPath::Root(1);
+    CHECK(p.ToString() == "0");
+    CHECK(q.Child(1).Child(0).ToString() == "1/10");
+    CHECK(q.Child(1).Child(0).Depth() == 2);
+
+    std::ostringstream dump;
+    Probe probe(&dump);
+    for (int d : {0, 0, 1, 1, 1, 1})
+        probe.ElementCreated(d);
+    for (int k = 0; k < 7; ++k)
+        probe.OracleCall();
+    for (int a : {0, 1})
+        for (int b : {0, 1})
+            probe.Link(p.Child(a), q.Child(b), a == 1 && b == 1);
+    probe.Finish();
+    CHECK(dump.str() == kHeader + kQuarters +
+                            "counters links=4 oracle_calls=7 nodes=6 forced_links=1 max_depth=1\n");
+    CHECK(probe.Counts().links == 4);
+    CHECK(probe.Counts().forcedLinks == 1);
+
+    Probe counting;  // no dump: counts only
+    counting.Link(p, q);
+    CHECK(counting.Counts().links == 1);
+}
+
+TEST_CASE("a link dump is read with its line numbers", "[check-links]") {
+    hrbench::LinkDump d =
+        Parse(kHeader + "# comment\n\n  1/01\t0  \n0/1 1/0\r\ncounters links=2 nodes=6\n");
+    REQUIRE(d.links.size() == 2);
+    CHECK(d.links[0].line == 4);
+    CHECK(d.Name(d.links[0].i) == "0");  // written j first: ordered by root
+    CHECK(d.Name(d.links[0].j) == "1/01");
+    CHECK(d.Digit(d.links[0].j, 1) == 1);
+    CHECK(d.Name(d.links[1].j) == "1/0");
+    CHECK(d.countersLine == 6);
+    CHECK(d.counters == std::vector<std::pair<std::string, uint64_t>>{{"links", 2}, {"nodes", 6}});
+
+    auto rejects = [](const std::string &text, const std::string &message, int arity = 2) {
+        INFO(text);
+        CHECK_THROWS_WITH(Parse(text, arity), message);
+    };
+    rejects("", "d:1: empty file; a link dump starts with 'hrbench-link-dump 1'");
+    rejects("root_i,elem_i\n",
+            "d:1: not a link dump: the first line must be 'hrbench-link-dump 1'");
+    rejects(kHeader + "0/0 1/0\n0/2 1\n",
+            "d:3: bad element '0/2': path digits must be 0 to 1 with 2 children per element");
+    rejects(kHeader + "0/3 1\n",
+            "d:2: bad element '0/3': path digits must be 0 to 2 with 3 "
+            "children per element",
+            3);
+    rejects(kHeader + "0/1 2\n", "d:2: element '2': the scene has no patch 2 (2 patches)");
+    rejects(kHeader + "0/ 1\n", "d:2: bad element '0/': empty path after '/'");
+    rejects(kHeader + "-1 1\n", "d:2: bad element '-1': expected ROOT or ROOT/PATH");
+    rejects(kHeader + "0 1 1\n", "d:2: expected a link, two elements ROOT or ROOT/PATH, or a "
+                                 "counters line; got 3 fields");
+    rejects(kHeader + "0/" + std::string(49, '0') + " 1\n",
+            "d:2: element '0/" + std::string(49, '0') + "' is deeper than the safety depth 48");
+    rejects(kHeader + "counters links=1\ncounters links=1\n",
+            "d:3: a second counters line (the first is line 2)");
+    CHECK_THROWS_WITH(Parse(kHeader + "counters leaves=1\n"),
+                      Catch::Contains("d:2: unknown counter 'leaves'"));
+    rejects(kHeader + "counters links=x\n", "d:2: counter links needs a whole number, as links=12");
+    rejects(kHeader + "counters links=1 links=1\n", "d:2: counter links is given twice");
+}
+
+// ---------------------------------------------------------------------------------------
+// Correct dumps
+
+TEST_CASE("check-links accepts hrbench's own dumps, 2D and 3D", "[check-links]") {
+    std::string dump = Scratch("own.dump");
+    for (std::string config :
+         {"parallel l=64 d=1 --eps 0.25", "room w=2 h=1 --eps 0.1 --min-area 0.01",
+          "enclosure n=6 --eps 0.2 --max-depth 6", "cornell --eps 0.5 --min-area 0.001",
+          "parallel3d --eps 0.5 --subdivision quadtree",
+          "angled l=1.9 angle=37.3 gap=0.07 --eps 0.231"}) {
+        INFO(config);
+        REQUIRE(Cli("links " + config + " --format probe --threads 2 --out " + dump).exitCode == 0);
+        CliResult r = Cli("check-links " + config + " --links " + dump);
+        CHECK(r.exitCode == 0);
+        CHECK(r.err.empty());
+        CHECK_THAT(r.out, Catch::Contains(": ok: "));
+    }
+
+    // The numbers of the README's example, from the links, hrbench and the counters line.
+    Cli("links parallel l=64 d=1 --eps 0.25 --format probe --out " + dump);
+    CliResult r = Cli("check-links parallel l=64 d=1 --eps 0.25 --links " + dump);
+    CHECK_THAT(r.out, Catch::Contains("5092 links tile the 1 refined root pair exactly"));
+    CHECK_THAT(r.out,
+               Catch::Contains("links                    5092           5092           5092"));
+    CHECK_THAT(r.out,
+               Catch::Contains("oracle_calls            10183          10183          10183"));
+    CHECK_THAT(r.out,
+               Catch::Contains("nodes                    1022           1022           1022"));
+
+    // Culled pairs are counted and skipped: the Cornell box has 55 of its 136.
+    Cli("links cornell --eps 0.5 --min-area 0.001 --format probe --out " + dump);
+    r = Cli("check-links cornell --eps 0.5 --min-area 0.001 --links " + dump);
+    CHECK_THAT(r.out,
+               Catch::Contains("5792 links tile the 81 refined root pairs exactly (55 culled)"));
+    CHECK_THAT(r.out,
+               Catch::Contains("forced_links             1086           1086           1086"));
+}
+
+TEST_CASE("the tiny kernel counts as hrbench and check-links accepts its dump", "[check-links]") {
+    std::string tiny = Scratch("tiny.dump"), own = Scratch("own64.dump");
+    CHECK(RunTinyKernel("64 1 0.25 " + tiny) ==
+          "links 5092\noracle_calls 10183\nnodes 1022\nmax_depth 8\n");
+    CliResult r = Cli("check-links parallel l=64 d=1 --eps 0.25 --links " + tiny);
+    CHECK(r.exitCode == 0);
+    CHECK_THAT(r.out, Catch::Contains("5092 links tile"));
+    // The same links as hrbench's (hrbench orders them by its worker tasks).
+    Cli("links parallel l=64 d=1 --eps 0.25 --format probe --out " + own);
+    CHECK(LinkLines(ReadFile(tiny)) == LinkLines(ReadFile(own)));
+
+    // Plates 1 by 1: the four quarters of the worked example, in ProjectKernel's order.
+    RunTinyKernel("1 1 0.5 " + tiny);
+    CHECK(ReadFile(tiny) == kHeader + kQuarters +
+                                "counters links=4 oracle_calls=7 nodes=6 forced_links=0 "
+                                "max_depth=1\n");
+}
+
+// ---------------------------------------------------------------------------------------
+// Violations: one line on stderr, exit code 4
+
+TEST_CASE("check-links rejects a missing link", "[check-links]") {
+    std::string path = WriteScratch("missing.dump", kHeader + "0/0 1/0\n0/0 1/1\n0/1 1/1\n");
+    CheckError(kSmall + path, hrbench::kExitViolation,
+               "missing.dump: missing link: nothing covers the element pair 0/1 1/0 of "
+               "patches 0 and 1");
+    // A whole root pair without links.
+    path = WriteScratch("empty.dump", kHeader);
+    CheckError(kSmall + path, hrbench::kExitViolation,
+               "missing link: nothing covers the element pair 0 1");
+
+    // One link line less in the tiny kernel's dump: the gap is that link.
+    std::string tiny = Scratch("tiny_missing.dump");
+    RunTinyKernel("64 1 0.25 " + tiny);
+    std::istringstream in(ReadFile(tiny));
+    std::string text, line, dropped;
+    for (int k = 1; std::getline(in, line); ++k)
+        (k == 100 ? dropped : text) += line + "\n";
+    WriteScratch("tiny_missing.dump", text);
+    CheckError("check-links parallel l=64 d=1 --eps 0.25 --links " + tiny, hrbench::kExitViolation,
+               "missing link: nothing covers the element pair " +
+                   dropped.substr(0, dropped.size() - 1) + " of patches 0 and 1");
+}
+
+TEST_CASE("check-links rejects an overlapping link", "[check-links]") {
+    // The right half of P against all of Q, on top of two quarters.
+    std::string path = WriteScratch("overlap.dump", kHeader + kQuarters + "0/1 1\n");
+    CheckError(kSmall + path, hrbench::kExitViolation,
+               "overlap.dump:6: overlapping links: 0/1 1 overlaps 0/1 1/0 of line 4");
+    // A link given twice.
+    path = WriteScratch("twice.dump", kHeader + kQuarters + "1/1 0/0\n");
+    CheckError(kSmall + path, hrbench::kExitViolation,
+               "twice.dump:6: overlapping links: 0/0 1/1 overlaps 0/0 1/1 of line 3");
+    // Crossing links, neither inside the other: P's left half against Q, Q's left half
+    // against P.
+    path = WriteScratch("cross.dump", kHeader + "0/0 1\n0 1/0\n0/1 1/1\n");
+    CheckError(kSmall + path, hrbench::kExitViolation,
+               "cross.dump:3: overlapping links: 0 1/0 overlaps 0/0 1 of line 2");
+}
+
+TEST_CASE("check-links rejects an unacceptable link", "[check-links]") {
+    // P's left half against all of Q: max(0.5, 1) = 1 > 0.5 * 1.031, refused.
+    std::string path = WriteScratch("refused.dump", kHeader + "0/0 1\n0/1 1/0\n0/1 1/1\n");
+    CheckError(kSmall + path, hrbench::kExitViolation,
+               "refused.dump:2: unacceptable link: 0/0 1 is refused by the oracle garmann "
+               "(eps 0.5) and no recursion limit forces it");
+    // Links below a pair the oracle accepts: with eps 2, P and Q are linked whole.
+    path = WriteScratch("quarters.dump", kHeader + kQuarters);
+    CheckError("check-links parallel l=1 d=1 --eps 2 --links " + path, hrbench::kExitViolation,
+               "quarters.dump:2: unacceptable link: 0/0 1/0 lies below the pair 0 1, which the "
+               "oracle garmann (eps 2) accepts");
+    // ... or below a pair where a recursion limit forces a link.
+    CheckError(kSmall + path + " --max-depth 0", hrbench::kExitViolation,
+               "quarters.dump:2: unacceptable link: 0/0 1/0 lies below the pair 0 1, where "
+               "--max-depth 0 forces a link");
+    // A tiling that splits Q first, where the tie splits P.
+    path = WriteScratch("q_first.dump", kHeader + "0 1/0\n0 1/1\n");
+    CheckError(kSmall + path, hrbench::kExitViolation,
+               "q_first.dump:2: link off the subdivision: 0 1/0 keeps element 0 whole, but "
+               "ProjectKernel splits it in the refused pair 0 1");
+    // The tiny kernel's links for eps 0.25 are too coarse for eps 0.2.
+    std::string tiny = Scratch("tiny_eps.dump");
+    RunTinyKernel("64 1 0.25 " + tiny);
+    CheckError("check-links parallel l=64 d=1 --eps 0.2 --links " + tiny, hrbench::kExitViolation,
+               "is refused by the oracle garmann (eps 0.2) and no recursion limit forces it");
+}
+
+TEST_CASE("check-links rejects wrong counters and links outside the refined pairs",
+          "[check-links]") {
+    std::string path = WriteScratch("counts.dump", kHeader + kQuarters +
+                                                       "counters links=4 oracle_calls=8 nodes=6\n");
+    CheckError(kSmall + path, hrbench::kExitViolation,
+               "counts.dump:6: counts: the counters line says oracle_calls=8, the links give 7");
+    path = WriteScratch("self.dump", kHeader + "0/0 0/1\n");
+    CheckError(kSmall + path, hrbench::kExitViolation,
+               "self.dump:2: link within one patch: 0/0 0/1 (both elements of patch 0)");
+
+    // A link between the first culled pair of the Cornell box, which is never refined.
+    hrbench::Scene scene = hrbench::MakeScene("cornell", {});
+    hrbench::RefineOptions options;
+    options.eps = 0.5;
+    options.minArea = 0.001;
+    bool foundCulled = false;
+    const auto &patches = scene.Get<hrbench::Polygon>();
+    for (uint32_t p = 0; p < patches.size() && !foundCulled; ++p)
+        for (uint32_t q = p + 1; q < patches.size() && !foundCulled; ++q) {
+            if (hrbench::ClassifyPair(patches[p].shape, patches[q].shape) !=
+                hrbench::PairRelation::Culled)
+                continue;
+            foundCulled = true;
+            std::string text = kHeader + std::to_string(p) + " " + std::to_string(q) + "\n";
+            hrbench::LinkDump dump = Parse(text, 2, patches.size());
+            CHECK_THROWS_WITH(hrbench::CheckLinks(scene, options, dump),
+                              Catch::Contains("d:2: link between a culled pair: " +
+                                              std::to_string(p) + " " + std::to_string(q)));
+        }
+    CHECK(foundCulled);
+}
+
+TEST_CASE("check-links refuses malformed dumps and bad usage with exit code 2", "[check-links]") {
+    std::string path = WriteScratch("bad.dump", kHeader + kQuarters + "0/1 1/2\n");
+    CheckError(kSmall + path, 2, "bad.dump:6: bad element '1/2'");
+    path = WriteScratch("csv.dump", "root_i,elem_i,t0_i\n");
+    CheckError(kSmall + path, 2, "csv.dump:1: not a link dump");
+    CheckError(kSmall + Scratch("absent.dump"), 2, "cannot read link dump");
+    CheckError("check-links parallel l=1 d=1 --eps 0.5", 2, "check-links needs --links F");
+    CheckError("check-links parallel l=1 d=1 --links x", 2, "check-links needs --eps");
+    CheckError("check-links parallel --eps 0.5 --links x --threads 2", 2,
+               "--threads does not apply to check-links");
+    // What hrbench cannot refine, check-links cannot check: touching walls need a limit.
+    path = WriteScratch("room.dump", kHeader + kQuarters);
+    CheckError("check-links room --eps 0.5 --links " + path, 2, "touch");
+}
