@@ -27,6 +27,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         hrbench_fuzz::Guarded([&] { hrbench::ParseParams(options.params); });
         for (int dimension : {2, 3})
             hrbench_fuzz::Guarded([&] { hrbench::ValidateOptions(options.refine, dimension); });
+        hrbench_fuzz::Guarded([&] { hrbench::ValidateSolveOptions(options.solve); });
     });
     return 0;
 }

@@ -269,7 +269,7 @@ LinkCheck CheckShape(const Scene &scene, const RefineOptions &options, const Lin
         using Oracle = typename decltype(tag)::template Type<Shape>;
         if constexpr (Oracle::kInfo.Supports(Shape::kDimension)) {
             if (options.oracle == Oracle::kInfo.name) {
-                Oracle oracle(options.eps, patches);
+                Oracle oracle = MakeOracle<Oracle>(options, patches);
                 check = Checker<Shape, Oracle>(patches, oracle, options, dump).Run();
             }
         }

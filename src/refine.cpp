@@ -251,7 +251,7 @@ void Dispatch(const Patches<Shape> &patches, const RefineOptions &options, const
             return;
         found = true;
         if constexpr (Oracle::kInfo.Supports(Shape::kDimension)) {
-            Oracle oracle(options.eps, patches);
+            Oracle oracle = MakeOracle<Oracle>(options, patches);
             WithVisibility(patches, options, [&](const auto &visibility) {
                 using Visibility = std::decay_t<decltype(visibility)>;
                 auto run = [&](auto arity, auto store) {

@@ -333,22 +333,32 @@ TEST_CASE("capabilities --json lists exactly the registry's oracles, and each of
         registry.push_back(info.name);
     CHECK(listed == registry);
     REQUIRE(!listed.empty());
+    // Scenes with an emitter, which bf needs: the parallel plates with P emitting, and
+    // the Cornell box.
+    hrbench::Scene lit = hrbench::MakeScene("parallel", {});
+    lit.Get<hrbench::Segment>()[0].material.emission = 1;
+    std::string litPath = Scratch("lit_parallel.json");
+    hrbench::SaveScene(lit, litPath);
     for (const json &o : caps["oracles"]) {
         std::string name = o["name"];
         INFO("oracle " << name);
         CHECK(o["dimensions"] == json({2, 3}));
-        CliResult run = Cli("run parallel --eps 0.3 --oracle " + name + " --json");
-        CHECK(run.exitCode == 0);
-        CHECK(run.err.empty());
-        json record = json::parse(run.out);
-        CHECK(record["oracle"] == name);
-        CHECK(record["links"].get<int>() > 0);
+        for (const std::string &scene :
+             {"--scene-file " + litPath, std::string("cornell --min-area 0.01")}) {
+            INFO(scene);
+            CliResult run = Cli("run " + scene + " --eps 0.3 --oracle " + name + " --json");
+            CHECK(run.exitCode == 0);
+            CHECK(run.err.empty());
+            json record = json::parse(run.out);
+            CHECK(record["oracle"] == name);
+            CHECK(record["links"].get<int>() > 0);
+        }
     }
     // A name it does not list is refused, with the names it does.
     std::string unlisted = "magic";
     REQUIRE(std::find(listed.begin(), listed.end(), unlisted) == listed.end());
     CheckError("run parallel --eps 0.3 --oracle " + unlisted + " --json", 2,
-               "unknown oracle 'magic' (choose one of: garmann, hanrahan)");
+               "unknown oracle 'magic' (choose one of: garmann, hanrahan, bf)");
 }
 
 TEST_CASE("capabilities --json lists exactly the counters of a run record, in order",
@@ -409,7 +419,7 @@ TEST_CASE("Bad input gives one line on stderr and exit code 2", "[cli][errors]")
     CheckError("capabilities", 2, "add --json");
     CheckError("capabilities parallel --json", 2, "takes no scene");
     CheckError("run parallel --eps 1 --oracle magic", 2,
-               "unknown oracle 'magic' (choose one of: garmann, hanrahan)");
+               "unknown oracle 'magic' (choose one of: garmann, hanrahan, bf)");
 }
 
 TEST_CASE("Bad 3D input gives one line on stderr and exit code 2", "[cli][errors][3d]") {

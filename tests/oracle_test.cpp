@@ -225,7 +225,7 @@ TEST_CASE("The registry lists every oracle once, for both dimensions", "[oracle]
         CHECK_FALSE(info.Supports(1));
         CHECK_FALSE(info.Supports(4));
     }
-    CHECK(names == std::set<std::string>{"garmann", "hanrahan"});
+    CHECK(names == std::set<std::string>{"garmann", "hanrahan", "bf"});
     CHECK(std::string(infos.front().name) == "garmann");  // the default comes first
     CHECK(RefineOptions().oracle == infos.front().name);
 }
@@ -233,10 +233,15 @@ TEST_CASE("The registry lists every oracle once, for both dimensions", "[oracle]
 TEST_CASE("Every oracle of the registry rejects large close pairs and accepts small far ones",
           "[oracle][registry]") {
     // Facing unit plates at distance 1, eps 0.1: the root pair is rejected by every
-    // oracle (garmann 1 > 0.1; hanrahan 1/sqrt(5) in 2D, 1/(pi+1) in 3D), and elements
-    // of size 1e-3 at the same centres are accepted.
+    // oracle (garmann 1 > 0.1; hanrahan 1/sqrt(5) in 2D, 1/(pi+1) in 3D; bf, with both
+    // plates emitting 1, as hanrahan), and elements of size 1e-3 at the same centres are
+    // accepted.
     Scene flat = MakeScene("parallel", {{"l", 1}, {"d", 1}});
     Scene space = MakeScene("parallel3d", {});
+    for (auto &patch : flat.Get<Segment>())
+        patch.material.emission = 1;
+    for (auto &patch : space.Get<Polygon>())
+        patch.material.emission = 1;
     int oracles = 0;
     AllOracles::ForEach([&](auto tag) {
         using Tag = decltype(tag);
@@ -259,7 +264,7 @@ TEST_CASE("An unknown oracle name is refused with the list of names", "[oracle][
     CHECK_THROWS_AS(FindOracle("bogus"), InputError);
     CHECK_THROWS_WITH(FindOracle("bogus"), Catch::Contains("garmann"));
     CHECK_THROWS_WITH(FindOracle("magic"),
-                      "unknown oracle 'magic' (choose one of: garmann, hanrahan)");
+                      "unknown oracle 'magic' (choose one of: garmann, hanrahan, bf)");
     for (const OracleInfo &info : OracleInfos())
         CHECK_THROWS_WITH(FindOracle("bogus"), Catch::Contains(info.name));
     CHECK_THROWS_AS(FindOracle("Garmann"), InputError);  // names are case-sensitive

@@ -669,7 +669,7 @@ TEST_CASE("Options are checked against the scene's dimension and the oracle regi
     }
     o = Options(0.5, "magic");
     CHECK_THROWS_WITH(ValidateOptions(o, 2),
-                      "unknown oracle 'magic' (choose one of: garmann, hanrahan)");
+                      "unknown oracle 'magic' (choose one of: garmann, hanrahan, bf)");
     CHECK_THROWS_WITH(Refine(MakeScene("parallel", {}), o),
                       Catch::Contains("unknown oracle 'magic'"));
 }

@@ -15,6 +15,7 @@
 #include "hrbench/refine_options.h"
 #include "hrbench/scene.h"
 #include "hrbench/scene_io.h"
+#include "hrbench/solve.h"
 #include "hrbench/translation_count.h"
 #include "hrbench/util/args.h"
 #include "hrbench/util/error.h"

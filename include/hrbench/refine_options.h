@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <string>
+#include <variant>
 
 #include "hrbench/geometry/subdivision.h"
 
@@ -10,6 +11,15 @@ namespace hrbench {
 
 struct RefineProgress;  // refine.h
 struct Scene;           // scene.h
+struct Segment;         // geometry/segment.h
+struct Polygon;         // geometry/polygon.h
+template <typename Shape>
+class RadiosityEstimate;  // radiosity_estimate.h
+
+// The radiosity estimate of a run, or none (std::monostate): one field for either shape;
+// the oracle refuses an estimate of the other shape than the scene's.
+using AnyEstimate = std::variant<std::monostate, const RadiosityEstimate<Segment> *,
+                                 const RadiosityEstimate<Polygon> *>;
 
 // How refinement treats occlusion (`--visibility`; docs/3d.md).
 enum class VisibilityMode {
@@ -42,6 +52,9 @@ struct RefineOptions {
     int raysPerSide = 3;  // k: sample points per element side for visibility, 1..16
     // Where the run reports its progress (refine.h), if anywhere: not a setting of the run.
     RefineProgress *progress = nullptr;
+    // The radiosity the bf oracle reads, not owned: not a setting of the run either.
+    // None: the emission of the root patches (the first pass of refine-solve-refine).
+    AnyEstimate estimate;
 
     bool HasRecursionLimit() const { return minArea > 0 || maxDepth >= 0; }
 };

@@ -9,6 +9,7 @@
 #include "hrbench/oracles/registry.h"
 #include "hrbench/record.h"
 #include "hrbench/refine.h"
+#include "hrbench/solve.h"
 
 namespace hrbench {
 
@@ -72,6 +73,8 @@ json Capabilities() {
         doc["oracles"].push_back(OracleJson(info));
     for (const MethodInfo &m : Methods())
         doc["methods"].push_back({{"name", m.name}, {"doc", m.doc}});
+    for (const SolveMethodInfo &m : SolveMethods())
+        doc["solvers"].push_back({{"name", m.name}, {"doc", m.doc}});
     for (const OptionSpec &o : OptionTable())
         doc["options"].push_back(OptionJson(o));
     for (const CounterInfo &c : CounterTable())

@@ -46,6 +46,21 @@ void ListScenes() {
         std::printf("  %-9s %s\n", info.name, info.doc);
 }
 
+// `hrbench solve`'s output: the JSON object or the table, and the CSV of the leaves if asked.
+int PrintSolve(const Scene &scene, const Options &o, const SolveResult &result) {
+    if (!o.out.empty()) {
+        std::ostringstream csv;
+        WriteSolveCsv(result, scene.Dimension(), csv);
+        WriteOutputFile(o.out, "solve file", csv.str());
+    }
+    nlohmann::json record = SolveToJson(scene, o.refine, o.solve, result);
+    if (o.json)
+        std::cout << record.dump() << "\n";
+    else
+        PrintSolveTable(record, std::cout);
+    return kExitOk;
+}
+
 // `hrbench check-links`: the summary on success; a violation is a LinkViolation.
 int CheckLinksCommand(const Scene &scene, const Options &o) {
     std::istringstream text(ReadInputFile(o.linksFile, "link dump", o.maxInputBytes));
@@ -89,7 +104,7 @@ int Main(int argc, char **argv) {
     // stopped before anything else is printed.
     RefineProgress progress;
     std::optional<ProgressDisplay> display;
-    if (o.command == "run" || o.command == "links") {
+    if (o.command == "run" || o.command == "links" || o.command == "solve") {
         std::string warning = MinAreaWarning(scene, o.refine);
         if (!warning.empty())
             std::cerr << "hrbench: warning: " << warning << std::endl;
@@ -113,6 +128,11 @@ int Main(int argc, char **argv) {
     }
     if (o.command == "check-links")
         return CheckLinksCommand(scene, o);
+    if (o.command == "solve") {
+        SolveResult result = Solve(scene, o.refine, o.solve);
+        display.reset();
+        return PrintSolve(scene, o, result);
+    }
     nlohmann::json record = RunToJson(scene, o.refine, Count(scene, o.refine, o.method));
     display.reset();
     if (o.json)

@@ -33,13 +33,6 @@ std::vector<std::string> OracleNames() {
     return names;
 }
 
-std::vector<std::string> MethodNames() {
-    std::vector<std::string> names;
-    for (const MethodInfo &m : Methods())
-        names.push_back(m.name);
-    return names;
-}
-
 std::string OracleDoc() {
     std::string doc;
     for (const OracleInfo &info : OracleInfos())
@@ -48,17 +41,51 @@ std::string OracleDoc() {
     return doc;
 }
 
+std::vector<std::string> MethodNames() {
+    std::vector<std::string> names;
+    for (const MethodInfo &m : Methods())
+        names.push_back(m.name);
+    return names;
+}
+
 std::string MethodDoc() {
     std::string doc;
     for (const MethodInfo &m : Methods())
         doc += std::string(doc.empty() ? "" : "\n") + m.name + (doc.empty() ? " (default)" : "") +
                ": " + m.doc;
-    return doc + "\n(run only)";
+    return doc;
 }
 
-const std::vector<std::string> kRefining = {"run", "links"};
+std::vector<std::string> SolverNames() {
+    std::vector<std::string> names;
+    for (const SolveMethodInfo &m : SolveMethods())
+        names.push_back(m.name);
+    return names;
+}
+
+std::string SolverDoc() {
+    std::string doc;
+    for (const SolveMethodInfo &m : SolveMethods())
+        doc += std::string(doc.empty() ? "" : "\n") + m.name + (doc.empty() ? " (default)" : "") +
+               ": " + m.doc;
+    return doc;
+}
+
+// Why _flag_ does not apply to _command_, where more can be said than that.
+std::string NotApplicable(const std::string &flag, const std::string &command) {
+    if (command == "solve" && flag == "--count-only")
+        return "--count-only does not apply to solve: it needs every link stored";
+    if (command == "solve" && flag == "--method")
+        return "--method does not apply to solve: it stores and enumerates every link (--solver "
+               "chooses how it iterates)";
+    return flag + " does not apply to " + command;
+}
+
+const std::vector<std::string> kRefining = {"run", "links", "solve"};
 // The options that define what ProjectKernel links: check-links takes them too.
-const std::vector<std::string> kLinking = {"run", "links", "check-links"};
+const std::vector<std::string> kLinking = {"run", "links", "check-links", "solve"};
+// Where a scene comes from.
+const std::vector<std::string> kSceneInput = {"run", "links", "check-links", "save", "solve"};
 
 }  // namespace
 
@@ -70,6 +97,8 @@ const std::vector<CommandSpec> &Commands() {
          "write every link (store mode) as CSV"},
         {"check-links", "check-links SCENE ... --eps E --links F",
          "validate a link dump (docs/probe.md): tiling, oracle, counts"},
+        {"solve", "solve SCENE [key=value ...] --eps E [options]",
+         "refine a scene and solve its radiosity on the hierarchy (docs/solve.md)"},
         {"save", "save SCENE [key=value ...] [--out F.json]", "write a scene file"},
         {"scenes", "scenes", "list scene families with their parameters, and the oracles"},
         {"capabilities", "capabilities --json",
@@ -119,6 +148,13 @@ const std::vector<OptionSpec> &OptionTable() {
          {"run"},
          MethodDoc(),
          [](Options &o, S v) { o.method = v; }},
+        {"solver",
+         "--solver",
+         "S",
+         SolverNames(),
+         {"solve"},
+         SolverDoc(),
+         [](Options &o, S v) { o.solve.method = ParseSolveMethod(v); }},
         {"threads",
          "--threads",
          "N",
@@ -137,28 +173,28 @@ const std::vector<OptionSpec> &OptionTable() {
          "--max-input",
          "MIB",
          {},
-         {"run", "links", "check-links", "save"},
+         kSceneInput,
          "size limit of a scene or mesh file in MiB (default 256)",
          [](Options &o, S v) { o.maxInputBytes = ParseMib(v, "--max-input"); }},
         {"json",
          "--json",
          "",
          {},
-         {"run", "capabilities"},
+         {"run", "capabilities", "solve"},
          "print one JSON object instead of a table",
          [](Options &o, S) { o.json = true; }},
         {"scene_file",
          "--scene-file",
          "F",
          {},
-         {"run", "links", "check-links", "save"},
+         kSceneInput,
          "load the scene from a JSON scene file instead of a family",
          [](Options &o, S v) { o.sceneFile = v; }},
         {"mesh",
          "--mesh",
          "F",
          {},
-         {"run", "links", "check-links", "save"},
+         kSceneInput,
          "load a 3D scene from an OFF or OBJ file (triangles, planar\nconvex quads; default "
          "reflectance 0.5, emission 0)",
          [](Options &o, S v) { o.mesh = v; }},
@@ -166,7 +202,7 @@ const std::vector<OptionSpec> &OptionTable() {
          "--triangulate",
          "",
          {},
-         {"run", "links", "check-links", "save"},
+         kSceneInput,
          "with --mesh: split quads that are not planar or not convex\nand polygons of 5 or more "
          "corners into triangles (docs/3d.md)",
          [](Options &o, S) { o.triangulate = true; }},
@@ -174,7 +210,7 @@ const std::vector<OptionSpec> &OptionTable() {
          "--scale",
          "S",
          {},
-         {"run", "links", "check-links", "save"},
+         kSceneInput,
          "with --mesh: multiply every coordinate by S, a finite number > 0\n(0.001 reads "
          "millimetres as metres)",
          [](Options &o, S v) {
@@ -210,8 +246,9 @@ const std::vector<OptionSpec> &OptionTable() {
          "--out",
          "F",
          {},
-         {"links", "save"},
-         "output file (links: CSV; save: JSON, default standard output)",
+         {"links", "save", "solve"},
+         "output file (links: CSV; save: JSON, default standard output;\nsolve: CSV, one row per "
+         "leaf)",
          [](Options &o, S v) { o.out = v; }},
         {"format",
          "--format",
@@ -227,6 +264,43 @@ const std::vector<OptionSpec> &OptionTable() {
          {"check-links"},
          "the link dump to check (docs/probe.md)",
          [](Options &o, S v) { o.linksFile = v; }},
+        {"tolerance",
+         "--tolerance",
+         "T",
+         {},
+         {"solve"},
+         "stop when the largest change of a leaf's radiosity in a sweep,\nover the largest "
+         "leaf radiosity, is below T (0 < T < 1;\ndefault 1e-6)",
+         [](Options &o, S v) { o.solve.tolerance = ParseDouble(v, "--tolerance"); }},
+        {"max_iterations",
+         "--max-iterations",
+         "K",
+         {},
+         {"solve"},
+         "sweeps allowed before giving up with exit code 3 (1..1000000;\ndefault 1000)",
+         [](Options &o, S v) { o.solve.maxIterations = ClampedInt(v, "--max-iterations"); }},
+        {"emission",
+         "--emission",
+         "E",
+         {},
+         {"solve"},
+         "emitted radiosity of every patch, a finite number >= 0 (default:\nthe scene's)",
+         [](Options &o, S v) { o.solve.emission = ParseDouble(v, "--emission"); }},
+        {"reflectance",
+         "--reflectance",
+         "R",
+         {},
+         {"solve"},
+         "reflectance of every patch, in [0, 1) (default: the scene's)",
+         [](Options &o, S v) { o.solve.reflectance = ParseDouble(v, "--reflectance"); }},
+        {"reference",
+         "--reference",
+         "D",
+         {},
+         {"solve"},
+         "also solve the dense reference: every patch split to depth D,\nall pairs linked "
+         "(at most 8192 elements); report it and the\nhierarchy's error against it",
+         [](Options &o, S v) { o.solve.referenceDepth = ClampedInt(v, "--reference"); }},
     };
     return table;
 }
@@ -253,8 +327,9 @@ std::string Usage() {
     out << "\nGeneral:\n";
     row("--help", "print this text", 19);
     row("--version", "print the engine version", 19);
-    out << "\nExit codes: 0 success, 2 usage or input error, 3 a refinement limit was reached\n"
-           "(safety depth or memory budget), 1 internal error or (check-links) a violation.\n"
+    out << "\nExit codes: 0 success, 2 usage or input error, 3 a limit was reached (safety\n"
+           "depth, memory budget, solve iterations), 1 internal error or (check-links) a "
+           "violation.\n"
            "Example: hrbench run parallel l=64 d=1 --eps 0.25 --json\n";
     return out.str();
 }
@@ -281,7 +356,7 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
                 throw InputError("option " + a + " is given twice");
             if (std::find(spec->commands.begin(), spec->commands.end(), o.command) ==
                 spec->commands.end())
-                throw InputError(a + " does not apply to " + o.command);
+                throw InputError(NotApplicable(a, o.command));
             std::string value;
             if (!spec->value.empty()) {
                 if (k + 1 >= args.size())
@@ -310,7 +385,8 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
     }
 
     // Reject combinations that make no sense, naming the flags.
-    bool refines = o.command == "run" || o.command == "links" || o.command == "check-links";
+    bool refines = o.command == "run" || o.command == "links" || o.command == "check-links" ||
+                   o.command == "solve";
     if (refines || o.command == "save") {
         int sources = !o.scene.empty() + !o.sceneFile.empty() + !o.mesh.empty();
         if (sources != 1)

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hrbench/refine_options.h"
+#include "hrbench/solve.h"
 #include "hrbench/util/input_file.h"
 
 namespace hrbench {
@@ -28,7 +29,8 @@ struct Options {
     RefineOptions refine;
     bool json = false;
     bool countOnly = false;
-    std::string method = "enumerate";
+    std::string method = "enumerate";  // run: how to count (Methods())
+    SolveOptions solve;
     size_t maxInputBytes = kDefaultMaxInputBytes;  // size limit of a scene or mesh file
 };
 

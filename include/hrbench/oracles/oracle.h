@@ -9,6 +9,10 @@
 //       static constexpr OracleInfo kInfo = {"mine", kFlatland | kSpace, "eps", "doc line"};
 //       // Built once per run from the threshold and the root patches.
 //       MyOracle(double eps, const Patches<Shape> &roots);
+//       // Optional: built from all of the run's options instead, for an oracle that
+//       // reads more than eps (bf reads RefineOptions::estimate). MakeOracle()
+//       // (registry.h), the one way the engine builds an oracle, prefers it.
+//       MyOracle(const RefineOptions &options, const Patches<Shape> &roots);
 //       // True when the pair may be linked. Both tests are marked [[gnu::always_inline]]:
 //       // the recursion is one function, and an out-of-line test cost 7% of the hanrahan
 //       // kernel's time when measured.

@@ -4,10 +4,14 @@
 #pragma once
 
 #include <string>
+#include <type_traits>
 #include <vector>
 
+#include "hrbench/oracles/bf.h"
 #include "hrbench/oracles/garmann.h"
 #include "hrbench/oracles/hanrahan.h"
+#include "hrbench/refine_options.h"
+#include "hrbench/scene.h"
 
 namespace hrbench {
 
@@ -28,7 +32,18 @@ struct OracleList {
     };
 };
 
-using AllOracles = OracleList<GarmannOracle, HanrahanOracle>;
+using AllOracles = OracleList<GarmannOracle, HanrahanOracle, BFOracle>;
+
+// Builds _Oracle_ for a run on _roots_: from the run's options where it reads more than
+// the threshold (bf reads RefineOptions::estimate), else from options.eps. The one way
+// refinement and check-links construct an oracle.
+template <typename Oracle, typename Shape>
+Oracle MakeOracle(const RefineOptions &options, const Patches<Shape> &roots) {
+    if constexpr (std::is_constructible_v<Oracle, const RefineOptions &, const Patches<Shape> &>)
+        return Oracle(options, roots);
+    else
+        return Oracle(options.eps, roots);
+}
 
 // The name, dimensions, parameters and doc line of every oracle, in registry order.
 std::vector<OracleInfo> OracleInfos();

@@ -1,0 +1,151 @@
+// Radiosity on the hierarchy of a refinement (Hanrahan, Salzman & Aupperle 1991): form
+// factors on the stored links, gathering over links, push-pull through the element
+// trees, iterated by Jacobi or Gauss-Seidel; and a dense reference on a uniform mesh.
+// docs/solve.md states every definition used here.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "hrbench/forest.h"
+#include "hrbench/link_buffer.h"
+#include "hrbench/record.h"
+#include "hrbench/refine_options.h"
+#include "hrbench/scene.h"
+
+namespace hrbench {
+
+// How the linear system is iterated (`solve --method`).
+enum class SolveMethod {
+    Jacobi,       // every root patch gathers from the previous sweep's radiosity
+    GaussSeidel,  // root patch by root patch, each gathering the latest radiosity
+};
+
+struct SolveMethodInfo {
+    const char *name;  // "jacobi" or "gauss-seidel"
+    const char *doc;   // one line
+    SolveMethod method;
+};
+
+// Every solver method, the default first: the CLI's choices and capabilities read it.
+const std::vector<SolveMethodInfo> &SolveMethods();
+
+// The method named _name_; throws InputError listing the names.
+SolveMethod ParseSolveMethod(const std::string &name);
+std::string SolveMethodName(SolveMethod method);
+
+// The largest uniform mesh the dense reference solves (a dense n x n matrix).
+constexpr uint64_t kMaxReferenceElements = 8192;
+
+struct SolveOptions {
+    SolveMethod method = SolveMethod::Jacobi;
+    double tolerance = 1e-6;            // stop when the residual is below it; in (0, 1)
+    int maxIterations = 1000;           // sweeps allowed before LimitError; 1 .. 1000000
+    std::optional<double> emission;     // replaces every patch's emission; finite, >= 0
+    std::optional<double> reflectance;  // replaces every patch's reflectance; [0, 1)
+    int referenceDepth = -1;  // >= 0: also solve the uniform mesh of this depth, and compare
+};
+
+// Throws InputError naming the option when _options_ are out of range.
+void ValidateSolveOptions(const SolveOptions &options);
+
+// Each root patch's material after the overrides of _options_, in scene order. Throws
+// InputError when nothing emits.
+std::vector<Material> SolveMaterials(const Scene &scene, const SolveOptions &options);
+
+// The coefficients of one stored link {i, j}: the form factor from i to j and from j to
+// i, each times the pair's visible fraction (1 with --visibility none).
+struct LinkCoefficients {
+    double ij, ji;
+};
+
+// The coefficients of every link, in link order: F_ij = FormFactor(i, j), F_ji by
+// reciprocity A_i F_ij / A_j. Computed on options.threads threads; each value depends
+// on its link only, so the result is the same for every thread count.
+template <typename Shape>
+std::vector<LinkCoefficients>
+ComputeCoefficients(const Patches<Shape> &patches, const Forest<Shape> &forest,
+                    const LinkBuffer &links, const RefineOptions &options);
+
+extern template std::vector<LinkCoefficients> ComputeCoefficients(const Patches<Segment> &,
+                                                                  const Forest<Segment> &,
+                                                                  const LinkBuffer &,
+                                                                  const RefineOptions &);
+extern template std::vector<LinkCoefficients> ComputeCoefficients(const Patches<Polygon> &,
+                                                                  const Forest<Polygon> &,
+                                                                  const LinkBuffer &,
+                                                                  const RefineOptions &);
+
+// One element of a solution: a leaf of the hierarchy, or an element of a uniform mesh.
+struct ElementRadiosity {
+    uint32_t element;   // id in its forest
+    uint32_t root;      // root patch, in scene order
+    int depth;          // roots have depth 0
+    uint64_t position;  // Forest::Position: index among its depth's elements of its tree
+    Vec3 centroid;      // z = 0 in 2D
+    double measure;     // length (2D) or area (3D)
+    double radiosity;   // B
+    double irradiance;  // H, the radiosity gathered from other patches: B = E + rho H
+};
+
+// Wall and CPU (all threads of the process) seconds of one stage.
+struct StageTime {
+    double wall = 0, cpu = 0;
+};
+
+// The dense reference: every root split to one depth, every pair of elements of
+// different root patches linked with its form factor, solved by LU.
+struct UniformSolution {
+    int depth = 0;
+    std::vector<ElementRadiosity> elements;  // by root patch, then position
+    double emittedPower = 0, absorbedPower = 0;
+    StageTime time;
+};
+
+// The hierarchical solution against a reference, both relative to the reference's
+// largest radiosity: the hierarchy's leaves are averaged (area-weighted) onto the
+// reference's elements, exactly, since both trees split by the same rule.
+struct ReferenceComparison {
+    double maxError = 0;   // max over reference elements of |B_h - B_ref| / max B_ref
+    double meanError = 0;  // sum of A |B_h - B_ref| over sum of A B_ref (relative L1)
+};
+
+struct SolveResult {
+    RunRecord record;                      // the refinement: counters and kernel time
+    std::vector<ElementRadiosity> leaves;  // by root patch, then preorder of its tree
+    int iterations = 0;                    // sweeps done
+    double residual = 0;                   // of the last sweep
+    double emittedPower = 0;               // sum over leaves of E A
+    double absorbedPower = 0;              // sum over leaves of (1 - rho) H A
+    StageTime refine, coefficients, solve;
+    std::optional<UniformSolution> reference;  // with SolveOptions::referenceDepth
+    std::optional<ReferenceComparison> comparison;
+};
+
+// Refines _scene_ (storing links), computes the link coefficients and solves for the
+// radiosity of every leaf. Throws InputError for bad input (nothing emits, options out
+// of range), LimitError when the memory budget is reached or the iteration does not
+// converge within SolveOptions::maxIterations.
+SolveResult Solve(const Scene &scene, const RefineOptions &refine, const SolveOptions &options);
+
+// The dense reference of _scene_ at _depth_ (refine supplies threads, visibility, rays,
+// subdivision and the memory budget). InputError above kMaxReferenceElements elements.
+UniformSolution SolveUniform(const Scene &scene, int depth, const RefineOptions &refine,
+                             const SolveOptions &options);
+
+// The JSON of one solve: the run record's fields (RunToJson) and the solution's.
+nlohmann::json SolveToJson(const Scene &scene, const RefineOptions &refine,
+                           const SolveOptions &options, const SolveResult &result);
+
+// A short human table of a solve's JSON.
+void PrintSolveTable(const nlohmann::json &solve, std::ostream &out);
+
+// One CSV row per leaf: element,root,depth,position,x,y[,z],measure,radiosity.
+void WriteSolveCsv(const SolveResult &result, int dimension, std::ostream &out);
+
+}  // namespace hrbench

@@ -1,0 +1,665 @@
+#include "hrbench/solve.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <exception>
+#include <iomanip>
+#include <memory>
+#include <thread>
+
+#include <Eigen/LU>
+#include <nlohmann/json.hpp>
+
+#include "hrbench/culling.h"
+#include "hrbench/form_factor.h"
+#include "hrbench/refine.h"
+#include "hrbench/util/error.h"
+#include "hrbench/util/format.h"
+#include "hrbench/visibility.h"
+
+namespace hrbench {
+
+using nlohmann::json;
+
+namespace {
+
+// A number for a message: 3 significant digits.
+std::string Short(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", value);
+    return text;
+}
+
+double CpuSeconds() {
+    timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+// Wall and process CPU time since construction.
+class Stopwatch {
+  public:
+    StageTime Elapsed() const {
+        return {std::chrono::duration<double>(Clock::now() - wall_).count(), CpuSeconds() - cpu_};
+    }
+
+  private:
+    using Clock = std::chrono::steady_clock;
+    Clock::time_point wall_ = Clock::now();
+    double cpu_ = CpuSeconds();
+};
+
+// Calls body(state, k) for every k in [0, n) on _threads_ threads, in chunks of _chunk_
+// taken in order; each worker makes its own state with make(). Which worker computes k
+// must not matter: the callers' values depend on k only. The error of the smallest
+// failing k surfaces, so that it does not depend on timing either.
+template <typename Make, typename Body>
+void ParallelFor(size_t n, size_t chunk, int threads, Make make, Body body) {
+    size_t chunks = (n + chunk - 1) / chunk;
+    size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(threads), chunks));
+    std::atomic<size_t> next{0};
+    std::atomic<bool> failed{false};
+    std::vector<std::pair<size_t, std::exception_ptr>> errors(workers, {SIZE_MAX, nullptr});
+    auto work = [&](size_t w) {
+        auto state = make();
+        for (size_t c; !failed && (c = next++) < chunks;) {
+            size_t k = c * chunk;
+            try {
+                for (; k < std::min(n, (c + 1) * chunk); ++k)
+                    body(state, k);
+            } catch (...) {
+                errors[w] = {k, std::current_exception()};
+                failed = true;
+            }
+        }
+    };
+    std::vector<std::thread> pool;
+    for (size_t w = 1; w < workers; ++w)
+        pool.emplace_back(work, w);
+    work(0);
+    for (std::thread &t : pool)
+        t.join();
+    auto first = std::min_element(errors.begin(), errors.end(),
+                                  [](const auto &a, const auto &b) { return a.first < b.first; });
+    if (first->second)
+        std::rethrow_exception(first->second);
+}
+
+// The visible fraction of an element pair, as refinement estimates it (1 with
+// --visibility none); one per worker, for the scratch space of the sampling.
+template <typename Shape>
+class PairFraction {
+  public:
+    PairFraction(const Occluders *occluders, const RefineOptions &options) {
+        if (occluders)
+            sampled_.emplace(*occluders, options.raysPerSide, options.visibility);
+    }
+    double operator()(const Forest<Shape> &forest, uint32_t i, uint32_t j) {
+        return sampled_ ? sampled_->Fraction(forest, i, j, tally_) : 1.0;
+    }
+
+  private:
+    std::optional<SampledVisibility<Shape>> sampled_;
+    VisibilityTally tally_;
+};
+
+// The scene's occluders when visibility counts, else none.
+template <typename Shape>
+std::unique_ptr<Occluders> OccludersFor(const Patches<Shape> &patches, const RefineOptions &o) {
+    return o.visibility == VisibilityMode::None ? nullptr : std::make_unique<Occluders>(patches);
+}
+
+Vec3 AsVec3(const Vec2 &v) { return {v.x(), v.y(), 0}; }
+Vec3 AsVec3(const Vec3 &v) { return v; }
+
+// Every element of each tree in preorder (first child first), tree by tree, with the
+// offset of each tree's first element: parents come before their children.
+template <typename Shape>
+void Preorder(const Forest<Shape> &forest, std::vector<uint32_t> &order,
+              std::vector<size_t> &treeStart) {
+    order.clear();
+    treeStart.assign(1, 0);
+    std::vector<uint32_t> stack;
+    for (uint32_t root = 0; root < forest.NumRoots(); ++root) {
+        stack.push_back(root);
+        while (!stack.empty()) {
+            uint32_t e = stack.back();
+            stack.pop_back();
+            order.push_back(e);
+            if (uint32_t first = forest[e].firstChild; first != kNoChildren)
+                for (int c = forest.Arity() - 1; c >= 0; --c)
+                    stack.push_back(first + c);
+        }
+        treeStart.push_back(order.size());
+    }
+}
+
+// The hierarchical system (HSA91) of one refinement and its iteration.
+template <typename Shape>
+class HierarchySolver {
+  public:
+    HierarchySolver(const Forest<Shape> &forest, const LinkBuffer &links,
+                    const std::vector<LinkCoefficients> &coefficients,
+                    const std::vector<Material> &materials)
+        : forest_(forest), n_(forest.Size()) {
+        Preorder(forest, order_, treeStart_);
+        area_.resize(n_), rho_.resize(n_), emission_.resize(n_);
+        for (uint32_t e = 0; e < n_; ++e) {
+            area_[e] = forest[e].Size();
+            rho_[e] = materials[forest[e].root].reflectance;
+            emission_[e] = materials[forest[e].root].emission;
+        }
+        // Each link gathers both ways: half-links grouped by the root of the gathering
+        // element, in link order, so that a root patch gathers in one pass.
+        size_t roots = forest.NumRoots();
+        start_.assign(roots + 1, 0);
+        for (const Link &l : links)
+            ++start_[forest[l.i].root + 1], ++start_[forest[l.j].root + 1];
+        for (size_t r = 0; r < roots; ++r)
+            start_[r + 1] += start_[r];
+        half_.resize(2 * links.size());
+        std::vector<size_t> fill(start_.begin(), start_.end() - 1);
+        for (size_t k = 0; k < links.size(); ++k) {
+            const Link &l = links[k];
+            half_[fill[forest[l.i].root]++] = {l.i, l.j, coefficients[k].ij};
+            half_[fill[forest[l.j].root]++] = {l.j, l.i, coefficients[k].ji};
+        }
+    }
+
+    // Bytes of the solver's arrays for _links_ links and _elements_ elements.
+    static size_t Bytes(size_t links, size_t elements) {
+        return links * (sizeof(LinkCoefficients) + 2 * sizeof(HalfLink)) +
+               elements * (7 * sizeof(double) + sizeof(uint32_t));
+    }
+
+    // Iterates until the residual is below the tolerance; LimitError after
+    // options.maxIterations sweeps, or if the radiosity overflows.
+    void Run(const SolveOptions &options, SolveResult &result) {
+        radiosity_ = emission_;  // the pulled means of E are E: it is uniform per root
+        std::vector<double> next(n_);
+        gathered_.assign(n_, 0), irradiance_.assign(n_, 0);
+        bool jacobi = options.method == SolveMethod::Jacobi;
+        for (int k = 1;; ++k) {
+            double change = 0, largest = 0;
+            std::vector<double> &out = jacobi ? next : radiosity_;
+            for (size_t r = 0; r < forest_.NumRoots(); ++r) {
+                Gather(r);
+                if (!jacobi)
+                    PushPull(r, out, change, largest);
+            }
+            if (jacobi) {
+                for (size_t r = 0; r < forest_.NumRoots(); ++r)
+                    PushPull(r, out, change, largest);
+                radiosity_.swap(next);
+            }
+            result.iterations = k;
+            result.residual = largest > 0 ? change / largest : 0;
+            if (!std::isfinite(result.residual))
+                throw LimitError("solve diverged after " + std::to_string(k) +
+                                 " iterations (residual " + Short(result.residual) + ")");
+            if (result.residual < options.tolerance)
+                break;
+            if (k >= options.maxIterations)
+                throw LimitError("solve did not converge in " + std::to_string(k) +
+                                 " iterations (residual " + Short(result.residual) +
+                                 "); raise --max-iterations or --tolerance");
+        }
+        Collect(result);
+    }
+
+  private:
+    struct HalfLink {
+        uint32_t to, from;  // the gathering element and the one it gathers from
+        double coefficient;
+    };
+
+    // Gathering for root patch _r_: each element sums F B over its half-links.
+    void Gather(size_t r) {
+        for (size_t k = treeStart_[r]; k < treeStart_[r + 1]; ++k)
+            gathered_[order_[k]] = 0;
+        for (size_t h = start_[r]; h < start_[r + 1]; ++h)
+            gathered_[half_[h].to] += half_[h].coefficient * radiosity_[half_[h].from];
+    }
+
+    // Push-pull for root patch _r_ into _out_: each element's irradiance is the sum of
+    // what it and its ancestors gathered; a leaf's radiosity is E + rho H; an inner
+    // element's the area-weighted mean of its children's. Tracks the largest change of
+    // a leaf's radiosity and the largest leaf radiosity.
+    void PushPull(size_t r, std::vector<double> &out, double &change, double &largest) {
+        for (size_t k = treeStart_[r]; k < treeStart_[r + 1]; ++k) {
+            uint32_t e = order_[k];
+            uint32_t parent = forest_.Parent(e);
+            irradiance_[e] = gathered_[e] + (parent == e ? 0 : irradiance_[parent]);
+        }
+        for (size_t k = treeStart_[r + 1]; k-- > treeStart_[r];) {
+            uint32_t e = order_[k];
+            uint32_t first = forest_[e].firstChild;
+            double b;
+            if (first == kNoChildren) {
+                b = emission_[e] + rho_[e] * irradiance_[e];
+                change = std::max(change, std::abs(b - radiosity_[e]));
+                largest = std::max(largest, std::abs(b));
+            } else {
+                double power = 0, area = 0;
+                for (int c = 0; c < forest_.Arity(); ++c) {
+                    power += area_[first + c] * out[first + c];
+                    area += area_[first + c];
+                }
+                b = power / area;
+            }
+            out[e] = b;
+        }
+    }
+
+    // The leaves, tree by tree in preorder, and the powers.
+    void Collect(SolveResult &result) const {
+        for (uint32_t e : order_) {
+            if (forest_[e].firstChild != kNoChildren)
+                continue;
+            result.leaves.push_back({e, forest_[e].root, forest_.Depth(e), forest_.Position(e),
+                                     AsVec3(forest_[e].center), area_[e], radiosity_[e],
+                                     irradiance_[e]});
+            result.emittedPower += emission_[e] * area_[e];
+            result.absorbedPower += (1 - rho_[e]) * irradiance_[e] * area_[e];
+        }
+    }
+
+    const Forest<Shape> &forest_;
+    size_t n_;
+    std::vector<uint32_t> order_;
+    std::vector<size_t> treeStart_;
+    std::vector<double> area_, rho_, emission_;
+    std::vector<size_t> start_;
+    std::vector<HalfLink> half_;
+    std::vector<double> radiosity_, gathered_, irradiance_;
+};
+
+// Elements of the uniform mesh of depth _depth_, or UINT64_MAX when there are too many.
+uint64_t UniformElements(const Scene &scene, int depth, Subdivision subdivision) {
+    uint64_t perRoot = 1;
+    for (int d = 0; d < depth && perRoot <= kMaxReferenceElements; ++d)
+        perRoot *= uint64_t(scene.Dimension() == 2 ? 2 : SubdivisionArity(subdivision));
+    uint64_t total = perRoot * scene.NumPatches();
+    return perRoot > kMaxReferenceElements || total > kMaxReferenceElements ? UINT64_MAX : total;
+}
+
+void CheckReferenceSize(const Scene &scene, int depth, const RefineOptions &refine) {
+    if (depth < 0 || depth > kSafetyDepth)
+        throw InputError("--reference must be between 0 and " + std::to_string(kSafetyDepth));
+    if (UniformElements(scene, depth, refine.subdivision) == UINT64_MAX)
+        throw InputError("--reference " + std::to_string(depth) + " gives more than " +
+                         std::to_string(kMaxReferenceElements) +
+                         " elements, the most the dense reference solves; lower it");
+    uint64_t n = UniformElements(scene, depth, refine.subdivision);
+    if (2 * n * n * sizeof(double) > EffectiveBudget(refine))
+        throw LimitError("--reference " + std::to_string(depth) +
+                         ": the dense matrices would exceed the memory budget; raise "
+                         "--max-memory or lower the depth");
+}
+
+template <typename Shape>
+UniformSolution SolveUniformOf(const Patches<Shape> &patches, int depth,
+                               const RefineOptions &refine,
+                               const std::vector<Material> &materials) {
+    Stopwatch watch;
+    Forest<Shape> forest(patches, SIZE_MAX, refine.subdivision);
+    // Split level by level, children in order: the last level is in position order.
+    std::vector<uint32_t> elements;
+    for (uint32_t root = 0; root < patches.size(); ++root) {
+        std::vector<uint32_t> level{root};
+        for (int d = 0; d < depth; ++d) {
+            std::vector<uint32_t> deeper;
+            for (uint32_t e : level) {
+                uint32_t first = forest.Children(e);
+                for (int c = 0; c < forest.Arity(); ++c)
+                    deeper.push_back(first + c);
+            }
+            level.swap(deeper);
+        }
+        elements.insert(elements.end(), level.begin(), level.end());
+    }
+    const size_t n = elements.size();
+    std::vector<PairRelation> relation(patches.size() * patches.size());
+    for (size_t p = 0; p < patches.size(); ++p)
+        for (size_t q = p + 1; q < patches.size(); ++q)
+            relation[p * patches.size() + q] = ClassifyPair(patches[p].shape, patches[q].shape);
+
+    // Form factors of every pair of elements of different, not culled, root patches.
+    Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n, n);
+    std::unique_ptr<Occluders> occluders = OccludersFor(patches, refine);
+    ParallelFor(
+        n, 4, refine.threads, [&] { return PairFraction<Shape>(occluders.get(), refine); },
+        [&](PairFraction<Shape> &fraction, size_t a) {
+            uint32_t e = elements[a];
+            for (size_t b = a + 1; b < n; ++b) {
+                uint32_t f = elements[b];
+                uint32_t p = forest[e].root, q = forest[f].root;
+                if (p == q || relation[p * patches.size() + q] == PairRelation::Culled)
+                    continue;
+                double visible = fraction(forest, e, f);
+                if (visible == 0)
+                    continue;
+                double ef = FormFactor(forest.ShapeOf(e), forest.ShapeOf(f)) * visible;
+                F(a, b) = ef;
+                F(b, a) = forest[e].Size() * ef / forest[f].Size();
+            }
+        });
+
+    // (I - diag(rho) F) B = E, by LU with partial pivoting, in place.
+    Eigen::VectorXd rho(n), E(n);
+    for (size_t a = 0; a < n; ++a) {
+        rho(a) = materials[forest[elements[a]].root].reflectance;
+        E(a) = materials[forest[elements[a]].root].emission;
+    }
+    Eigen::MatrixXd M = -(rho.asDiagonal() * F);
+    M.diagonal().array() += 1;
+    Eigen::PartialPivLU<Eigen::Ref<Eigen::MatrixXd>> lu(M);
+    Eigen::VectorXd B = lu.solve(E);
+    Eigen::VectorXd H = F * B;
+
+    UniformSolution solution;
+    solution.depth = depth;
+    for (size_t a = 0; a < n; ++a) {
+        uint32_t e = elements[a];
+        double area = forest[e].Size();
+        solution.elements.push_back({e, forest[e].root, forest.Depth(e), forest.Position(e),
+                                     AsVec3(forest[e].center), area, B(a), H(a)});
+        solution.emittedPower += E(a) * area;
+        solution.absorbedPower += (1 - rho(a)) * H(a) * area;
+    }
+    solution.time = watch.Elapsed();
+    return solution;
+}
+
+// The hierarchy's leaves averaged onto the reference's elements, and the errors.
+template <typename Shape>
+ReferenceComparison Compare(const Forest<Shape> &forest, const SolveResult &result,
+                            const UniformSolution &reference) {
+    const auto &ref = reference.elements;
+    size_t perRoot = ref.size() / forest.NumRoots();
+    std::vector<double> power(ref.size(), 0), area(ref.size(), 0);
+    for (const ElementRadiosity &leaf : result.leaves) {
+        size_t base = leaf.root * perRoot;
+        if (leaf.depth >= reference.depth) {
+            uint32_t a = leaf.element;
+            while (forest.Depth(a) > reference.depth)
+                a = forest.Parent(a);
+            power[base + forest.Position(a)] += leaf.measure * leaf.radiosity;
+            area[base + forest.Position(a)] += leaf.measure;
+        } else {
+            // The leaf covers a whole block of reference elements.
+            uint64_t span = perRoot;
+            for (int d = 0; d < leaf.depth; ++d)
+                span /= uint64_t(forest.Arity());
+            for (uint64_t k = leaf.position * span; k < (leaf.position + 1) * span; ++k)
+                power[base + k] = leaf.radiosity, area[base + k] = 1;
+        }
+    }
+    double largest = 0, sumError = 0, sumPower = 0, maxError = 0;
+    for (const ElementRadiosity &e : ref)
+        largest = std::max(largest, std::abs(e.radiosity));
+    for (size_t k = 0; k < ref.size(); ++k) {
+        double error = std::abs(power[k] / area[k] - ref[k].radiosity);
+        maxError = std::max(maxError, error);
+        sumError += ref[k].measure * error;
+        sumPower += ref[k].measure * std::abs(ref[k].radiosity);
+    }
+    return {largest > 0 ? maxError / largest : 0, sumPower > 0 ? sumError / sumPower : 0};
+}
+
+template <typename Shape>
+void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOptions &options,
+                const std::vector<Material> &materials, SolveResult &result) {
+    const Patches<Shape> &patches = scene.Get<Shape>();
+    RefineOptions storing = refine;
+    storing.storeLinks = true;
+    Stopwatch refineWatch;
+    Refinement<Shape> refinement = Refine<Shape>(scene, storing);
+    result.refine = refineWatch.Elapsed();
+    result.record = refinement.record;
+
+    // The solver's arrays within what the budget leaves after the refinement.
+    size_t links = refinement.links.size(), elements = refinement.forest.Size();
+    size_t used = refine.memoryBudget > 0
+                      ? links * sizeof(Link) + elements * Forest<Shape>::kBytesPerElement
+                      : 0;
+    size_t budget = EffectiveBudget(refine);
+    if (HierarchySolver<Shape>::Bytes(links, elements) > budget - std::min(budget, used))
+        throw LimitError("solving " + std::to_string(links) + " links and " +
+                         std::to_string(elements) +
+                         " elements would exceed the memory budget; raise --max-memory or eps");
+
+    Stopwatch coefficientWatch;
+    std::vector<LinkCoefficients> coefficients =
+        ComputeCoefficients(patches, refinement.forest, refinement.links, refine);
+    result.coefficients = coefficientWatch.Elapsed();
+
+    Stopwatch solveWatch;
+    {
+        HierarchySolver<Shape> solver(refinement.forest, refinement.links, coefficients, materials);
+        solver.Run(options, result);
+    }
+    result.solve = solveWatch.Elapsed();
+
+    if (options.referenceDepth >= 0) {
+        result.reference = SolveUniformOf(patches, options.referenceDepth, refine, materials);
+        result.comparison = Compare(refinement.forest, result, *result.reference);
+    }
+}
+
+}  // namespace
+
+const std::vector<SolveMethodInfo> &SolveMethods() {
+    static const std::vector<SolveMethodInfo> methods = {
+        {"jacobi", "every sweep gathers from the previous sweep's radiosity", SolveMethod::Jacobi},
+        {"gauss-seidel", "root patch by root patch, each gathering the latest radiosity",
+         SolveMethod::GaussSeidel},
+    };
+    return methods;
+}
+
+SolveMethod ParseSolveMethod(const std::string &name) {
+    std::string names;
+    for (const SolveMethodInfo &m : SolveMethods()) {
+        if (m.name == name)
+            return m.method;
+        names += (names.empty() ? "" : ", ") + std::string(m.name);
+    }
+    throw InputError("unknown solve method '" + name + "' (choose one of: " + names + ")");
+}
+
+std::string SolveMethodName(SolveMethod method) {
+    for (const SolveMethodInfo &m : SolveMethods())
+        if (m.method == method)
+            return m.name;
+    return "unknown";
+}
+
+void ValidateSolveOptions(const SolveOptions &o) {
+    if (!(o.tolerance > 0 && o.tolerance < 1))
+        throw InputError("--tolerance must be a number in (0, 1), not " +
+                         FormatDouble(o.tolerance));
+    if (o.maxIterations < 1 || o.maxIterations > 1000000)
+        throw InputError("--max-iterations must be between 1 and 1000000");
+    if (o.emission && !(*o.emission >= 0 && std::isfinite(*o.emission)))
+        throw InputError("--emission must be a finite number >= 0, not " +
+                         FormatDouble(*o.emission));
+    if (o.reflectance && !(*o.reflectance >= 0 && *o.reflectance < 1))
+        throw InputError("--reflectance must be a number in [0, 1), not " +
+                         FormatDouble(*o.reflectance));
+}
+
+std::vector<Material> SolveMaterials(const Scene &scene, const SolveOptions &options) {
+    std::vector<Material> materials = std::visit(
+        [](const auto &patches) {
+            std::vector<Material> m;
+            for (const auto &patch : patches)
+                m.push_back(patch.material);
+            return m;
+        },
+        scene.patches);
+    bool emits = false;
+    for (Material &m : materials) {
+        m.emission = options.emission.value_or(m.emission);
+        m.reflectance = options.reflectance.value_or(m.reflectance);
+        emits |= m.emission > 0;
+    }
+    if (!emits)
+        throw InputError("nothing emits: give --emission or a scene with an emitter");
+    return materials;
+}
+
+template <typename Shape>
+std::vector<LinkCoefficients>
+ComputeCoefficients(const Patches<Shape> &patches, const Forest<Shape> &forest,
+                    const LinkBuffer &links, const RefineOptions &options) {
+    std::vector<LinkCoefficients> coefficients(links.size());
+    std::unique_ptr<Occluders> occluders = OccludersFor(patches, options);
+    ParallelFor(
+        links.size(), 256, options.threads,
+        [&] { return PairFraction<Shape>(occluders.get(), options); },
+        [&](PairFraction<Shape> &fraction, size_t k) {
+            uint32_t i = links[k].i, j = links[k].j;
+            double ij = FormFactor(forest.ShapeOf(i), forest.ShapeOf(j)) * fraction(forest, i, j);
+            coefficients[k] = {ij, forest[i].Size() * ij / forest[j].Size()};
+        });
+    return coefficients;
+}
+
+template std::vector<LinkCoefficients> ComputeCoefficients(const Patches<Segment> &,
+                                                           const Forest<Segment> &,
+                                                           const LinkBuffer &,
+                                                           const RefineOptions &);
+template std::vector<LinkCoefficients> ComputeCoefficients(const Patches<Polygon> &,
+                                                           const Forest<Polygon> &,
+                                                           const LinkBuffer &,
+                                                           const RefineOptions &);
+
+SolveResult Solve(const Scene &scene, const RefineOptions &refine, const SolveOptions &options) {
+    ValidateSolveOptions(options);
+    ValidateScene(scene);
+    ValidateOptions(refine, scene.Dimension());
+    std::vector<Material> materials = SolveMaterials(scene, options);
+    if (options.referenceDepth >= 0)
+        CheckReferenceSize(scene, options.referenceDepth, refine);
+    SolveResult result;
+    std::visit(
+        [&](const auto &patches) {
+            using Shape = std::decay_t<decltype(patches.front().shape)>;
+            SolveShape<Shape>(scene, refine, options, materials, result);
+        },
+        scene.patches);
+    return result;
+}
+
+UniformSolution SolveUniform(const Scene &scene, int depth, const RefineOptions &refine,
+                             const SolveOptions &options) {
+    ValidateSolveOptions(options);
+    ValidateScene(scene);
+    if (refine.threads < 1 || refine.threads > 256)
+        throw InputError("--threads must be between 1 and 256");
+    if (scene.Dimension() == 2 && refine.subdivision != Subdivision::Binary)
+        throw InputError("--subdivision quadtree applies to 3D scenes only (segments are halved)");
+    std::vector<Material> materials = SolveMaterials(scene, options);
+    CheckReferenceSize(scene, depth, refine);
+    return std::visit(
+        [&](const auto &patches) { return SolveUniformOf(patches, depth, refine, materials); },
+        scene.patches);
+}
+
+// ---------------------------------------------------------------------------------------
+// Output
+
+json SolveToJson(const Scene &scene, const RefineOptions &refine, const SolveOptions &options,
+                 const SolveResult &result) {
+    json out = RunToJson(scene, refine, result.record);
+    auto optional = [](const std::optional<double> &v) { return v ? json(*v) : json(nullptr); };
+    out["solver"] = SolveMethodName(options.method);
+    out["tolerance"] = options.tolerance;
+    out["max_iterations"] = options.maxIterations;
+    out["emission"] = optional(options.emission);
+    out["reflectance"] = optional(options.reflectance);
+    out["iterations"] = result.iterations;
+    out["residual"] = result.residual;
+    out["emitted_power"] = result.emittedPower;
+    out["absorbed_power"] = result.absorbedPower;
+    json radiosity = json::array();
+    for (const ElementRadiosity &leaf : result.leaves)
+        radiosity.push_back(leaf.radiosity);
+    out["radiosity"] = std::move(radiosity);
+    auto times = [&](const std::string &stage, const StageTime &t) {
+        out["seconds_" + stage] = t.wall;
+        out["cpu_seconds_" + stage] = t.cpu;
+    };
+    times("refine", result.refine);
+    times("coefficients", result.coefficients);
+    times("solve", result.solve);
+    if (result.reference) {
+        const UniformSolution &ref = *result.reference;
+        json values = json::array();
+        for (const ElementRadiosity &e : ref.elements)
+            values.push_back(e.radiosity);
+        out["reference_depth"] = ref.depth;
+        out["reference_radiosity"] = std::move(values);
+        out["reference_emitted_power"] = ref.emittedPower;
+        out["reference_absorbed_power"] = ref.absorbedPower;
+        out["reference_error_max"] = result.comparison->maxError;
+        out["reference_error_mean"] = result.comparison->meanError;
+        times("reference", ref.time);
+    }
+    return out;
+}
+
+void PrintSolveTable(const json &solve, std::ostream &out) {
+    double low = INFINITY, high = -INFINITY;
+    for (const json &b : solve["radiosity"]) {
+        low = std::min(low, b.get<double>());
+        high = std::max(high, b.get<double>());
+    }
+    out << "scene     " << solve["scene"].get<std::string>();
+    for (const auto &[key, value] : solve["params"].items())
+        out << " " << key << "=" << FormatDouble(value.get<double>());
+    out << "\noracle    " << solve["oracle"].get<std::string>() << "  eps "
+        << FormatDouble(solve["eps"].get<double>()) << "\nsolver    "
+        << solve["solver"].get<std::string>() << "  tolerance "
+        << FormatDouble(solve["tolerance"].get<double>()) << "\n\n";
+    auto row = [&](const std::string &name, const std::string &value) {
+        out << std::left << std::setw(22) << name << std::right << std::setw(12) << value << "\n";
+    };
+    for (const char *counter : {"leaves", "links", "iterations"})
+        row(counter, solve[counter].dump());
+    for (const char *value : {"residual", "emitted_power", "absorbed_power"})
+        row(value, Short(solve[value].get<double>()));
+    row("radiosity_min", Short(low));
+    row("radiosity_max", Short(high));
+    for (const char *stage : {"refine", "coefficients", "solve", "reference"}) {
+        std::string key = std::string("seconds_") + stage;
+        if (solve.contains(key))
+            row(key, Short(solve[key].get<double>()) + " (cpu " +
+                         Short(solve["cpu_" + key].get<double>()) + ")");
+    }
+    if (solve.contains("reference_depth")) {
+        row("reference_depth", solve["reference_depth"].dump());
+        row("reference_elements", std::to_string(solve["reference_radiosity"].size()));
+        row("reference_error_max", Short(solve["reference_error_max"].get<double>()));
+        row("reference_error_mean", Short(solve["reference_error_mean"].get<double>()));
+    }
+}
+
+void WriteSolveCsv(const SolveResult &result, int dimension, std::ostream &out) {
+    out << (dimension == 2 ? "element,root,depth,position,x,y,measure,radiosity,irradiance\n"
+                           : "element,root,depth,position,x,y,z,measure,radiosity,irradiance\n");
+    for (const ElementRadiosity &leaf : result.leaves) {
+        out << leaf.element << ',' << leaf.root << ',' << leaf.depth << ',' << leaf.position;
+        for (int d = 0; d < dimension; ++d)
+            out << ',' << FormatDouble(leaf.centroid[d]);
+        out << ',' << FormatDouble(leaf.measure) << ',' << FormatDouble(leaf.radiosity) << ','
+            << FormatDouble(leaf.irradiance) << '\n';
+    }
+}
+
+}  // namespace hrbench

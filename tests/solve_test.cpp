@@ -1,0 +1,466 @@
+// The radiosity solve on the hierarchy: closed forms for two and three patches, closed
+// rooms and boxes, energy balance, form-factor row sums, the dense uniform reference,
+// determinism across threads, and the solve command with its bad input.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+
+#include "cli_helpers.h"
+#include "hrbench/generators/generators.h"
+#include "hrbench/hrbench.h"
+
+using namespace hrbench;
+using namespace hrbench_test;
+using nlohmann::json;
+
+namespace {
+
+RefineOptions Refining(double eps, double minArea = 0, const std::string &oracle = "garmann") {
+    RefineOptions o;
+    o.eps = eps;
+    o.minArea = minArea;
+    o.oracle = oracle;
+    o.storeLinks = true;
+    return o;
+}
+
+SolveOptions Solving(double tolerance, SolveMethod method = SolveMethod::Jacobi) {
+    SolveOptions o;
+    o.tolerance = tolerance;
+    o.method = method;
+    return o;
+}
+
+// Hottel's crossed strings for two segments each wholly in front of the other: the four
+// end points form a convex quadrilateral, whose diagonals (the crossed strings) are
+// longer together than either pair of opposite sides (the uncrossed ones).
+double CrossedStrings(const Segment &from, const Segment &to) {
+    double one = (from.a - to.a).norm() + (from.b - to.b).norm();
+    double other = (from.a - to.b).norm() + (from.b - to.a).norm();
+    return (std::max(one, other) - std::min(one, other)) / (2 * from.Length());
+}
+
+Scene SegmentScene(const Patches<Segment> &patches) { return {"file", {}, "", patches}; }
+
+// The closed unit cube, six quads facing inward, counter-clockwise seen from inside.
+Scene ClosedBox(double emission, double reflectance) {
+    auto quad = [&](Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+        return Patch<Polygon>{Polygon::Quad(a, b, c, d), {reflectance, emission}};
+    };
+    Patches<Polygon> faces = {
+        quad({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}),  // z = 0, normal +z
+        quad({0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}),  // z = 1, normal -z
+        quad({0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}),  // x = 0, normal +x
+        quad({1, 0, 0}, {1, 0, 1}, {1, 1, 1}, {1, 1, 0}),  // x = 1, normal -x
+        quad({0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}),  // y = 0, normal +y
+        quad({0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}),  // y = 1, normal -y
+    };
+    return {"file", {}, "", faces};
+}
+
+// The room family with every wall emitting 1 and reflecting half.
+Scene UniformRoom() {
+    Scene room = MakeScene("room", {{"w", 2}, {"h", 1}});
+    for (auto &patch : room.Get<Segment>())
+        patch.material = {0.5, 1};
+    return room;
+}
+
+double MaxDeviation(const SolveResult &r, double value) {
+    double worst = 0;
+    for (const ElementRadiosity &leaf : r.leaves)
+        worst = std::max(worst, std::abs(leaf.radiosity - value));
+    return worst;
+}
+
+double RelativeImbalance(const SolveResult &r) {
+    return std::abs(r.absorbedPower - r.emittedPower) / r.emittedPower;
+}
+
+std::vector<double> Radiosities(const SolveResult &r) {
+    std::vector<double> b;
+    for (const ElementRadiosity &leaf : r.leaves)
+        b.push_back(leaf.radiosity);
+    return b;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// Closed forms
+
+TEST_CASE("Two facing plates, one link: the 2x2 system in closed form", "[solve]") {
+    // P (0,0)->(1,0) and Q (1,1)->(0,1): garmann with eps 1 links the roots at once.
+    Scene scene = SegmentScene({{{{0, 0}, {1, 0}}, {0.3, 1}}, {{{1, 1}, {0, 1}}, {0.6, 0}}});
+    SolveResult r = Solve(scene, Refining(1), Solving(1e-13));
+    REQUIRE(r.record.counters.links == 1);
+    REQUIRE(r.leaves.size() == 2);
+    // Crossed strings: diagonals 2 sqrt(2), sides 2, so F = sqrt(2) - 1 both ways.
+    double F = std::sqrt(2.0) - 1;
+    double bP = 1 / (1 - 0.3 * 0.6 * F * F), bQ = 0.6 * F * bP;
+    CHECK(r.leaves[0].radiosity == Approx(bP).epsilon(1e-11));
+    CHECK(r.leaves[1].radiosity == Approx(bQ).epsilon(1e-11));
+    CHECK(r.leaves[0].irradiance == Approx(F * bQ).epsilon(1e-11));
+    CHECK(r.emittedPower == 1);
+    CHECK(r.absorbedPower == Approx(0.7 * F * bQ + 0.4 * F * bP).epsilon(1e-11));
+    CHECK(r.iterations > 1);
+    CHECK(r.residual < 1e-13);
+}
+
+TEST_CASE("Three patches, one link each: the 3x3 system", "[solve]") {
+    // P on the floor, Q above it, R a wall on the left facing +x; eps 10 links every
+    // root pair at once.
+    Patches<Segment> patches = {{{{0, 0}, {1, 0}}, {0.5, 1}},
+                                {{{1, 2}, {0, 2}}, {0.7, 0.5}},
+                                {{{-1, 1.8}, {-1, 0.2}}, {0.9, 0}}};
+    Scene scene = SegmentScene(patches);
+    for (SolveMethod method : {SolveMethod::Jacobi, SolveMethod::GaussSeidel}) {
+        INFO(SolveMethodName(method));
+        SolveResult r = Solve(scene, Refining(10), Solving(1e-13, method));
+        REQUIRE(r.record.counters.links == 3);
+        REQUIRE(r.leaves.size() == 3);
+        Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+        Eigen::Vector3d E;
+        for (int i = 0; i < 3; ++i) {
+            E(i) = patches[i].material.emission;
+            for (int j = 0; j < 3; ++j)
+                if (i != j)
+                    M(i, j) = -patches[i].material.reflectance *
+                              CrossedStrings(patches[i].shape, patches[j].shape);
+        }
+        Eigen::Vector3d B = M.partialPivLu().solve(E);
+        for (int i = 0; i < 3; ++i)
+            CHECK(r.leaves[i].radiosity == Approx(B(i)).epsilon(1e-11));
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Closed scenes
+
+TEST_CASE("A closed 2D room of uniform emission 1 and reflectance 0.5 has B = 2", "[solve]") {
+    // Where the hierarchy resolves every pair down to the recursion limit (every link
+    // joins two leaves), each leaf's form factors sum to 1 exactly, and B = E / (1 - rho)
+    // = 2 up to the iteration's error, at most rho / (1 - rho) * tolerance * max B = 2e-10,
+    // and the form factors' rounding (crossed strings lose about 1e-11 relative between
+    // elements of length 1/128 at distance 2).
+    Scene room = UniformRoom();
+    const double tolerance = 1e-10, bound = 1e-9;
+    struct Case {
+        std::string oracle;
+        double eps;
+        SolveMethod method;
+    };
+    for (const Case &c : {Case{"garmann", 0.002, SolveMethod::Jacobi},
+                          Case{"garmann", 0.002, SolveMethod::GaussSeidel},
+                          Case{"hanrahan", 1e-7, SolveMethod::Jacobi},
+                          Case{"hanrahan", 1e-7, SolveMethod::GaussSeidel}}) {
+        INFO(c.oracle << " " << SolveMethodName(c.method));
+        SolveResult r = Solve(room, Refining(c.eps, 0.01, c.oracle), Solving(tolerance, c.method));
+        REQUIRE(r.leaves.size() == 768);  // 6 / 2^-7: every leaf shorter than 0.01
+        CHECK(r.record.counters.links == (768 * 768 - 2 * 256 * 256 - 2 * 128 * 128) / 2);
+        CHECK(MaxDeviation(r, 2) <= bound);
+        CHECK(RelativeImbalance(r) <= 1e-9);
+    }
+    // Gauss-Seidel converges in fewer sweeps than Jacobi, to the same answer.
+    SolveResult jacobi = Solve(room, Refining(0.05, 0.01), Solving(1e-10));
+    SolveResult gauss = Solve(room, Refining(0.05, 0.01), Solving(1e-10, SolveMethod::GaussSeidel));
+    CHECK(gauss.iterations < jacobi.iterations);
+    for (size_t k = 0; k < jacobi.leaves.size(); ++k)
+        CHECK(gauss.leaves[k].radiosity == Approx(jacobi.leaves[k].radiosity).epsilon(1e-8));
+}
+
+TEST_CASE("A coarser hierarchy approaches B = 2 in the closed room as eps falls", "[solve]") {
+    // HSA91's approximation: a leaf gathers through its ancestors' links, whose form
+    // factors are averages over the ancestor, so a leaf's row sum is 1 only on average.
+    // Its error falls with eps, and the energy balance with it (second order).
+    Scene room = UniformRoom();
+    double last = INFINITY, lastImbalance = INFINITY;
+    for (double eps : {0.2, 0.05, 0.01}) {
+        INFO("eps " << eps);
+        SolveResult r = Solve(room, Refining(eps, 0.01), Solving(1e-12));
+        double deviation = MaxDeviation(r, 2), imbalance = RelativeImbalance(r);
+        CHECK(deviation < last);
+        CHECK(imbalance < lastImbalance);
+        last = deviation, lastImbalance = imbalance;
+    }
+    CHECK(last < 1e-3);           // measured 5.8e-4
+    CHECK(lastImbalance < 1e-6);  // measured 1.3e-7
+    // The hanrahan oracle accepts grazing pairs earlier: larger errors at one eps, falling too.
+    SolveResult coarse = Solve(room, Refining(0.002, 0.01, "hanrahan"), Solving(1e-12));
+    SolveResult fine = Solve(room, Refining(0.0005, 0.01, "hanrahan"), Solving(1e-12));
+    CHECK(MaxDeviation(fine, 2) < MaxDeviation(coarse, 2));
+    CHECK(MaxDeviation(fine, 2) < 0.02);  // measured 1.1e-2
+}
+
+TEST_CASE("The closed 3D box has B = E / (1 - rho)", "[solve][3d]") {
+    // Elements of area 1/32 (--min-area 0.05) linked pairwise: every row sum is 1 up to
+    // the form factors' accuracy (docs/solve.md: better than 2e-8 for shared edges).
+    Scene box = ClosedBox(1, 0.5);
+    SolveResult r = Solve(box, Refining(0.001, 0.05), Solving(1e-10));
+    REQUIRE(r.leaves.size() == 6 * 32);
+    CHECK(r.record.counters.links == (192 * 192 - 6 * 32 * 32) / 2);
+    CHECK(MaxDeviation(r, 2) <= 1e-6);    // measured 2.3e-10
+    CHECK(RelativeImbalance(r) <= 1e-6);  // measured 1.3e-10
+    // Another emission and reflectance: B = 0.5 / (1 - 0.8) = 2.5.
+    SolveResult bright = Solve(ClosedBox(0.5, 0.8), Refining(0.001, 0.05), Solving(1e-10));
+    CHECK(MaxDeviation(bright, 2.5) <= 1e-6);  // measured 1.3e-9
+}
+
+TEST_CASE("Energy balances in a closed room with one emitting wall", "[solve]") {
+    // Emitted sum E A against absorbed sum (1 - rho) H A, with rho differing by wall.
+    Scene room = MakeScene("room", {{"w", 2}, {"h", 1}});
+    auto &walls = room.Get<Segment>();
+    walls[0].material = {0.2, 1};
+    walls[1].material = {0.5, 0};
+    walls[2].material = {0.8, 0};
+    walls[3].material = {0.5, 0};
+    SolveResult r = Solve(room, Refining(0.002, 0.01), Solving(1e-12));
+    CHECK(r.emittedPower == 2);
+    CHECK(RelativeImbalance(r) <= 1e-9);  // every link joins two leaves; measured 8e-13
+    SolveResult coarse = Solve(room, Refining(0.01, 0.01), Solving(1e-12));
+    CHECK(RelativeImbalance(coarse) <= 1e-6);  // measured 2.2e-7
+}
+
+TEST_CASE("Form-factor row sums in the closed room", "[solve]") {
+    // A leaf's row sum: the coefficients of the links of the leaf and of its ancestors.
+    // Its area-weighted mean over a wall is exactly 1 (the links of each root pair tile
+    // it); each leaf's is 1 to within the hierarchy's error.
+    Scene room = MakeScene("room", {{"w", 2}, {"h", 1}});
+    for (double eps : {0.05, 0.002}) {
+        INFO("eps " << eps);
+        Refinement<Segment> r = Refine<Segment>(room, Refining(eps, 0.01));
+        std::vector<LinkCoefficients> c =
+            ComputeCoefficients(room.Get<Segment>(), r.forest, r.links, Refining(eps, 0.01));
+        std::vector<double> own(r.forest.Size(), 0);
+        for (size_t k = 0; k < r.links.size(); ++k) {
+            own[r.links[k].i] += c[k].ij;
+            own[r.links[k].j] += c[k].ji;
+        }
+        std::vector<double> mean(4, 0), length(4, 0);
+        double worst = 0;
+        for (uint32_t e = 0; e < r.forest.Size(); ++e) {
+            if (r.forest[e].firstChild != kNoChildren)
+                continue;
+            double sum = 0;
+            for (uint32_t a = e;; a = r.forest.Parent(a)) {
+                sum += own[a];
+                if (r.forest.Parent(a) == a)
+                    break;
+            }
+            worst = std::max(worst, std::abs(sum - 1));
+            mean[r.forest[e].root] += r.forest[e].Size() * sum;
+            length[r.forest[e].root] += r.forest[e].Size();
+        }
+        for (int wall = 0; wall < 4; ++wall)
+            CHECK(mean[wall] / length[wall] == Approx(1).epsilon(1e-12));
+        CHECK(worst <= (eps == 0.002 ? 1e-10 : 0.05));  // measured 1e-12 and 1.7e-2
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// The dense reference
+
+TEST_CASE("The hierarchy converges to the dense uniform reference on parallel plates", "[solve]") {
+    Scene plates = MakeScene("parallel", {{"l", 2}, {"d", 1}});
+    plates.Get<Segment>()[0].material = {0.5, 1};
+    plates.Get<Segment>()[1].material = {0.8, 0};
+    SolveOptions options = Solving(1e-10);
+    options.referenceDepth = 9;
+    double last = INFINITY;
+    for (double eps : {0.5, 0.1, 0.02}) {
+        INFO("eps " << eps);
+        SolveResult r = Solve(plates, Refining(eps), options);
+        REQUIRE(r.reference);
+        CHECK(r.reference->elements.size() == 1024);
+        CHECK(r.comparison->meanError < last);
+        last = r.comparison->meanError;
+        CHECK(r.comparison->maxError >= r.comparison->meanError);
+    }
+    CHECK(last < 2e-3);
+    // SolveUniform alone gives the same reference, in position order.
+    UniformSolution ref = SolveUniform(plates, 9, Refining(1), Solving(1e-6));
+    REQUIRE(ref.elements.size() == 1024);
+    for (size_t k = 0; k < ref.elements.size(); ++k) {
+        CHECK(ref.elements[k].root == k / 512);
+        CHECK(ref.elements[k].position == k % 512);
+        CHECK(ref.elements[k].depth == 9);
+    }
+    // The reference of a uniform closed room: B = 2 to rounding, energy balanced.
+    UniformSolution room = SolveUniform(UniformRoom(), 6, Refining(1), Solving(1e-6));
+    for (const ElementRadiosity &e : room.elements)
+        CHECK(e.radiosity == Approx(2).epsilon(1e-10));
+    CHECK(room.absorbedPower == Approx(room.emittedPower).epsilon(1e-10));
+}
+
+TEST_CASE("The hierarchy with one link per root pair is the reference of depth 0", "[solve]") {
+    Scene plates = MakeScene("parallel", {{"l", 1}, {"d", 1}});
+    plates.Get<Segment>()[0].material = {0.3, 1};
+    SolveOptions options = Solving(1e-13);
+    options.referenceDepth = 0;
+    SolveResult r = Solve(plates, Refining(1), options);
+    CHECK(r.comparison->maxError < 1e-12);
+}
+
+// ---------------------------------------------------------------------------------------
+// Determinism
+
+TEST_CASE("Radiosity is the same bit for bit on 1 and 2 threads", "[solve]") {
+    Scene occluded = MakeScene("occluded", {});
+    for (auto &patch : occluded.Get<Segment>())
+        patch.material = {0.6, 0};
+    occluded.Get<Segment>()[0].material.emission = 1;
+    RefineOptions one = Refining(0.05), two = Refining(0.05);
+    one.visibility = two.visibility = VisibilityMode::Fraction;
+    two.threads = 2;
+    SolveResult a = Solve(occluded, one, Solving(1e-8)), b = Solve(occluded, two, Solving(1e-8));
+    REQUIRE(a.record.counters.occludedPairs > 0);
+    CHECK(Radiosities(a) == Radiosities(b));
+    CHECK(a.iterations == b.iterations);
+    CHECK(a.absorbedPower == b.absorbedPower);
+    // And in 3D, where the form factors cost the most.
+    RefineOptions one3 = Refining(0.05, 0.05), two3 = Refining(0.05, 0.05);
+    two3.threads = 2;
+    Scene box = ClosedBox(1, 0.5);
+    CHECK(Radiosities(Solve(box, one3, Solving(1e-8))) ==
+          Radiosities(Solve(box, two3, Solving(1e-8))));
+}
+
+// ---------------------------------------------------------------------------------------
+// Bad input (library)
+
+TEST_CASE("Solve refuses what it cannot solve", "[solve][errors]") {
+    Scene dark = MakeScene("parallel", {});
+    CHECK_THROWS_WITH(Solve(dark, Refining(0.5), Solving(1e-6)),
+                      "nothing emits: give --emission or a scene with an emitter");
+    Scene lit = UniformRoom();
+    SolveOptions few = Solving(1e-12);
+    few.maxIterations = 3;
+    try {
+        Solve(lit, Refining(0.1, 0.01), few);
+        FAIL("no LimitError");
+    } catch (const LimitError &e) {
+        CHECK_THAT(e.what(),
+                   Catch::StartsWith("solve did not converge in 3 iterations (residual "));
+    }
+    SolveOptions deep = Solving(1e-6);
+    deep.referenceDepth = 20;
+    CHECK_THROWS_AS(Solve(lit, Refining(0.1, 0.01), deep), InputError);
+}
+
+// ---------------------------------------------------------------------------------------
+// The solve command
+
+TEST_CASE("solve --json reports the run record and the solution", "[solve][cli]") {
+    std::string csvPath = Scratch("solve.csv");
+    CliResult r = Cli("solve room w=2 h=1 --eps 0.05 --min-area 0.01 --emission 1 "
+                      "--reflectance 0.5 --json --out " +
+                      csvPath);
+    REQUIRE(r.exitCode == 0);
+    CHECK(r.err.empty());
+    json j = json::parse(r.out);
+    CHECK(j["scene"] == "room");
+    CHECK(j["mode"] == "store");
+    CHECK(j["method"] == "enumerate");
+    CHECK(j["solver"] == "jacobi");
+    CHECK(j["tolerance"] == 1e-6);
+    CHECK(j["max_iterations"] == 1000);
+    CHECK(j["emission"] == 1.0);
+    CHECK(j["reflectance"] == 0.5);
+    CHECK(j["radiosity"].size() == j["leaves"].get<size_t>());
+    CHECK(j["iterations"].get<int>() > 1);
+    CHECK(j["residual"].get<double>() < 1e-6);
+    CHECK(j["emitted_power"] == 6.0);
+    CHECK(j["absorbed_power"].get<double>() == Approx(6).epsilon(1e-4));
+    for (const char *stage : {"refine", "coefficients", "solve"}) {
+        CHECK(j[std::string("seconds_") + stage].get<double>() >= 0);
+        CHECK(j[std::string("cpu_seconds_") + stage].get<double>() >= 0);
+    }
+    for (const json &b : j["radiosity"])
+        CHECK(std::abs(b.get<double>() - 2) < 0.05);
+    // The CSV: a header and one row per leaf, in the JSON's order.
+    std::istringstream csv(ReadFile(csvPath));
+    std::string line;
+    std::getline(csv, line);
+    CHECK(line == "element,root,depth,position,x,y,measure,radiosity,irradiance");
+    size_t rows = 0;
+    double length = 0;
+    while (std::getline(csv, line)) {
+        std::vector<std::string> cells;
+        std::stringstream fields(line);
+        for (std::string cell; std::getline(fields, cell, ',');)
+            cells.push_back(cell);
+        REQUIRE(cells.size() == 9);
+        CHECK(std::stod(cells[7]) == j["radiosity"][rows].get<double>());
+        length += std::stod(cells[6]);
+        ++rows;
+    }
+    CHECK(rows == j["leaves"].get<size_t>());
+    CHECK(length == Approx(6));
+    // The same run as a table, and with --reference.
+    CliResult table = Cli("solve room --eps 0.05 --min-area 0.01 --emission 1 --solver "
+                          "gauss-seidel --reference 4");
+    CHECK(table.exitCode == 0);
+    CHECK_THAT(table.out, Catch::Contains("gauss-seidel") && Catch::Contains("radiosity_max") &&
+                              Catch::Contains("reference_error_max"));
+}
+
+TEST_CASE("solve reads scene files and meshes, and lists itself", "[solve][cli]") {
+    std::string scenePath = Scratch("lit_plates.json");
+    REQUIRE(Cli("save parallel l=1 d=1 --out " + scenePath).exitCode == 0);
+    json file = json::parse(
+        Cli("solve --scene-file " + scenePath + " --eps 0.5 --emission 2 --reflectance 0 --json")
+            .out);
+    CHECK(file["scene_file"] == scenePath);
+    for (const json &b : file["radiosity"])
+        CHECK(b == 2.0);  // nothing reflects
+    CHECK(file["iterations"] == 1);
+    json mesh = json::parse(
+        Cli("solve --mesh " HRBENCH_TEST_DATA "/two_plates.obj --eps 0.5 --emission 1 --json").out);
+    CHECK(mesh["dimension"] == 3);
+    CHECK(mesh["radiosity"].size() == mesh["leaves"].get<size_t>());
+    json caps = json::parse(Cli("capabilities --json").out);
+    bool listed = false;
+    for (const json &c : caps["commands"])
+        listed |= c["name"] == "solve";
+    CHECK(listed);
+    CHECK(caps["solvers"].size() == SolveMethods().size());
+    for (const json &o : caps["options"])
+        if (o["name"] == "tolerance" || o["name"] == "emission")
+            CHECK(o["commands"] == json({"solve"}));
+    CHECK_THAT(Cli("--help").out,
+               Catch::Contains("solve SCENE") && Catch::Contains("--max-iterations"));
+}
+
+TEST_CASE("solve's bad input gives one line and exit code 2, limits exit code 3",
+          "[solve][cli][errors]") {
+    const std::string room = "solve room --eps 0.1 --min-area 0.01 ";
+    CheckError("solve parallel --eps 0.5", 2,
+               "nothing emits: give --emission or a scene with an emitter");
+    CheckError("solve parallel --eps 0.5 --emission 0", 2, "nothing emits");
+    CheckError(room + "--reflectance 1", 2, "--reflectance must be a number in [0, 1)");
+    CheckError(room + "--reflectance -0.1", 2, "--reflectance must be a number in [0, 1)");
+    CheckError(room + "--reflectance nan", 2, "not a finite number");
+    CheckError(room + "--emission -1", 2, "--emission must be a finite number >= 0");
+    CheckError(room + "--emission inf", 2, "not a finite number");
+    CheckError(room + "--emission 1 --tolerance 0", 2, "--tolerance must be a number in (0, 1)");
+    CheckError(room + "--emission 1 --tolerance 1", 2, "--tolerance must be a number in (0, 1)");
+    CheckError(room + "--emission 1 --max-iterations 0", 2, "--max-iterations must be between");
+    CheckError(room + "--emission 1 --count-only", 2,
+               "--count-only does not apply to solve: it needs every link stored");
+    CheckError(room + "--emission 1 --method translation", 2,
+               "--method does not apply to solve: it stores and enumerates every link");
+    CheckError(room + "--emission 1 --solver newton", 2, "unknown solver 'newton'");
+    CheckError("run parallel --eps 0.5 --solver jacobi", 2, "--solver does not apply to run");
+    CheckError("run parallel --eps 0.5 --tolerance 0.1", 2, "--tolerance does not apply to run");
+    CheckError("solve room --eps 0.1 --emission 1", 2, "touch");
+    CheckError("solve parallel --emission 1", 2, "solve needs --eps");
+    CheckError(room + "--emission 1 --reference 20", 2, "the most the dense reference solves");
+    CheckError(room + "--emission 1 --out /dev/full", 2, "cannot write solve file '/dev/full'");
+    CheckError(room + "--emission 1 --max-iterations 3 --tolerance 1e-9", 3,
+               "solve did not converge in 3 iterations (residual ");
+    CheckError("solve parallel l=1024 --eps 0.01 --emission 1 --max-memory 1", 3, "memory budget");
+}
