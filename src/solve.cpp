@@ -16,6 +16,7 @@
 
 #include "hrbench/culling.h"
 #include "hrbench/form_factor.h"
+#include "hrbench/radiosity_estimate.h"
 #include "hrbench/refine.h"
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
@@ -175,6 +176,9 @@ class HierarchySolver {
         return links * (sizeof(LinkCoefficients) + 2 * sizeof(HalfLink)) +
                elements * (7 * sizeof(double) + sizeof(uint32_t));
     }
+
+    // Every element's radiosity by id, inner elements the pulled means of their leaves.
+    const std::vector<double> &Radiosity() const { return radiosity_; }
 
     // Iterates until the residual is below the tolerance; LimitError after
     // options.maxIterations sweeps, or if the radiosity overflows.
@@ -411,43 +415,81 @@ ReferenceComparison Compare(const Forest<Shape> &forest, const SolveResult &resu
     return {largest > 0 ? maxError / largest : 0, sumPower > 0 ? sumError / sumPower : 0};
 }
 
+void Add(StageTime &sum, const StageTime &t) { sum.wall += t.wall, sum.cpu += t.cpu; }
+
 template <typename Shape>
 void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOptions &options,
                 const std::vector<Material> &materials, SolveResult &result) {
     const Patches<Shape> &patches = scene.Get<Shape>();
     RefineOptions storing = refine;
     storing.storeLinks = true;
-    Stopwatch refineWatch;
-    Refinement<Shape> refinement = Refine<Shape>(scene, storing);
-    result.refine = refineWatch.Elapsed();
-    result.record = refinement.record;
+    // The first pass reads E after the overrides: the bf oracle would read the scene's.
+    std::vector<double> emission;
+    for (const Material &m : materials)
+        emission.push_back(m.emission);
+    std::optional<RadiosityEstimate<Shape>> estimate(std::in_place, std::move(emission));
+    bool bf = refine.oracle == "bf";
+    int passes = bf ? options.passes.value_or(kDefaultPasses) : 1;
+    double kernelSeconds = 0;
 
-    // The solver's arrays within what the budget leaves after the refinement.
-    size_t links = refinement.links.size(), elements = refinement.forest.Size();
-    size_t used = refine.memoryBudget > 0
-                      ? links * sizeof(Link) + elements * Forest<Shape>::kBytesPerElement
-                      : 0;
-    size_t budget = EffectiveBudget(refine);
-    if (HierarchySolver<Shape>::Bytes(links, elements) > budget - std::min(budget, used))
-        throw LimitError("solving " + std::to_string(links) + " links and " +
-                         std::to_string(elements) +
-                         " elements would exceed the memory budget; raise --max-memory or eps");
+    for (int pass = 1;; ++pass) {
+        if (bf)
+            storing.estimate = &*estimate;
+        Stopwatch refineWatch;
+        Refinement<Shape> refinement = Refine<Shape>(scene, storing);
+        Add(result.refine, refineWatch.Elapsed());
+        kernelSeconds += refinement.record.seconds;
+        result.record = refinement.record;
+        result.record.seconds = kernelSeconds;
+        result.passes = pass;
+        const Counters &counters = refinement.record.counters;
+        // Same links and nodes as the pass before: B has settled as far as bf can tell.
+        bool last = pass >= passes || (pass > 1 && counters.links == result.passLinks.back() &&
+                                       counters.nodes == result.passNodes.back());
+        result.passLinks.push_back(counters.links);
+        result.passNodes.push_back(counters.nodes);
 
-    Stopwatch coefficientWatch;
-    std::vector<LinkCoefficients> coefficients =
-        ComputeCoefficients(patches, refinement.forest, refinement.links, refine);
-    result.coefficients = coefficientWatch.Elapsed();
+        // The solver's arrays within what the budget leaves after the refinement.
+        size_t links = refinement.links.size(), elements = refinement.forest.Size();
+        size_t used = refine.memoryBudget > 0
+                          ? links * sizeof(Link) + elements * Forest<Shape>::kBytesPerElement
+                          : 0;
+        size_t budget = EffectiveBudget(refine);
+        if (HierarchySolver<Shape>::Bytes(links, elements) > budget - std::min(budget, used))
+            throw LimitError("solving " + std::to_string(links) + " links and " +
+                             std::to_string(elements) +
+                             " elements would exceed the memory budget; raise --max-memory or "
+                             "eps");
 
-    Stopwatch solveWatch;
-    {
-        HierarchySolver<Shape> solver(refinement.forest, refinement.links, coefficients, materials);
-        solver.Run(options, result);
-    }
-    result.solve = solveWatch.Elapsed();
+        Stopwatch coefficientWatch;
+        std::vector<LinkCoefficients> coefficients =
+            ComputeCoefficients(patches, refinement.forest, refinement.links, refine);
+        Add(result.coefficients, coefficientWatch.Elapsed());
 
-    if (options.referenceDepth >= 0) {
-        result.reference = SolveUniformOf(patches, options.referenceDepth, refine, materials);
-        result.comparison = Compare(refinement.forest, result, *result.reference);
+        // Each pass solves from B = E: only the last pass's solution is reported.
+        result.leaves.clear();
+        result.emittedPower = result.absorbedPower = 0;
+        Stopwatch solveWatch;
+        std::vector<double> radiosity;
+        {
+            HierarchySolver<Shape> solver(refinement.forest, refinement.links, coefficients,
+                                          materials);
+            solver.Run(options, result);
+            if (!last)
+                radiosity = solver.Radiosity();
+        }
+        Add(result.solve, solveWatch.Elapsed());
+
+        if (!last) {
+            // The next pass reads this solution; the refinement it was read by is done.
+            estimate.emplace(std::move(refinement.forest), std::move(radiosity));
+            continue;
+        }
+        if (options.referenceDepth >= 0) {
+            result.reference = SolveUniformOf(patches, options.referenceDepth, refine, materials);
+            result.comparison = Compare(refinement.forest, result, *result.reference);
+        }
+        break;
     }
 }
 
@@ -491,6 +533,8 @@ void ValidateSolveOptions(const SolveOptions &o) {
     if (o.reflectance && !(*o.reflectance >= 0 && *o.reflectance < 1))
         throw InputError("--reflectance must be a number in [0, 1), not " +
                          FormatDouble(*o.reflectance));
+    if (o.passes && (*o.passes < 1 || *o.passes > kMaxPasses))
+        throw InputError("--passes must be between 1 and " + std::to_string(kMaxPasses));
 }
 
 std::vector<Material> SolveMaterials(const Scene &scene, const SolveOptions &options) {
@@ -543,6 +587,9 @@ SolveResult Solve(const Scene &scene, const RefineOptions &refine, const SolveOp
     ValidateSolveOptions(options);
     ValidateScene(scene);
     ValidateOptions(refine, scene.Dimension());
+    if (options.passes && refine.oracle != "bf")
+        throw InputError("--passes applies to the bf oracle only: the " + refine.oracle +
+                         " oracle does not read a radiosity, so one refinement is final");
     std::vector<Material> materials = SolveMaterials(scene, options);
     if (options.referenceDepth >= 0)
         CheckReferenceSize(scene, options.referenceDepth, refine);
@@ -583,6 +630,9 @@ json SolveToJson(const Scene &scene, const RefineOptions &refine, const SolveOpt
     out["max_iterations"] = options.maxIterations;
     out["emission"] = optional(options.emission);
     out["reflectance"] = optional(options.reflectance);
+    out["passes"] = result.passes;
+    out["pass_links"] = result.passLinks;
+    out["pass_nodes"] = result.passNodes;
     out["iterations"] = result.iterations;
     out["residual"] = result.residual;
     out["emitted_power"] = result.emittedPower;
@@ -630,8 +680,15 @@ void PrintSolveTable(const json &solve, std::ostream &out) {
     auto row = [&](const std::string &name, const std::string &value) {
         out << std::left << std::setw(22) << name << std::right << std::setw(12) << value << "\n";
     };
-    for (const char *counter : {"leaves", "links", "iterations"})
+    for (const char *counter : {"leaves", "links", "passes"})
         row(counter, solve[counter].dump());
+    for (const char *list : {"pass_links", "pass_nodes"}) {
+        std::string values;
+        for (const json &v : solve[list])
+            values += (values.empty() ? "" : " ") + v.dump();
+        row(list, values);
+    }
+    row("iterations", solve["iterations"].dump());
     for (const char *value : {"residual", "emitted_power", "absorbed_power"})
         row(value, Short(solve[value].get<double>()));
     row("radiosity_min", Short(low));

@@ -330,6 +330,114 @@ TEST_CASE("Radiosity is the same bit for bit on 1 and 2 threads", "[solve]") {
 }
 
 // ---------------------------------------------------------------------------------------
+// BF refinement in passes
+
+namespace {
+
+SolveOptions Passes(int passes) {
+    SolveOptions o = Solving(1e-6);
+    o.passes = passes;
+    return o;
+}
+
+// Whether the passes of _r_ stopped by the rule: every pass but the last differs from
+// the one before in links or nodes, and the last repeats its predecessor or hits _cap_.
+bool StoppedByTheRule(const SolveResult &r, int cap) {
+    auto same = [&](size_t k) {
+        return r.passLinks[k] == r.passLinks[k - 1] && r.passNodes[k] == r.passNodes[k - 1];
+    };
+    size_t n = r.passLinks.size();
+    if (n != size_t(r.passes) || r.passNodes.size() != n || n < 1 || r.passes > cap)
+        return false;
+    for (size_t k = 1; k + 1 < n; ++k)
+        if (same(k))
+            return false;
+    return r.passes == cap || (n > 1 && same(n - 1));
+}
+
+// The solution's B is E + rho H >= E on every element and bf accepts less as B grows, so
+// pass 2 splits every pair pass 1 split (nodes do not fall); and pass 1 linked every pair
+// of non-emitting roots at once (B = 0 there), which pass 2, with lit walls, refines.
+void CheckSecondPassRefinesMore(const Scene &scene, const RefineOptions &refine) {
+    SolveResult one = Solve(scene, refine, Passes(1));
+    SolveResult two = Solve(scene, refine, Passes(2));
+    SolveResult all = Solve(scene, refine, Passes(kMaxPasses));
+    REQUIRE(one.passes == 1);
+    CHECK(one.passLinks == std::vector<uint64_t>{one.record.counters.links});
+    CHECK(one.passNodes == std::vector<uint64_t>{one.record.counters.nodes});
+    REQUIRE(two.passes == 2);
+    CHECK(two.passLinks[0] == one.passLinks[0]);
+    CHECK(two.passNodes[0] == one.passNodes[0]);
+    CHECK(two.passLinks[1] > two.passLinks[0]);
+    CHECK(two.passNodes[1] >= two.passNodes[0]);
+    CHECK(two.record.counters.links == two.passLinks[1]);
+    // Every run's passes begin alike and stop by the rule.
+    CHECK(StoppedByTheRule(one, 1));
+    CHECK(StoppedByTheRule(two, 2));
+    CHECK(StoppedByTheRule(all, kMaxPasses));
+    REQUIRE(all.passes >= 2);
+    CHECK(std::equal(two.passLinks.begin(), two.passLinks.end(), all.passLinks.begin()));
+    CHECK(all.record.counters.links == all.passLinks.back());
+    CHECK(all.record.counters.nodes == all.passNodes.back());
+    CHECK(all.leaves.size() == all.record.counters.leaves);
+}
+
+}  // namespace
+
+TEST_CASE("bf refines again with the solution's B until links and nodes repeat, in 3D",
+          "[solve][bf][3d]") {
+    Scene cornell = MakeScene("cornell", {});
+    RefineOptions bf = Refining(0.05, 0.001, "bf");
+    CheckSecondPassRefinesMore(cornell, bf);
+    // --passes 1 is the one refinement with the roots' emission: the refinement alone.
+    Refinement<Polygon> single = Refine<Polygon>(cornell, bf);
+    SolveResult one = Solve(cornell, bf, Passes(1));
+    CHECK(one.record.counters.links == single.record.counters.links);
+    CHECK(one.record.counters.nodes == single.record.counters.nodes);
+    CHECK(one.record.counters.leaves == single.record.counters.leaves);
+    // The default is at most kDefaultPasses.
+    SolveResult byDefault = Solve(cornell, bf, Solving(1e-6));
+    CHECK(StoppedByTheRule(byDefault, kDefaultPasses));
+}
+
+TEST_CASE("bf refines again with the solution's B, in 2D", "[solve][bf][2d]") {
+    // The closed room, one wall emitting: in pass 1 the three dark walls link pairwise at
+    // the roots.
+    Scene room = MakeScene("room", {{"w", 2}, {"h", 1}});
+    for (auto &patch : room.Get<Segment>())
+        patch.material = {0.5, 0};
+    room.Get<Segment>()[0].material.emission = 1;
+    RefineOptions bf = Refining(0.05, 0.01, "bf");
+    CheckSecondPassRefinesMore(room, bf);
+    Refinement<Segment> single = Refine<Segment>(room, bf);
+    CHECK(Solve(room, bf, Passes(1)).record.counters.links == single.record.counters.links);
+}
+
+TEST_CASE("bf's passes are the same bit for bit on 1 and 2 threads", "[solve][bf]") {
+    Scene cornell = MakeScene("cornell", {});
+    RefineOptions one = Refining(0.05, 0.001, "bf"), two = one;
+    two.threads = 2;
+    SolveResult a = Solve(cornell, one, Passes(3)), b = Solve(cornell, two, Passes(3));
+    CHECK(a.passLinks == b.passLinks);
+    CHECK(a.passNodes == b.passNodes);
+    CHECK(Radiosities(a) == Radiosities(b));
+    CHECK(a.iterations == b.iterations);
+}
+
+TEST_CASE("Passes apply to bf only; other oracles refine once", "[solve][bf][errors]") {
+    Scene room = UniformRoom();
+    SolveResult r = Solve(room, Refining(0.1, 0.01), Solving(1e-6));
+    CHECK(r.passes == 1);
+    CHECK(r.passLinks == std::vector<uint64_t>{r.record.counters.links});
+    CHECK_THROWS_WITH(Solve(room, Refining(0.1, 0.01), Passes(2)),
+                      Catch::StartsWith("--passes applies to the bf oracle only"));
+    CHECK_THROWS_WITH(Solve(room, Refining(0.1, 0.01, "bf"), Passes(0)),
+                      "--passes must be between 1 and 100");
+    CHECK_THROWS_WITH(Solve(room, Refining(0.1, 0.01, "bf"), Passes(101)),
+                      "--passes must be between 1 and 100");
+}
+
+// ---------------------------------------------------------------------------------------
 // Bad input (library)
 
 TEST_CASE("Solve refuses what it cannot solve", "[solve][errors]") {
@@ -435,6 +543,29 @@ TEST_CASE("solve reads scene files and meshes, and lists itself", "[solve][cli]"
                Catch::Contains("solve SCENE") && Catch::Contains("--max-iterations"));
 }
 
+TEST_CASE("solve --oracle bf reports its passes, and reads --emission", "[solve][bf][cli]") {
+    const std::string cornell = "solve cornell --oracle bf --eps 0.05 --min-area 0.001 --json";
+    json two = json::parse(Cli(cornell + " --passes 2").out);
+    CHECK(two["passes"] == 2);
+    REQUIRE(two["pass_links"].size() == 2);
+    REQUIRE(two["pass_nodes"].size() == 2);
+    CHECK(two["pass_links"][1] > two["pass_links"][0]);
+    CHECK(two["links"] == two["pass_links"][1]);
+    CHECK(two["nodes"] == two["pass_nodes"][1]);
+    CHECK_THAT(Cli("solve cornell --oracle bf --eps 0.05 --min-area 0.001 --passes 2").out,
+               Catch::Contains("pass_links") && Catch::Contains("passes"));
+    // The parallel plates emit nothing: only --emission lights them, and the first pass
+    // reads it. Doubling B halves bf's threshold on F exactly.
+    const std::string plates = "solve parallel l=4 d=1 --oracle bf --passes 1 --json";
+    json e1 = json::parse(Cli(plates + " --emission 1 --eps 0.05").out);
+    json e2 = json::parse(Cli(plates + " --emission 2 --eps 0.1").out);
+    CHECK(e1["links"].get<uint64_t>() > 1);
+    CHECK(e1["pass_links"] == e2["pass_links"]);
+    CHECK(e1["pass_nodes"] == e2["pass_nodes"]);
+    json garmann = json::parse(Cli("solve parallel --eps 0.5 --emission 1 --json").out);
+    CHECK(garmann["passes"] == 1);
+}
+
 TEST_CASE("solve's bad input gives one line and exit code 2, limits exit code 3",
           "[solve][cli][errors]") {
     const std::string room = "solve room --eps 0.1 --min-area 0.01 ";
@@ -463,4 +594,9 @@ TEST_CASE("solve's bad input gives one line and exit code 2, limits exit code 3"
     CheckError(room + "--emission 1 --max-iterations 3 --tolerance 1e-9", 3,
                "solve did not converge in 3 iterations (residual ");
     CheckError("solve parallel l=1024 --eps 0.01 --emission 1 --max-memory 1", 3, "memory budget");
+    CheckError(room + "--emission 1 --passes 2", 2, "--passes applies to the bf oracle only");
+    CheckError(room + "--emission 1 --oracle garmann --passes 1", 2,
+               "--passes applies to the bf oracle only");
+    CheckError(room + "--emission 1 --oracle bf --passes 0", 2, "--passes must be between 1 and");
+    CheckError("run parallel --eps 0.5 --passes 2", 2, "--passes does not apply to run");
 }

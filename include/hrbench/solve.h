@@ -49,7 +49,14 @@ struct SolveOptions {
     std::optional<double> emission;     // replaces every patch's emission; finite, >= 0
     std::optional<double> reflectance;  // replaces every patch's reflectance; [0, 1)
     int referenceDepth = -1;  // >= 0: also solve the uniform mesh of this depth, and compare
+    // The bf oracle's refine-solve passes at most (1 .. kMaxPasses; kDefaultPasses when
+    // not given): each pass after the first refines with B from the previous solution.
+    // Given with another oracle, an InputError: the others do not read B.
+    std::optional<int> passes;
 };
+
+constexpr int kDefaultPasses = 4;
+constexpr int kMaxPasses = 100;
 
 // Throws InputError naming the option when _options_ are out of range.
 void ValidateSolveOptions(const SolveOptions &options);
@@ -116,19 +123,26 @@ struct ReferenceComparison {
 };
 
 struct SolveResult {
-    RunRecord record;                      // the refinement: counters and kernel time
+    RunRecord record;                      // the last pass's counters; kernel time of all
     std::vector<ElementRadiosity> leaves;  // by root patch, then preorder of its tree
     int iterations = 0;                    // sweeps done
     double residual = 0;                   // of the last sweep
     double emittedPower = 0;               // sum over leaves of E A
     double absorbedPower = 0;              // sum over leaves of (1 - rho) H A
+    // Each stage's time, summed over the passes.
     StageTime refine, coefficients, solve;
+    // Refine-solve passes made (1 but with the bf oracle), and each pass's refinement's
+    // links and nodes; the last pass's are the record's.
+    int passes = 0;
+    std::vector<uint64_t> passLinks, passNodes;
     std::optional<UniformSolution> reference;  // with SolveOptions::referenceDepth
     std::optional<ReferenceComparison> comparison;
 };
 
 // Refines _scene_ (storing links), computes the link coefficients and solves for the
-// radiosity of every leaf. Throws InputError for bad input (nothing emits, options out
+// radiosity of every leaf. With the bf oracle, repeats that with B from the solution
+// until a refinement has the links and nodes of the one before, or SolveOptions::passes
+// were made (docs/solve.md). Throws InputError for bad input (nothing emits, options out
 // of range), LimitError when the memory budget is reached or the iteration does not
 // converge within SolveOptions::maxIterations.
 SolveResult Solve(const Scene &scene, const RefineOptions &refine, const SolveOptions &options);
