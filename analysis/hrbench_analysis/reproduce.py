@@ -426,9 +426,10 @@ def _sweep(args, setup):
     return summary, measured, refusals
 
 
-def _sweep_main(argv):
-    parser = _sweep_parser()
-    args = parser.parse_args(argv)
+def _prepare_and_sweep(args, parser):
+    """Prepares and runs the sweeps of both commands: (setup, summary, measured), or the
+    exit code when preparing fails, the sweep is interrupted or the engine refuses a claim
+    (each refusal printed as one line)."""
     setup = _prepare(args, parser)
     if isinstance(setup, int):
         return setup
@@ -440,6 +441,16 @@ def _sweep_main(argv):
         print(f"error: {line}", file=sys.stderr)
     if refusals:
         return USAGE_ERROR
+    return setup, summary, measured
+
+
+def _sweep_main(argv):
+    parser = _sweep_parser()
+    args = parser.parse_args(argv)
+    ran = _prepare_and_sweep(args, parser)
+    if isinstance(ran, int):
+        return ran
+    setup, summary, measured = ran
     rows = []
     for c in setup.claims:
         if c.id not in measured:
@@ -474,17 +485,10 @@ def _main(argv):
     parser = _reproduce_parser()
     args = parser.parse_args(argv)
     start = time.perf_counter()
-    setup = _prepare(args, parser)
-    if isinstance(setup, int):
-        return setup
-    swept = _sweep(args, setup)
-    if swept == INTERRUPTED:
-        return INTERRUPTED
-    summary, measured, refusals = swept
-    for line in refusals:
-        print(f"error: {line}", file=sys.stderr)
-    if refusals:
-        return USAGE_ERROR
+    ran = _prepare_and_sweep(args, parser)
+    if isinstance(ran, int):
+        return ran
+    setup, summary, measured = ran
     capabilities, skipped = setup.capabilities, setup.skipped
     outcomes = []
     for c in setup.claims:

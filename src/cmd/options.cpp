@@ -26,48 +26,22 @@ size_t ParseMib(const std::string &text, const std::string &flag) {
     return size_t(mib) << 20;
 }
 
-std::vector<std::string> OracleNames() {
+// The names in a table of choices (oracles, methods, solvers), for the option's choices.
+template <typename Table>
+std::vector<std::string> ChoiceNames(const Table &table) {
     std::vector<std::string> names;
-    for (const OracleInfo &info : OracleInfos())
-        names.push_back(info.name);
+    for (const auto &entry : table)
+        names.push_back(entry.name);
     return names;
 }
 
-std::string OracleDoc() {
+// One help line per choice, "name: doc", the first marked as the default.
+template <typename Table>
+std::string ChoiceDoc(const Table &table) {
     std::string doc;
-    for (const OracleInfo &info : OracleInfos())
-        doc += std::string(doc.empty() ? "" : "\n") + info.name +
-               (doc.empty() ? " (default)" : "") + ": " + info.doc;
-    return doc;
-}
-
-std::vector<std::string> MethodNames() {
-    std::vector<std::string> names;
-    for (const MethodInfo &m : Methods())
-        names.push_back(m.name);
-    return names;
-}
-
-std::string MethodDoc() {
-    std::string doc;
-    for (const MethodInfo &m : Methods())
-        doc += std::string(doc.empty() ? "" : "\n") + m.name + (doc.empty() ? " (default)" : "") +
-               ": " + m.doc;
-    return doc;
-}
-
-std::vector<std::string> SolverNames() {
-    std::vector<std::string> names;
-    for (const SolveMethodInfo &m : SolveMethods())
-        names.push_back(m.name);
-    return names;
-}
-
-std::string SolverDoc() {
-    std::string doc;
-    for (const SolveMethodInfo &m : SolveMethods())
-        doc += std::string(doc.empty() ? "" : "\n") + m.name + (doc.empty() ? " (default)" : "") +
-               ": " + m.doc;
+    for (const auto &entry : table)
+        doc += std::string(doc.empty() ? "" : "\n") + entry.name +
+               (doc.empty() ? " (default)" : "") + ": " + entry.doc;
     return doc;
 }
 
@@ -117,8 +91,8 @@ const std::vector<OptionSpec> &OptionTable() {
          kLinking,
          "oracle threshold, a finite number > 0 (required)",
          [](Options &o, S v) { o.eps = ParseDouble(v, "--eps"); }},
-        {"oracle", "--oracle", "NAME", OracleNames(), kLinking, OracleDoc(),
-         [](Options &o, S v) { o.refine.oracle = FindOracle(v).name; }},
+        {"oracle", "--oracle", "NAME", ChoiceNames(OracleInfos()), kLinking,
+         ChoiceDoc(OracleInfos()), [](Options &o, S v) { o.refine.oracle = FindOracle(v).name; }},
         {"min_area",
          "--min-area",
          "A",
@@ -144,16 +118,16 @@ const std::vector<OptionSpec> &OptionTable() {
         {"method",
          "--method",
          "M",
-         MethodNames(),
+         ChoiceNames(Methods()),
          {"run"},
-         MethodDoc(),
+         ChoiceDoc(Methods()),
          [](Options &o, S v) { o.method = v; }},
         {"solver",
          "--solver",
          "S",
-         SolverNames(),
+         ChoiceNames(SolveMethods()),
          {"solve"},
-         SolverDoc(),
+         ChoiceDoc(SolveMethods()),
          [](Options &o, S v) { o.solve.method = ParseSolveMethod(v); }},
         {"threads",
          "--threads",
