@@ -74,10 +74,13 @@ Patches<Segment> Enclosure(const ParamMap &p) {
     return segments;
 }
 
-// Rectangle room [0,w] x [0,h], counter-clockwise, normals inward.
+// Rectangle room [0,w] x [0,h], counter-clockwise, normals inward; the ceiling (y = h)
+// emits _lamp_, so that a solve has an open-ended answer (uniform emission has B = E/(1-rho)).
 Patches<Segment> Room(const ParamMap &p) {
     double w = p.at("w"), h = p.at("h");
-    return {Seg(0, 0, w, 0), Seg(w, 0, w, h), Seg(w, h, 0, h), Seg(0, h, 0, 0)};
+    Patch<Segment> ceiling = Seg(w, h, 0, h);
+    ceiling.material.emission = p.at("lamp");
+    return {Seg(0, 0, w, 0), Seg(w, 0, w, h), ceiling, Seg(0, h, 0, 0)};
 }
 
 // n non-crossing segments of fixed length with uniform centres in [0,size]^2 and
@@ -160,7 +163,8 @@ std::vector<Family> FlatlandFamilies() {
         {"room",
          "closed rectangular room [0,w] x [0,h], normals inward (corners touch: needs a "
          "recursion limit)",
-         {Length("w", 2, "width"), Length("h", 1, "height")},
+         {Length("w", 2, "width"), Length("h", 1, "height"),
+          Gap("lamp", 0, "emitted radiosity of the ceiling y = h (the other walls emit nothing)")},
          2,
          Room},
         {"array",

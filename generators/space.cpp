@@ -86,9 +86,10 @@ Patches<Polygon> Array(const ParamMap &p) {
 Patches<Polygon> Cornell(const ParamMap &p) {
     double s = p.at("scale");
     auto v = [s](double x, double y, double z) { return Vec3(s * x, s * y, s * z); };
-    const Material white{(0.725 + 0.71 + 0.68) / 3, 0};
-    const Material red{(0.63 + 0.065 + 0.05) / 3, 0};
-    const Material green{(0.14 + 0.45 + 0.091) / 3, 0};
+    // The RGB is kept as the display colour; the light has none: shown grey of its 0.78.
+    const Material white{(0.725 + 0.71 + 0.68) / 3, 0, Rgb{0.725, 0.71, 0.68}};
+    const Material red{(0.63 + 0.065 + 0.05) / 3, 0, Rgb{0.63, 0.065, 0.05}};
+    const Material green{(0.14 + 0.45 + 0.091) / 3, 0, Rgb{0.14, 0.45, 0.091}};
     const Material light{0.78, (17.0 + 12.0 + 4.0) / 3};  // 0.78: the lamp's reflectance
     Patches<Polygon> f;
     auto quad = [&](Vec3 a, Vec3 b, Vec3 c, Vec3 d, Material m) {

@@ -55,6 +55,13 @@ std::string Directory(const std::string &path) {
 
 double CappedReflectance(double rho) { return std::min(std::max(rho, 0.0), kMeshMaxReflectance); }
 
+// _rgb_ with each component clamped to [0, 1], the range of a display colour.
+Rgb DisplayRange(Rgb rgb) {
+    for (double &c : rgb)
+        c = std::min(std::max(c, 0.0), 1.0);
+    return rgb;
+}
+
 // ---------------------------------------------------------------------------------------
 // Lines, words and numbers
 
@@ -224,15 +231,20 @@ uint64_t Count(const Lines &lines, std::string_view word, const std::string &wha
 }
 
 // Reads the _count_ (3 or 4) components r g b [a] of a colour: integers in 0..255, or,
-// when any is written otherwise (0.5, 1e-1), numbers in [0, 1]. Returns mean(r,g,b)
-// scaled to [0, 1].
-double ReadColour(const Lines &lines, Words &words, size_t count, const std::string &what) {
+// when any is written otherwise (0.5, 1e-1), numbers in [0, 1]. Returns r, g, b and their
+// mean, scaled to [0, 1].
+struct Colour {
+    Rgb rgb;
+    double mean;
+};
+Colour ReadColour(const Lines &lines, Words &words, size_t count, const std::string &what) {
     std::array<std::string_view, 4> components;
     bool integers = true;
     for (size_t k = 0; k < count; ++k) {
         words.Next(components[k]);
         integers = integers && AllDigits(components[k]);
     }
+    Rgb rgb{};
     double sum = 0;
     for (size_t k = 0; k < count; ++k) {
         std::string_view word = components[k];
@@ -249,10 +261,12 @@ double ReadColour(const Lines &lines, Words &words, size_t count, const std::str
                 lines.Fail(what + " " + Quoted(word) +
                            " is outside [0, 1] (a colour written with fractions is read in 0..1)");
         }
-        if (k < 3)  // the alpha is checked, not used
+        if (k < 3) {  // the alpha is checked, not used
+            rgb[k] = integers ? value / 255 : value;
             sum += value;
+        }
     }
-    return integers ? sum / (3 * 255.0) : sum / 3;
+    return {rgb, integers ? sum / (3 * 255.0) : sum / 3};
 }
 
 // Reads the coordinates x y z of a vertex, each multiplied by _scale_.
@@ -640,9 +654,11 @@ class OffReader {
             lines_.Fail(face + " has " + std::to_string(rest) +
                         " values after its corners; expected none or a colour of 3 or 4");
         Material material = kDefaultMaterial;
-        if (rest > 0)
-            material.reflectance =
-                CappedReflectance(ReadColour(lines_, words, rest, face + ": colour component"));
+        if (rest > 0) {
+            Colour colour = ReadColour(lines_, words, rest, face + ": colour component");
+            material.reflectance = CappedReflectance(colour.mean);
+            material.colour = colour.rgb;
+        }
         AddFace(lines_, number, face, corners_, material, options_.triangulate, patches_);
     }
 
@@ -694,8 +710,8 @@ DefinedMaterial &NewMaterial(const Lines &lines, Words &words, const std::string
     return it->second;
 }
 
-// Reads `Kd r g b` (reflectance, capped) or `Ke r g b` (emission) of _current_; one value
-// stands for all three.
+// Reads `Kd r g b` (reflectance: the mean, capped; display colour: r g b clamped to
+// [0, 1]) or `Ke r g b` (emission) of _current_; one value stands for all three.
 void ReadMtlColour(const Lines &lines, Words &words, std::string_view keyword,
                    DefinedMaterial *current) {
     std::string key(keyword);
@@ -705,7 +721,7 @@ void ReadMtlColour(const Lines &lines, Words &words, std::string_view keyword,
     if (n != 1 && n != 3)
         lines.Fail(key + " needs r g b (or one value for all three), this line has " +
                    std::to_string(n) + " values");
-    std::array<double, 3> rgb;
+    Rgb rgb;
     std::string_view word;
     for (size_t c = 0; c < n; ++c) {
         words.Next(word);
@@ -716,6 +732,7 @@ void ReadMtlColour(const Lines &lines, Words &words, std::string_view keyword,
     double mean = (rgb[0] + rgb[1] + rgb[2]) / 3;
     if (key == "Kd") {
         current->material.reflectance = CappedReflectance(mean);
+        current->material.colour = DisplayRange(rgb);
         return;
     }
     if (!std::isfinite(mean))

@@ -11,6 +11,10 @@ static void ValidateMaterial(const Material &m, const std::string &name) {
         throw InputError(name + " has reflectance outside [0, 1)");
     if (!(m.emission >= 0) || !std::isfinite(m.emission))
         throw InputError(name + " has emission that is negative or not finite");
+    if (m.colour)
+        for (double c : *m.colour)
+            if (!(c >= 0 && c <= 1))
+                throw InputError(name + " has a colour component outside [0, 1]");
 }
 
 void ValidateScene(const Scene &scene) {

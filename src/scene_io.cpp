@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <initializer_list>
+#include <optional>
 #include <set>
 #include <vector>
 
@@ -39,6 +40,8 @@ std::string SceneToJson(const Scene &scene) {
                 json p = ShapeToJson(patch.shape);
                 p["reflectance"] = patch.material.reflectance;
                 p["emission"] = patch.material.emission;
+                if (patch.material.colour)
+                    p["colour"] = *patch.material.colour;
                 patches.push_back(p);
             }
         },
@@ -128,6 +131,20 @@ Polygon Corners(const json &patch, const std::string &where) {
     return polygon;
 }
 
+// A patch's optional display colour: "colour", an array [r, g, b] (ValidateScene checks
+// the range).
+std::optional<Rgb> Colour(const json &patch, const std::string &where) {
+    if (!patch.contains("colour"))
+        return std::nullopt;
+    const json &c = patch["colour"];
+    if (!c.is_array() || c.size() != 3)
+        throw InputError(where + ".colour must be an array of 3 numbers [r, g, b]");
+    Rgb rgb;
+    for (size_t k = 0; k < 3; ++k)
+        rgb[k] = Number(c[k], where + ".colour[" + std::to_string(k) + "]");
+    return rgb;
+}
+
 }  // namespace
 
 Scene SceneFromJson(const std::string &text, const std::string &source) {
@@ -169,12 +186,13 @@ Scene SceneFromJson(const std::string &text, const std::string &source) {
         const json &p = patches[k];
         if (!p.is_object())
             throw InputError(where + " must be an object");
-        CheckKeys(p, {"a", "b", "vertices", "reflectance", "emission"}, where);
+        CheckKeys(p, {"a", "b", "vertices", "reflectance", "emission", "colour"}, where);
         Material material;
         if (p.contains("reflectance"))
             material.reflectance = Number(p["reflectance"], where + ".reflectance");
         if (p.contains("emission"))
             material.emission = Number(p["emission"], where + ".emission");
+        material.colour = Colour(p, where);
         if (auto *polygons = std::get_if<Patches<Polygon>>(&scene.patches))
             polygons->push_back({Corners(p, where), material});
         else

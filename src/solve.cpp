@@ -117,6 +117,29 @@ std::unique_ptr<Occluders> OccludersFor(const Patches<Shape> &patches, const Ref
 Vec3 AsVec3(const Vec2 &v) { return {v.x(), v.y(), 0}; }
 Vec3 AsVec3(const Vec3 &v) { return v; }
 
+// Element _e_ of _forest_ with its radiosity _b_ and irradiance _h_, and its outline.
+template <typename Shape>
+ElementRadiosity Describe(const Forest<Shape> &forest, uint32_t e, double b, double h) {
+    ElementRadiosity r{e,
+                       forest[e].root,
+                       forest.Depth(e),
+                       forest.Position(e),
+                       AsVec3(forest[e].center),
+                       forest[e].Size(),
+                       b,
+                       h};
+    const Shape &shape = forest.ShapeOf(e);
+    if constexpr (Shape::kDimension == 2) {
+        r.corners[0] = AsVec3(shape.a), r.corners[1] = AsVec3(shape.b);
+        r.numCorners = 2;
+    } else {
+        for (int k = 0; k < shape.n; ++k)
+            r.corners[size_t(k)] = shape.v[size_t(k)];
+        r.numCorners = shape.n;
+    }
+    return r;
+}
+
 // Every element of each tree in preorder (first child first), tree by tree, with the
 // offset of each tree's first element: parents come before their children.
 template <typename Shape>
@@ -264,9 +287,7 @@ class HierarchySolver {
         for (uint32_t e : order_) {
             if (forest_[e].firstChild != kNoChildren)
                 continue;
-            result.leaves.push_back({e, forest_[e].root, forest_.Depth(e), forest_.Position(e),
-                                     AsVec3(forest_[e].center), area_[e], radiosity_[e],
-                                     irradiance_[e]});
+            result.leaves.push_back(Describe(forest_, e, radiosity_[e], irradiance_[e]));
             result.emittedPower += emission_[e] * area_[e];
             result.absorbedPower += (1 - rho_[e]) * irradiance_[e] * area_[e];
         }
@@ -370,8 +391,7 @@ UniformSolution SolveUniformOf(const Patches<Shape> &patches, int depth,
     for (size_t a = 0; a < n; ++a) {
         uint32_t e = elements[a];
         double area = forest[e].Size();
-        solution.elements.push_back({e, forest[e].root, forest.Depth(e), forest.Position(e),
-                                     AsVec3(forest[e].center), area, B(a), H(a)});
+        solution.elements.push_back(Describe(forest, e, B(a), H(a)));
         solution.emittedPower += E(a) * area;
         solution.absorbedPower += (1 - rho(a)) * H(a) * area;
     }
@@ -403,7 +423,8 @@ ReferenceComparison Compare(const Forest<Shape> &forest, const SolveResult &resu
                 power[base + k] = leaf.radiosity, area[base + k] = 1;
         }
     }
-    double largest = 0, sumError = 0, sumPower = 0, maxError = 0;
+    double largest = 0, sumError = 0, sumPower = 0, maxError = 0, sumSquaredError = 0,
+           sumSquaredPower = 0;
     for (const ElementRadiosity &e : ref)
         largest = std::max(largest, std::abs(e.radiosity));
     for (size_t k = 0; k < ref.size(); ++k) {
@@ -411,11 +432,64 @@ ReferenceComparison Compare(const Forest<Shape> &forest, const SolveResult &resu
         maxError = std::max(maxError, error);
         sumError += ref[k].measure * error;
         sumPower += ref[k].measure * std::abs(ref[k].radiosity);
+        sumSquaredError += ref[k].measure * error * error;
+        sumSquaredPower += ref[k].measure * ref[k].radiosity * ref[k].radiosity;
     }
-    return {largest > 0 ? maxError / largest : 0, sumPower > 0 ? sumError / sumPower : 0};
+    auto ratio = [](double num, double den) { return den > 0 ? num / den : 0; };
+    return {ratio(maxError, largest), ratio(sumError, sumPower),
+            std::sqrt(ratio(sumSquaredError, sumSquaredPower))};
 }
 
 void Add(StageTime &sum, const StageTime &t) { sum.wall += t.wall, sum.cpu += t.cpu; }
+
+// How far _fine_ moved from _coarse_, the uniform mesh one level coarser: the largest
+// |area-weighted mean of fine over a coarse element - coarse B|, relative to fine's
+// largest |B|. Both are in root, then position order, and the children of the element at
+// position p are at positions arity p .. arity p + arity - 1: the fine elements of coarse
+// element k are arity k .. arity k + arity - 1.
+double ReferenceChange(const UniformSolution &fine, const UniformSolution &coarse) {
+    const auto &f = fine.elements, &c = coarse.elements;
+    size_t arity = f.size() / c.size();
+    double largest = 0, change = 0;
+    for (const ElementRadiosity &e : f)
+        largest = std::max(largest, std::abs(e.radiosity));
+    for (size_t k = 0; k < c.size(); ++k) {
+        double power = 0, area = 0;
+        for (size_t child = arity * k; child < arity * (k + 1); ++child)
+            power += f[child].measure * f[child].radiosity, area += f[child].measure;
+        change = std::max(change, std::abs(power / area - c[k].radiosity));
+    }
+    return largest > 0 ? change / largest : 0;
+}
+
+// The dense reference of depth _depth_ and, from depth 1 on, its change from the mesh of
+// depth - 1: whether it is converged well below the errors it measures.
+template <typename Shape>
+UniformSolution SolveReference(const Patches<Shape> &patches, int depth,
+                               const RefineOptions &refine,
+                               const std::vector<Material> &materials) {
+    UniformSolution reference = SolveUniformOf(patches, depth, refine, materials);
+    if (depth >= 1) {
+        UniformSolution coarse = SolveUniformOf(patches, depth - 1, refine, materials);
+        reference.change = ReferenceChange(reference, coarse);
+        Add(reference.time, coarse.time);
+    }
+    return reference;
+}
+
+// _options_ less the _held_ bytes that an earlier bf pass's solution still holds. Only
+// an explicit budget: without one, the budget is read from the free memory, which already
+// excludes them. LimitError when they leave nothing of it.
+RefineOptions WithoutHeld(const RefineOptions &options, size_t held) {
+    RefineOptions left = options;
+    if (options.memoryBudget == 0)
+        return left;
+    if (held >= options.memoryBudget)
+        throw LimitError("the previous bf pass's solution (" + std::to_string(held) +
+                         " bytes) would exceed the memory budget; raise --max-memory or eps");
+    left.memoryBudget -= held;
+    return left;
+}
 
 template <typename Shape>
 void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOptions &options,
@@ -433,10 +507,12 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
     double kernelSeconds = 0;
 
     for (int pass = 1;; ++pass) {
+        // The estimate, with the previous pass's forest, stays in memory all pass long.
+        RefineOptions passOptions = WithoutHeld(storing, bf ? estimate->Bytes() : 0);
         if (bf)
-            storing.estimate = &*estimate;
+            passOptions.estimate = &*estimate;
         Stopwatch refineWatch;
-        Refinement<Shape> refinement = Refine<Shape>(scene, storing);
+        Refinement<Shape> refinement = Refine<Shape>(scene, passOptions);
         Add(result.refine, refineWatch.Elapsed());
         kernelSeconds += refinement.record.seconds;
         result.record = refinement.record;
@@ -451,10 +527,10 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
 
         // The solver's arrays within what the budget leaves after the refinement.
         size_t links = refinement.links.size(), elements = refinement.forest.Size();
-        size_t used = refine.memoryBudget > 0
+        size_t used = passOptions.memoryBudget > 0
                           ? links * sizeof(Link) + elements * Forest<Shape>::kBytesPerElement
                           : 0;
-        size_t budget = EffectiveBudget(refine);
+        size_t budget = EffectiveBudget(passOptions);
         if (HierarchySolver<Shape>::Bytes(links, elements) > budget - std::min(budget, used))
             throw LimitError("solving " + std::to_string(links) + " links and " +
                              std::to_string(elements) +
@@ -485,8 +561,9 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
             estimate.emplace(std::move(refinement.forest), std::move(radiosity));
             continue;
         }
+        estimate.reset();  // no longer read: free it before the dense reference
         if (options.referenceDepth >= 0) {
-            result.reference = SolveUniformOf(patches, options.referenceDepth, refine, materials);
+            result.reference = SolveReference(patches, options.referenceDepth, refine, materials);
             result.comparison = Compare(refinement.forest, result, *result.reference);
         }
         break;
@@ -594,6 +671,7 @@ SolveResult Solve(const Scene &scene, const RefineOptions &refine, const SolveOp
     if (options.referenceDepth >= 0)
         CheckReferenceSize(scene, options.referenceDepth, refine);
     SolveResult result;
+    result.materials = materials;
     std::visit(
         [&](const auto &patches) {
             using Shape = std::decay_t<decltype(patches.front().shape)>;
@@ -659,6 +737,9 @@ json SolveToJson(const Scene &scene, const RefineOptions &refine, const SolveOpt
         out["reference_absorbed_power"] = ref.absorbedPower;
         out["reference_error_max"] = result.comparison->maxError;
         out["reference_error_mean"] = result.comparison->meanError;
+        out["reference_error_l2"] = result.comparison->l2Error;
+        if (ref.change)
+            out["reference_change"] = *ref.change;
         times("reference", ref.time);
     }
     return out;
@@ -704,18 +785,53 @@ void PrintSolveTable(const json &solve, std::ostream &out) {
         row("reference_elements", std::to_string(solve["reference_radiosity"].size()));
         row("reference_error_max", Short(solve["reference_error_max"].get<double>()));
         row("reference_error_mean", Short(solve["reference_error_mean"].get<double>()));
+        row("reference_error_l2", Short(solve["reference_error_l2"].get<double>()));
+        if (solve.contains("reference_change"))
+            row("reference_change", Short(solve["reference_change"].get<double>()));
     }
 }
 
+namespace {
+
+// The CSV's header: the columns of docs/solve.md.
+const char *SolveCsvHeader(int dimension) {
+    return dimension == 2
+               ? "element,root,depth,position,x,y,measure,radiosity,irradiance,reflectance,"
+                 "emission,red,green,blue,x0,y0,x1,y1"
+               : "element,root,depth,position,x,y,z,measure,radiosity,irradiance,reflectance,"
+                 "emission,red,green,blue,corners,x0,y0,z0,x1,y1,z1,x2,y2,z2,x3,y3,z3";
+}
+
+// The leaf's outline: 2D its end points x0,y0,x1,y1; 3D the number of corners and four
+// corners' x,y,z, those of a triangle's missing fourth corner empty.
+void WriteOutline(const ElementRadiosity &leaf, int dimension, std::ostream &out) {
+    if (dimension == 3)
+        out << ',' << leaf.numCorners;
+    for (int k = 0; k < (dimension == 2 ? 2 : 4); ++k)
+        for (int d = 0; d < dimension; ++d) {
+            out << ',';
+            if (k < leaf.numCorners)
+                out << FormatDouble(leaf.corners[size_t(k)][d]);
+        }
+}
+
+}  // namespace
+
 void WriteSolveCsv(const SolveResult &result, int dimension, std::ostream &out) {
-    out << (dimension == 2 ? "element,root,depth,position,x,y,measure,radiosity,irradiance\n"
-                           : "element,root,depth,position,x,y,z,measure,radiosity,irradiance\n");
+    out << SolveCsvHeader(dimension) << '\n';
     for (const ElementRadiosity &leaf : result.leaves) {
         out << leaf.element << ',' << leaf.root << ',' << leaf.depth << ',' << leaf.position;
         for (int d = 0; d < dimension; ++d)
             out << ',' << FormatDouble(leaf.centroid[d]);
         out << ',' << FormatDouble(leaf.measure) << ',' << FormatDouble(leaf.radiosity) << ','
-            << FormatDouble(leaf.irradiance) << '\n';
+            << FormatDouble(leaf.irradiance);
+        // The colour is for display: the solve used the scalar reflectance.
+        const Material &material = result.materials[leaf.root];
+        out << ',' << FormatDouble(material.reflectance) << ',' << FormatDouble(material.emission);
+        for (double c : material.DisplayColour())
+            out << ',' << FormatDouble(c);
+        WriteOutline(leaf, dimension, out);
+        out << '\n';
     }
 }
 

@@ -110,6 +110,20 @@ TEST_CASE("Enclosures are closed with normals pointing inward", "[generators][2d
     }
 }
 
+TEST_CASE("The room's lamp is its ceiling's emission, and nothing else emits", "[generators][2d]") {
+    const Scene lit = MakeScene("room", {{"w", 3}, {"h", 2}, {"lamp", 1.5}});
+    const Patches<Segment> &walls = lit.Get<Segment>();
+    REQUIRE(walls.size() == 4);
+    for (const Patch<Segment> &wall : walls) {
+        bool ceiling = wall.shape.a.y() == 2 && wall.shape.b.y() == 2;
+        CHECK(wall.material.emission == (ceiling ? 1.5 : 0.0));
+        CHECK(wall.material.reflectance == 0.5);
+    }
+    const Scene dark = MakeScene("room", {});
+    for (const Patch<Segment> &wall : dark.Get<Segment>())
+        CHECK(wall.material.emission == 0);
+}
+
 TEST_CASE("The array family repeats the same facing pair k times", "[generators][2d]") {
     std::vector<Segment> s =
         ShapesOf<Segment>(MakeScene("array", {{"k", 5}, {"l", 2}, {"d", 1}, {"spacing", 1}}));

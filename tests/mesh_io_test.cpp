@@ -296,6 +296,17 @@ TEST_CASE("OFF face colours: integers 0..255 or fractions in [0, 1], with an alp
     CHECK(rho("1 0 0.5 1") == (1 + 0 + 0.5) / 3);
     CHECK(rho("1 1 1.0") == kMeshMaxReflectance);
     CHECK(rho("1 0 0") == 1 / (3 * 255.0));  // integers only: 0..255
+    // The colour itself is kept for display, scaled to [0, 1] and not capped.
+    auto colour = [](const std::string &colour) {
+        return Parse(kTriangleOff + "3 0 1 2 " + colour + "\n", MeshFormat::Off)
+            .Get<Polygon>()[0]
+            .material.DisplayColour();
+    };
+    CHECK(colour("255 0 51 128") == Rgb{1, 0, 51 / 255.0});
+    CHECK(colour("0.2 0.4 0.6") == Rgb{0.2, 0.4, 0.6});
+    CHECK(colour("1 1 1.0") == Rgb{1, 1, 1});
+    CHECK(colour("") == Rgb{kMeshDefaultReflectance, kMeshDefaultReflectance,
+                            kMeshDefaultReflectance});  // none: grey of the reflectance
     CHECK(Parse("COFF\n3 1 0\n0 0 0 1 2 3\n1 0 0 0.5 0.5 0.5 1\n0 1 0\n3 0 1 2\n", MeshFormat::Off)
               .NumPatches() == 1);
 }
@@ -468,6 +479,11 @@ TEST_CASE("MTL libraries are read strictly, and a missing one gives the defaults
         return Parse(obj, MeshFormat::Obj, {{"a.mtl", mtl}}).Get<Polygon>()[0].material;
     };
     CHECK(rho("newmtl red\nKd 0.3\n").reflectance == (0.3 + 0.3 + 0.3) / 3);
+    // Kd is kept as the display colour, each component clamped to [0, 1].
+    CHECK(rho("newmtl red\nKd 0.3\n").colour == Rgb{0.3, 0.3, 0.3});
+    CHECK(rho("newmtl red\nKd 0.1 0.2 0.3\n").colour == Rgb{0.1, 0.2, 0.3});
+    CHECK(rho("newmtl red\nKd 2 -1 0.5\n").colour == Rgb{1, 0, 0.5});
+    CHECK_FALSE(rho("newmtl red\nKe 1 1 1\n").colour);
     CHECK(rho("newmtl red\nKd 0.1 0.2 0.3\nKe 1 2 3\n").emission == 2);
     CHECK(rho("# standard statements\nnewmtl red\nKa 1 1 1\nKs 0 0 0\nNs 10\nNi 1.5\nd 1\n"
               "illum 2\nmap_Kd red.png\nbump b.png\nKd 2 2 2\n")

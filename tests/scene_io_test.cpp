@@ -124,7 +124,51 @@ TEST_CASE("3D scenes survive a round trip through their JSON file", "[3d][scene_
             CHECK(b[k].shape.v[v] == s[k].shape.v[v]);
         CHECK(b[k].material.reflectance == s[k].material.reflectance);
         CHECK(b[k].material.emission == s[k].material.emission);
+        CHECK(b[k].material.colour == s[k].material.colour);  // the light has none
     }
+    CHECK(b[0].material.colour == Rgb{0.725, 0.71, 0.68});
+    CHECK_FALSE(b[6].material.colour);
+}
+
+TEST_CASE("A patch's display colour is an optional [r, g, b] in [0, 1]", "[scene_io]") {
+    auto load = [](const std::string &colour) {
+        return SceneFromJson(R"({"format":"hrbench-scene","schema_version":1,"patches":[)"
+                             R"({"a":[0,0],"b":[1,0],"reflectance":0.4)" +
+                                 colour + "}]}",
+                             "f.json")
+            .Get<Segment>()[0]
+            .material;
+    };
+    CHECK(load(R"(,"colour":[0.25,1,0])").colour == Rgb{0.25, 1, 0});
+    CHECK_FALSE(load("").colour);
+    CHECK(load("").DisplayColour() == Rgb{0.4, 0.4, 0.4});  // grey of the reflectance
+    auto error = [&](const std::string &colour) {
+        try {
+            load(colour);
+        } catch (const InputError &e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    CHECK(error(R"(,"colour":[0.5,-0.1,0])") ==
+          "f.json: patch 0 has a colour component outside [0, 1]");
+    CHECK(error(R"(,"colour":[0.5,1.5,0])") ==
+          "f.json: patch 0 has a colour component outside [0, 1]");
+    CHECK(error(R"(,"colour":[0.5,0.5])") ==
+          "f.json: patches[0].colour must be an array of 3 numbers [r, g, b]");
+    CHECK(error(R"(,"colour":[0.5,0.5,0.5,1])") ==
+          "f.json: patches[0].colour must be an array of 3 numbers [r, g, b]");
+    CHECK(error(R"(,"colour":"red")") ==
+          "f.json: patches[0].colour must be an array of 3 numbers [r, g, b]");
+    CHECK(error(R"(,"colour":[0.5,null,0])") == "f.json: patches[0].colour[1] must be a number");
+    CHECK_THAT(error(R"(,"colour":[0.5,1e999,0])"), Catch::Contains("number overflow"));
+    CHECK_THAT(error(R"(,"colour":[NaN,0,0])"), Catch::Contains("malformed JSON"));
+    // A colour survives a round trip; a patch without one stays without.
+    Scene scene = MakeScene("parallel", {});
+    scene.Get<Segment>()[1].material.colour = Rgb{0.1, 0.2, 0.3};
+    Scene back = SceneFromJson(SceneToJson(scene), "mem");
+    CHECK(back.Get<Segment>()[1].material.colour == Rgb{0.1, 0.2, 0.3});
+    CHECK_FALSE(back.Get<Segment>()[0].material.colour);
 }
 
 TEST_CASE("Bad 3D scene files are rejected with one line naming the problem", "[3d][scene_io]") {

@@ -305,6 +305,79 @@ TEST_CASE("The hierarchy with one link per root pair is the reference of depth 0
     CHECK(r.comparison->maxError < 1e-12);
 }
 
+TEST_CASE("The relative L2 error is taken over the reference's elements", "[solve]") {
+    Scene plates = MakeScene("parallel", {{"l", 1}, {"d", 1}});
+    plates.Get<Segment>()[0].material = {0.3, 1};
+    plates.Get<Segment>()[1].material = {0.6, 0};
+    auto l2 = [](const std::vector<double> &b, const std::vector<ElementRadiosity> &ref) {
+        double error = 0, norm = 0;
+        for (size_t k = 0; k < ref.size(); ++k) {
+            error += ref[k].measure * (b[k] - ref[k].radiosity) * (b[k] - ref[k].radiosity);
+            norm += ref[k].measure * ref[k].radiosity * ref[k].radiosity;
+        }
+        return std::sqrt(error / norm);
+    };
+    SECTION("leaves coarser than the reference: each reference element takes its leaf's B") {
+        // One link: the leaves are the two roots; the reference of depth 1 halves each.
+        SolveOptions options = Solving(1e-13);
+        options.referenceDepth = 1;
+        SolveResult r = Solve(plates, Refining(1), options);
+        REQUIRE(r.leaves.size() == 2);
+        const std::vector<ElementRadiosity> &ref = r.reference->elements;
+        REQUIRE(ref.size() == 4);
+        double bP = r.leaves[0].radiosity, bQ = r.leaves[1].radiosity;
+        CHECK(r.comparison->l2Error == Approx(l2({bP, bP, bQ, bQ}, ref)).epsilon(1e-12));
+        CHECK(r.comparison->l2Error > 0);
+    }
+    SECTION("leaves finer than the reference: their area-weighted mean per element") {
+        SolveOptions options = Solving(1e-13);
+        options.referenceDepth = 0;
+        SolveResult r = Solve(plates, Refining(0.05), options);
+        REQUIRE(r.leaves.size() > 2);
+        std::vector<double> power(2, 0), length(2, 0);
+        for (const ElementRadiosity &leaf : r.leaves)
+            power[leaf.root] += leaf.measure * leaf.radiosity, length[leaf.root] += leaf.measure;
+        std::vector<double> mean = {power[0] / length[0], power[1] / length[1]};
+        CHECK(r.comparison->l2Error == Approx(l2(mean, r.reference->elements)).epsilon(1e-12));
+        CHECK(r.comparison->l2Error > 0);
+    }
+}
+
+TEST_CASE("The reference's change from the mesh one level coarser estimates its own error",
+          "[solve]") {
+    Scene plates = MakeScene("parallel", {{"l", 4}, {"d", 1}});
+    for (auto &patch : plates.Get<Segment>())
+        patch.material = {0.5, 1};
+    auto reference = [](const Scene &scene, int depth) {
+        SolveOptions options = Solving(1e-8);
+        options.referenceDepth = depth;
+        return *Solve(scene, Refining(0.05, 0.01), options).reference;
+    };
+    UniformSolution six = reference(plates, 6), eight = reference(plates, 8);
+    REQUIRE(six.change);
+    REQUIRE(eight.change);
+    CHECK(*six.change > 0);
+    CHECK(*eight.change < *six.change / 4);  // second order: 16 times smaller, measured
+    // By hand: the depth-6 solution averaged onto depth 5, pairs of elements in order.
+    UniformSolution five = SolveUniform(plates, 5, Refining(1), Solving(1e-6));
+    double largest = 0, change = 0;
+    for (const ElementRadiosity &e : six.elements)
+        largest = std::max(largest, e.radiosity);
+    for (size_t k = 0; k < five.elements.size(); ++k) {
+        const ElementRadiosity &a = six.elements[2 * k], &b = six.elements[2 * k + 1];
+        REQUIRE(a.root == five.elements[k].root);
+        double mean = (a.measure * a.radiosity + b.measure * b.radiosity) / (a.measure + b.measure);
+        change = std::max(change, std::abs(mean - five.elements[k].radiosity));
+    }
+    CHECK(*six.change == Approx(change / largest).epsilon(1e-12));
+    // B = E / (1 - rho) on every mesh of a closed room with uniform emission: no change.
+    UniformSolution room = reference(UniformRoom(), 6);
+    REQUIRE(room.change);
+    CHECK(*room.change < 1e-12);  // measured 1.2e-13
+    // Depth 0 has no coarser mesh.
+    CHECK_FALSE(reference(plates, 0).change);
+}
+
 // ---------------------------------------------------------------------------------------
 // Determinism
 
@@ -437,6 +510,38 @@ TEST_CASE("Passes apply to bf only; other oracles refine once", "[solve][bf][err
                       "--passes must be between 1 and 100");
 }
 
+TEST_CASE("The memory budget counts the previous bf pass's solution", "[solve][bf][errors]") {
+    // With rho = 0 the solution is B = E, so pass 2 refines exactly as pass 1 did: the
+    // smallest budget that fits one pass does not fit a second beside the first's forest.
+    Scene plates = MakeScene("parallel", {{"l", 4}, {"d", 1}});
+    for (auto &patch : plates.Get<Segment>())
+        patch.material = {0, 1};
+    RefineOptions bf = Refining(0.05, 0, "bf");
+    auto fits = [&](size_t budget, int passes) {
+        RefineOptions within = bf;
+        within.memoryBudget = budget;
+        try {
+            Solve(plates, within, Passes(passes));
+            return true;
+        } catch (const LimitError &e) {
+            CHECK_THAT(e.what(), Catch::Contains("memory budget"));
+            return false;
+        }
+    };
+    SolveResult two = Solve(plates, bf, Passes(2));
+    REQUIRE(two.passes == 2);
+    REQUIRE(two.passNodes[1] == two.passNodes[0]);
+    REQUIRE(two.passLinks[1] == two.passLinks[0]);
+    size_t low = 1, high = size_t(64) << 20;  // fails, fits
+    REQUIRE(fits(high, 1));
+    while (high - low > 1) {
+        size_t middle = low + (high - low) / 2;
+        (fits(middle, 1) ? high : low) = middle;
+    }
+    CHECK_FALSE(fits(high, 2));
+    CHECK(fits(2 * high, 2));
+}
+
 // ---------------------------------------------------------------------------------------
 // Bad input (library)
 
@@ -493,7 +598,8 @@ TEST_CASE("solve --json reports the run record and the solution", "[solve][cli]"
     std::istringstream csv(ReadFile(csvPath));
     std::string line;
     std::getline(csv, line);
-    CHECK(line == "element,root,depth,position,x,y,measure,radiosity,irradiance");
+    CHECK(line == "element,root,depth,position,x,y,measure,radiosity,irradiance,reflectance,"
+                  "emission,red,green,blue,x0,y0,x1,y1");
     size_t rows = 0;
     double length = 0;
     while (std::getline(csv, line)) {
@@ -501,7 +607,7 @@ TEST_CASE("solve --json reports the run record and the solution", "[solve][cli]"
         std::stringstream fields(line);
         for (std::string cell; std::getline(fields, cell, ',');)
             cells.push_back(cell);
-        REQUIRE(cells.size() == 9);
+        REQUIRE(cells.size() == 18);
         CHECK(std::stod(cells[7]) == j["radiosity"][rows].get<double>());
         length += std::stod(cells[6]);
         ++rows;
@@ -513,7 +619,120 @@ TEST_CASE("solve --json reports the run record and the solution", "[solve][cli]"
                           "gauss-seidel --reference 4");
     CHECK(table.exitCode == 0);
     CHECK_THAT(table.out, Catch::Contains("gauss-seidel") && Catch::Contains("radiosity_max") &&
-                              Catch::Contains("reference_error_max"));
+                              Catch::Contains("reference_error_max") &&
+                              Catch::Contains("reference_error_l2") &&
+                              Catch::Contains("reference_change"));
+    json withReference = json::parse(
+        Cli("solve room --eps 0.05 --min-area 0.01 --emission 1 --reference 4 --json").out);
+    CHECK(withReference["reference_error_l2"].get<double>() > 0);
+    CHECK(withReference["reference_change"].get<double>() < 1e-12);  // B = 2 on both meshes
+    json depth0 = json::parse(
+        Cli("solve room --eps 0.05 --min-area 0.01 --emission 1 --reference 0 --json").out);
+    CHECK(depth0.contains("reference_error_l2"));
+    CHECK_FALSE(depth0.contains("reference_change"));
+}
+
+namespace {
+
+// The rows of a CSV file after its header, each split at its commas (empty cells kept).
+std::vector<std::vector<std::string>> CsvRows(const std::string &path, std::string &header) {
+    std::istringstream csv(ReadFile(path));
+    std::getline(csv, header);
+    std::vector<std::vector<std::string>> rows;
+    for (std::string line; std::getline(csv, line);) {
+        std::vector<std::string> cells;
+        size_t start = 0;
+        for (size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
+            cells.push_back(line.substr(start, comma - start));
+        cells.push_back(line.substr(start));
+        rows.push_back(cells);
+    }
+    return rows;
+}
+
+}  // namespace
+
+TEST_CASE("solve --out gives each leaf's material, display colour and segment in 2D",
+          "[solve][cli]") {
+    // parallel l=4 d=1: P from (0,0) to (4,0), Q from (4,1) to (0,1); eps 0.3 splits
+    // both plates uniformly, to depth 4, so each leaf's end points are multiples of 4/16.
+    std::string csvPath = Scratch("solve2d.csv");
+    REQUIRE(Cli("solve parallel l=4 d=1 --eps 0.3 --emission 1 --reflectance 0.25 --out " + csvPath)
+                .exitCode == 0);
+    std::string header;
+    std::vector<std::vector<std::string>> rows = CsvRows(csvPath, header);
+    CHECK(header == "element,root,depth,position,x,y,measure,radiosity,irradiance,reflectance,"
+                    "emission,red,green,blue,x0,y0,x1,y1");
+    REQUIRE(rows.size() == 32);
+    for (const std::vector<std::string> &row : rows) {
+        INFO(row[0]);
+        REQUIRE(row.size() == 18);
+        int root = std::stoi(row[1]), depth = std::stoi(row[2]), position = std::stoi(row[3]);
+        CHECK(depth == 4);
+        double h = 4.0 / (1 << depth);
+        // The overrides, and grey of the reflectance: the scene gives no colour.
+        for (int c = 9; c <= 13; ++c)
+            CHECK(std::stod(row[size_t(c)]) == (c == 10 ? 1 : 0.25));
+        double along = root == 0 ? position * h : 4 - position * h;
+        double next = root == 0 ? (position + 1) * h : 4 - (position + 1) * h;
+        CHECK(std::stod(row[14]) == along);
+        CHECK(std::stod(row[15]) == root);
+        CHECK(std::stod(row[16]) == next);
+        CHECK(std::stod(row[17]) == root);
+        CHECK(std::stod(row[6]) == h);
+        CHECK(std::stod(row[4]) == (along + next) / 2);
+    }
+}
+
+TEST_CASE("solve --out gives each leaf's corners and display colour in 3D", "[solve][cli][3d]") {
+    std::string csvPath = Scratch("solve3d.csv");
+    REQUIRE(Cli("solve cornell --eps 0.05 --min-area 0.01 --out " + csvPath).exitCode == 0);
+    std::string header;
+    std::vector<std::vector<std::string>> rows = CsvRows(csvPath, header);
+    CHECK(header == "element,root,depth,position,x,y,z,measure,radiosity,irradiance,reflectance,"
+                    "emission,red,green,blue,corners,x0,y0,z0,x1,y1,z1,x2,y2,z2,x3,y3,z3");
+    const Patches<Polygon> roots = MakeScene("cornell", {}).Get<Polygon>();
+    std::vector<double> area(roots.size(), 0);
+    for (const std::vector<std::string> &row : rows) {
+        INFO(row[0]);
+        REQUIRE(row.size() == 28);
+        size_t root = std::stoul(row[1]);
+        REQUIRE(root < roots.size());
+        const Polygon &patch = roots[root].shape;
+        const Material &material = roots[root].material;
+        CHECK(std::stod(row[10]) == material.reflectance);
+        CHECK(std::stod(row[11]) == material.emission);
+        for (size_t c = 0; c < 3; ++c)
+            CHECK(std::stod(row[12 + c]) == material.DisplayColour()[c]);
+        // A leaf has its root's number of corners (a triangle's fourth is empty), each in
+        // the root's plane and inside it, and its area is the measure.
+        int n = std::stoi(row[15]);
+        CHECK(n == patch.n);
+        std::array<Vec3, 4> corner;
+        for (int k = 0; k < n; ++k) {
+            for (int d = 0; d < 3; ++d)
+                corner[size_t(k)][d] = std::stod(row[16 + 3 * size_t(k) + size_t(d)]);
+            Vec3 normal = patch.Normal();
+            CHECK(std::abs((corner[size_t(k)] - patch.v[0]).dot(normal)) < 1e-12);
+            for (int e = 0; e < patch.n; ++e) {
+                const Vec3 &from = patch.v[size_t(e)], &to = patch.v[size_t((e + 1) % patch.n)];
+                CHECK((to - from).cross(corner[size_t(k)] - from).dot(normal) > -1e-12);
+            }
+        }
+        if (n == 3)
+            CHECK((row[25].empty() && row[26].empty() && row[27].empty()));
+        Polygon leaf = n == 3 ? Polygon::Triangle(corner[0], corner[1], corner[2])
+                              : Polygon::Quad(corner[0], corner[1], corner[2], corner[3]);
+        CHECK(leaf.Area() == Approx(std::stod(row[7])).epsilon(1e-12));
+        area[root] += std::stod(row[7]);
+    }
+    for (size_t root = 0; root < roots.size(); ++root)
+        CHECK(area[root] == Approx(roots[root].shape.Area()).epsilon(1e-12));
+    // The measured RGB of the walls; the light is grey of its reflectance.
+    CHECK(roots[0].material.DisplayColour() == Rgb{0.725, 0.71, 0.68});
+    CHECK(roots[3].material.DisplayColour() == Rgb{0.14, 0.45, 0.091});
+    CHECK(roots[4].material.DisplayColour() == Rgb{0.63, 0.065, 0.05});
+    CHECK(roots[6].material.DisplayColour() == Rgb{0.78, 0.78, 0.78});
 }
 
 TEST_CASE("solve reads scene files and meshes, and lists itself", "[solve][cli]") {
@@ -591,9 +810,21 @@ TEST_CASE("solve's bad input gives one line and exit code 2, limits exit code 3"
     CheckError("solve parallel --emission 1", 2, "solve needs --eps");
     CheckError(room + "--emission 1 --reference 20", 2, "the most the dense reference solves");
     CheckError(room + "--emission 1 --out /dev/full", 2, "cannot write solve file '/dev/full'");
+    std::string badColour = Scratch("bad_colour.json");
+    std::ofstream(badColour) << R"({"format":"hrbench-scene","schema_version":1,"patches":[)"
+                                R"({"a":[0,0],"b":[1,0],"emission":1,"colour":[0.5,-1,0]},)"
+                                R"({"a":[1,1],"b":[0,1]}]})";
+    CheckError("solve --scene-file " + badColour + " --eps 0.5", 2,
+               "patch 0 has a colour component outside [0, 1]");
     CheckError(room + "--emission 1 --max-iterations 3 --tolerance 1e-9", 3,
                "solve did not converge in 3 iterations (residual ");
     CheckError("solve parallel l=1024 --eps 0.01 --emission 1 --max-memory 1", 3, "memory budget");
+    // 3 MiB fit one bf pass but not a second, identical one (B = E with rho = 0) beside
+    // the first's forest.
+    const std::string bf = "solve parallel l=16 d=1 --eps 0.015 --oracle bf --emission 1 "
+                           "--reflectance 0 --max-memory 3 --passes ";
+    CHECK(Cli(bf + "1").exitCode == 0);
+    CheckError(bf + "2", 3, "would exceed the memory budget");
     CheckError(room + "--emission 1 --passes 2", 2, "--passes applies to the bf oracle only");
     CheckError(room + "--emission 1 --oracle garmann --passes 1", 2,
                "--passes applies to the bf oracle only");

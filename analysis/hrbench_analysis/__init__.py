@@ -13,6 +13,8 @@ fit         power-law fits, bootstrap intervals, local slopes, Theta checks, mod
 verdict     the verdict of a claim
 plots       plotting functions (each draws on a given Axes)
 report      the Markdown, HTML and JSON report
+render      read the leaves of ``hrbench solve --out``; render a 3D solution, draw a 2D profile
+solution    the report's pictures of a solve: the profile on the plates, the Cornell box
 reproduce   the command lines ``hrbench-reproduce`` (``python -m hrbench_analysis.reproduce``)
             and ``hrbench-sweep``
 gbench      read Google Benchmark JSON files

@@ -282,6 +282,14 @@ class Claim:
     mesh_sha256 : str or None
         SHA-256 of the mesh file's bytes (hex), part of every run's cache key, so that a
         changed file is never answered from runs of the old one.
+    command : str
+        The engine command every point runs: ``"run"`` (count the hierarchy, the default)
+        or ``"solve"`` (also solve its radiosity, so that formulas may read the solve's
+        measures, :data:`hrbench_analysis.loader.SOLVE_MEASURES`).
+    published : bool
+        Whether `expected_exponent` is a published value. ``False`` for a measurement
+        without one: the exponent in the file is then this project's hypothesis, and the
+        verdict is ``"measured"`` (the fit and its interval, judged against nothing).
     """
 
     id: str
@@ -321,6 +329,8 @@ class Claim:
     range_keys: dict = field(default_factory=dict)
     mesh: object = None
     mesh_sha256: object = None
+    command: str = "run"
+    published: bool = True
 
     def key_line(self, key):
         """The line of `key` in the claims file (the claim's line when unknown)."""
@@ -359,8 +369,11 @@ _CLAIM_KEYS = {
     "id", "statement", "source", "description", "scene", "params", "oracle", "sweep",
     "x", "y", "x_label", "y_label", "expected_exponent", "tolerance", "regime",
     "expected_to_hold", "min_points", "min_decades", "window_decades", "theta_band",
-    "min_area", "max_depth", "eps", "options", "chart", "step_octaves", "mesh", *MODES,
+    "min_area", "max_depth", "eps", "options", "chart", "step_octaves", "mesh", "command",
+    "published", *MODES,
 }
+#: The engine commands a claim's points may run (key ``command``).
+COMMANDS = ("run", "solve")
 _REQUIRED = ("id", "statement", "scene", "params", "sweep", "x", "y",
              "expected_exponent", "tolerance")
 _SWEEP_KEYS = {"param", "quick", "full", "range", "grid"}
@@ -658,6 +671,10 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
                  f"{mode}.{key}")
         mode_options[mode] = _options_iv(table.get("options", {}), f"{mode}.options", fail)
     expected = want("expected_to_hold", "bool", raw.get("expected_to_hold", True))
+    published = want("published", "bool", raw.get("published", True))
+    command = want("command", "str", raw.get("command", "run"))
+    if command not in COMMANDS:
+        fail(f"key 'command' must be one of {', '.join(COMMANDS)}, got {command!r}", "command")
     for key in ("source", "description", "x_label", "y_label", "chart"):
         if key in raw:
             want(key, "str")
@@ -679,7 +696,8 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
                    for key in ("x", "y", "eps", *(f"params.{name}" for name in params),
                                *(f"sweep.{mode}" for mode in (*MODES, "range", "grid")
                                  if mode in sweep))},
-        range_keys=range_keys, mesh=mesh, mesh_sha256=mesh_sha256, **options)
+        range_keys=range_keys, mesh=mesh, mesh_sha256=mesh_sha256, command=command,
+        published=published, **options)
 
 
 def _mesh_iv(raw, path, want, fail):
@@ -736,8 +754,9 @@ def check_names(claim, counters, scene_params=()):
     ``g`` (with ``l`` and ``d``), the engine's scalar counters, the measures
     ``patches`` and ``seconds``, the aliases ``N`` and ``L`` (see
     :func:`hrbench_analysis.loader.run_environment`), and the hierarchy statistics of
-    :data:`hrbench_analysis.lemmas.STATISTICS`. Any other name is a typo: the analysis
-    exits with code 2 before any run.
+    :data:`hrbench_analysis.lemmas.STATISTICS`; a claim with ``command = "solve"`` also
+    the solve's measures (:data:`hrbench_analysis.loader.SOLVE_MEASURES`). Any other name
+    is a typo: the analysis exits with code 2 before any run.
 
     Parameters
     ----------
@@ -755,7 +774,8 @@ def check_names(claim, counters, scene_params=()):
         Naming the file, the line, the claim, the key (``x`` or ``y``), the unknown
         names and the known ones.
     """
-    known = environment_names({*claim.params, *claim.grid, *scene_params}, counters)
+    known = environment_names({*claim.params, *claim.grid, *scene_params}, counters,
+                              solve=claim.command == "solve")
     # The hierarchy statistics (lemmas.py); where they cannot be measured (a 3D
     # scene, --method translation) hrbench_analysis.engine.param_errors says so.
     known |= set(STATISTICS)

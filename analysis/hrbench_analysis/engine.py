@@ -60,6 +60,7 @@ __all__ = [
     "option_text",
     "option_argv",
     "run_argv",
+    "solve_argv",
     "links_argv",
     "save_argv",
     "STATISTICS_COMMANDS",
@@ -815,12 +816,15 @@ def missing_capability(claim, mode, capabilities):
         return (f"engine's oracle {claim.oracle!r} does not work on {family.dimension}D "
                 f"scenes such as {claim.scene!r} (dimensions "
                 f"{', '.join(map(str, oracle.dimensions))})")
+    command = getattr(claim, "command", "run")
+    if command not in capabilities.command_names:
+        return f"engine lacks the command {command!r}"
     if getattr(claim, "statistics", None):
         lacking = [c for c in STATISTICS_COMMANDS if c not in capabilities.command_names]
         if lacking:
             return (f"engine lacks the command(s) {', '.join(lacking)}, which the hierarchy "
                     f"statistics ({', '.join(sorted(claim.statistics))}) need")
-    return _missing_option(claim.options_for(mode), capabilities)
+    return _missing_option(claim.options_for(mode), capabilities, command)
 
 
 #: Engine commands that measuring the hierarchy statistics of a run needs
@@ -856,12 +860,12 @@ def _statistics_errors(claim, family, capabilities, modes):
     return errors
 
 
-def _missing_option(options, capabilities):
-    # The first reason an option cannot be passed to `run`, or None.
+def _missing_option(options, capabilities, command="run"):
+    # The first reason an option cannot be passed to `command`, or None.
     lacking = []
     for name in options:
         option = capabilities.option(name)
-        if option is None or "run" not in option.commands:
+        if option is None or command not in option.commands:
             lacking.append(option_flag(name))
     if lacking:
         return f"engine lacks option{'s' if len(lacking) > 1 else ''} {', '.join(lacking)}"
@@ -1017,6 +1021,23 @@ def run_argv(hrbench, scene, params, eps, oracle, min_area=None, max_depth=None,
                          options) + ["--count-only", "--json"])
 
 
+def solve_argv(hrbench, scene, params, eps, oracle, min_area=None, max_depth=None,
+               options=None):
+    """The command line of one solve: ``hrbench solve ... --json``.
+
+    Parameters are those of :func:`run_argv`; the options must be ones ``solve`` accepts
+    (``emission``, ``reference``, ``tolerance``, ...).
+
+    Returns
+    -------
+    argv : list of str
+        ``[hrbench, "solve", scene, params..., "--eps", E, "--oracle", O, [limits],
+        options..., "--json"]``.
+    """
+    return (_refine_argv(hrbench, "solve", scene, params, eps, oracle, min_area, max_depth,
+                         options) + ["--json"])
+
+
 def links_argv(hrbench, scene, params, eps, out, oracle="garmann", min_area=None,
                max_depth=None, options=None):
     """The command line that writes a link list: ``hrbench links ... --out FILE``.
@@ -1050,7 +1071,7 @@ def links_argv(hrbench, scene, params, eps, out, oracle="garmann", min_area=None
 
 def _refine_argv(hrbench, command, scene, params, eps, oracle, min_area, max_depth,
                  options):
-    # The words `run` and `links` share: scene, threshold, oracle, limits, options.
+    # The words `run`, `solve` and `links` share: scene, threshold, oracle, limits, options.
     argv = [*engine_argv(hrbench), command, *_scene_argv(scene, params),
             "--eps", format_number(eps), "--oracle", oracle]
     if min_area is not None:

@@ -22,6 +22,7 @@ from .errors import AnalysisError
 __all__ = [
     "COUNTERS",
     "MEASURES",
+    "SOLVE_MEASURES",
     "ALIASES",
     "SCHEMA_VERSION",
     "RunResult",
@@ -49,6 +50,16 @@ _REQUIRED = COUNTERS
 #: that formulas may read like counters: ``patches`` (root patches of the scene, count)
 #: and ``seconds`` (refinement wall time, s).
 MEASURES = ("patches", "seconds")
+
+#: Measured fields of an ``hrbench solve --json`` record that the formulas of a claim with
+#: ``command = "solve"`` may read (docs/solve.md): the errors against the dense reference
+#: (relative, dimensionless), the reference's own change on mesh doubling, the solver's
+#: iterations and residual, the powers, and the time of each stage (s).
+SOLVE_MEASURES = ("reference_error_max", "reference_error_mean", "reference_error_l2",
+                  "reference_change", "iterations", "residual", "emitted_power",
+                  "absorbed_power", "seconds_refine", "seconds_coefficients", "seconds_solve",
+                  "cpu_seconds_refine", "cpu_seconds_coefficients", "cpu_seconds_solve",
+                  "cpu_seconds_reference")
 
 #: Short names a claim formula may use for counters, as in the published statements.
 ALIASES = {"N": "nodes", "L": "links"}
@@ -150,7 +161,7 @@ def _read_counters(obj, counters):
                 raise ResultFormatError(f"run output: counter {key!r} must not be negative, "
                                         f"got {obj[key]!r}")
             out[key] = obj[key]
-    for key in MEASURES:
+    for key in (*MEASURES, *SOLVE_MEASURES):
         if obj.get(key) is not None:
             out[key] = _number(obj, key, "run output")
     for key in _REQUIRED:
@@ -287,7 +298,7 @@ def parse_run_json(text, counters=None):
     values = _read_counters(obj, counters)
     if "eps" not in obj:
         raise ResultFormatError("run output: required field 'eps' is missing")
-    known = {*_RECORD_FIELDS, *_counter_names(obj, counters), *MEASURES}
+    known = {*_RECORD_FIELDS, *_counter_names(obj, counters), *MEASURES, *SOLVE_MEASURES}
     return RunResult(
         version=_string_iv(obj, "version"),
         scene=_string_iv(obj, "scene"),
@@ -333,7 +344,7 @@ def run_environment(result):
     return env
 
 
-def environment_names(params, counters):
+def environment_names(params, counters, solve=False):
     """The names :func:`run_environment` gives a formula, for a run of known counters.
 
     Parameters
@@ -343,15 +354,20 @@ def environment_names(params, counters):
     counters : iterable of str
         Names of the scalar counters (e.g. the engine's
         :attr:`~hrbench_analysis.engine.Capabilities.scalar_counters`).
+    solve : bool, optional
+        Whether the run is ``hrbench solve``: then :data:`SOLVE_MEASURES` too.
 
     Returns
     -------
     names : set of str
         `params`, `counters`, :data:`MEASURES`, the aliases of counters in `counters`,
-        ``eps``, ``min_area``, and ``g`` when there are both ``l`` and ``d``.
+        ``eps``, ``min_area``, ``g`` when there are both ``l`` and ``d``, and for a solve
+        :data:`SOLVE_MEASURES`.
     """
     params, counters = set(params), set(counters)
     names = params | counters | set(MEASURES) | {"eps", "min_area"}
+    if solve:
+        names |= set(SOLVE_MEASURES)
     names |= {alias for alias, name in ALIASES.items() if name in counters}
     if {"l", "d"} <= params:
         names.add("g")

@@ -85,7 +85,8 @@ class PowerLawSeries:
     fit: object = None
 
 
-def plot_power_law_comparison(ax, series, *, slopes=None, symbol="x", markers="os^Dv"):
+def plot_power_law_comparison(ax, series, *, slopes=None, symbol="x", markers="os^Dv",
+                              slope_word="claimed"):
     """Draw several measured series on one log-log chart, with reference slopes.
 
     Used to set measurements side by side, e.g. the links against the elements of a
@@ -107,6 +108,9 @@ def plot_power_law_comparison(ax, series, *, slopes=None, symbol="x", markers="o
         Name of the x quantity in the reference lines' labels, e.g. ``"N"``.
     markers : str, optional
         Marker codes, cycled over the series.
+    slope_word : str, optional
+        What the reference slopes are, in their labels: ``"claimed"`` (published) or
+        ``"hypothesised"`` (no published value).
 
     Returns
     -------
@@ -129,14 +133,16 @@ def plot_power_law_comparison(ax, series, *, slopes=None, symbol="x", markers="o
     if slopes and x_right > x_left:
         for n, (slope, (xs, ys)) in enumerate(sorted(slopes.items())):
             plot_reference_slopes(ax, slope, xs, ys, x_min=x_left, x_max=x_right,
-                                  symbol=symbol, style=("--", ":", "-.")[n % 3])
+                                  symbol=symbol, style=("--", ":", "-.")[n % 3],
+                                  word=slope_word)
         ax.set_ylim(y_low / 3, y_high * 3)
     ax.set_xscale("log")
     ax.set_yscale("log")
     return points
 
 
-def plot_reference_slopes(ax, slope, x, y, *, x_min, x_max, symbol="x", style="--"):
+def plot_reference_slopes(ax, slope, x, y, *, x_min, x_max, symbol="x", style="--",
+                          word="claimed"):
     """Draw a grey reference line ``y = c x^slope`` through measured points.
 
     Parameters
@@ -154,6 +160,8 @@ def plot_reference_slopes(ax, slope, x, y, *, x_min, x_max, symbol="x", style="-
         Name of the x quantity in the legend label, e.g. ``"N"``.
     style : str, optional
         Line style.
+    word : str, optional
+        The first word of the legend label (``"claimed slope ..."``).
     """
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
@@ -164,7 +172,7 @@ def plot_reference_slopes(ax, slope, x, y, *, x_min, x_max, symbol="x", style="-
     xs = np.geomspace(x_min, x_max, 20)
     power = "" if slope == 1 else f"^{slope:g}"
     ax.plot(xs, 10 ** log_c * xs ** slope, style, color="0.4", lw=1,
-            label=f"claimed slope {slope:g} (proportional to {symbol}{power}), through "
+            label=f"{word} slope {slope:g} (proportional to {symbol}{power}), through "
                   "the regime's points")
 
 

@@ -21,7 +21,7 @@ from .plots import (
     plot_ratio,
     plot_slopes,
 )
-from .verdict import SKIPPED
+from .verdict import MEASURED, SKIPPED
 
 __all__ = [
     "ClaimOutcome",
@@ -61,10 +61,11 @@ class ClaimOutcome:
         """Whether the verdict is what the claims file expects.
 
         ``True`` for a reproduced claim expected to hold and a refuted claim expected
-        not to hold, ``False`` for the opposite, ``None`` if inconclusive or skipped.
+        not to hold, ``False`` for the opposite, ``None`` if inconclusive, skipped or
+        measured (nothing published to agree with).
         """
         verdict = self.assessment.verdict
-        if verdict in ("inconclusive", SKIPPED):
+        if verdict in ("inconclusive", SKIPPED, MEASURED):
             return None
         return (verdict == "reproduced") == self.claim.expected_to_hold
 
@@ -85,6 +86,10 @@ class ReportFigure:
     claims : tuple of str
         Ids of the claims it illustrates: the report shows it in the section of the
         first of them (empty: in the closing "Figures" section).
+    alternate : ReportFigure or None
+        Another view of the same thing (the Cornell box with its element mesh drawn),
+        shown at a toggle below the figure in the HTML report (``<details>``) and after
+        it in the Markdown report; its title is the toggle's label.
     """
 
     name: str
@@ -92,6 +97,7 @@ class ReportFigure:
     caption: str
     figure: object
     claims: tuple = ()
+    alternate: object = None
 
     def png(self):
         """The figure as PNG bytes (100 dpi)."""
@@ -210,6 +216,8 @@ def get_claims_json(outcomes, mode="quick"):
             "reason": a.reason,
             "expected_to_hold": c.expected_to_hold,
             "as_expected": o.agrees,
+            "published": c.published,
+            "command": c.command,
             "scene": c.scene,
             "mesh": ({"file": os.path.basename(c.mesh), "sha256": c.mesh_sha256}
                      if c.mesh else None),
@@ -352,7 +360,9 @@ def get_figures(outcomes, links=None, links_title=""):
             anchors.setdefault(o.claim.expected_exponent,
                                (a.x[a.in_regime], a.y[a.in_regime]))
         first = members[0].claim
-        plot_power_law_comparison(ax, series, slopes=anchors, symbol=_symbol(first.x.text))
+        published = any(o.claim.published for o in members)
+        plot_power_law_comparison(ax, series, slopes=anchors, symbol=_symbol(first.x.text),
+                                  slope_word="claimed" if published else "hypothesised")
         ax.set_xlabel(first.x_label)
         ax.set_ylabel(first.y_label)
         ids = ", ".join(o.claim.id for o in members)
@@ -364,8 +374,10 @@ def get_figures(outcomes, links=None, links_title=""):
         ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.1))
         caption = ("Log-log plot; filled markers lie in the asymptotic regime that is "
                    "judged, hollow ones outside it; the solid line is the least-squares fit "
-                   "over the regime, the grey lines the claimed slopes drawn through the "
-                   "regime's points (their prefactor fitted with the slope fixed). "
+                   f"over the regime, the grey lines the "
+                   f"{'claimed' if published else 'hypothesised (nothing is published)'} "
+                   "slopes drawn through the regime's points (their prefactor fitted with "
+                   "the slope fixed). "
                    + " ".join(f"{o.claim.id}: {o.claim.description}" for o in members))
         figures.append(ReportFigure(f"chart-{_slug(ids)}", title, caption, fig,
                                     tuple(o.claim.id for o in members)))
@@ -460,13 +472,18 @@ def _details(o):
                 + (f", max_depth={c.max_depth}" if c.max_depth is not None else "")
                 + f", oracle {c.oracle}"
                 + (f", options `{' '.join(options)}`" if options else "")
+                + (", each point solved (`hrbench solve`)" if c.command == "solve" else "")
                 + f", {c.sweep_param} swept"
                 + "".join(f" for each {name} in {{{', '.join(f'{v:g}' for v in values)}}}"
                           for name, values in c.grid.items()))
+    statement = f"- statement: `{c.statement}` ({c.source})"
+    if not c.published:
+        statement += (f"; no published value: the exponent {c.expected_exponent:g} is this "
+                      "project's hypothesis, reported as a measurement")
     if a.verdict == SKIPPED:
-        return [f"- statement: `{c.statement}` ({c.source})", measured,
+        return [statement, measured,
                 f"- **skipped**: {a.reason}; no point was run"]
-    lines = [f"- statement: `{c.statement}` ({c.source})", measured,
+    lines = [statement, measured,
              f"- regime: {_regime(c)}; {a.n_regime} of {a.x.size} points, "
              f"{a.decades:.2f} decades",
              f"- verdict: **{a.verdict}** ({a.reason})"]
@@ -534,13 +551,14 @@ def write_report(outdir, outcomes, context, figures):
     outdir.mkdir(parents=True, exist_ok=True)
     plots = outdir / "plots"
     plots.mkdir(exist_ok=True)
-    names = {f"{f.name}.png" for f in figures}
+    every = [*figures, *(f.alternate for f in figures if f.alternate is not None)]
+    names = {f"{f.name}.png" for f in every}
     for stale in [*plots.glob("chart-*.png"), *plots.glob("slopes-*.png")]:
         if stale.name not in names:
             stale.unlink()  # a figure of an earlier run whose claims have changed
     rows = get_claims_table(outcomes)
     pngs = {}
-    for f in figures:
+    for f in every:
         pngs[f.name] = f.png()
         (plots / f"{f.name}.png").write_bytes(pngs[f.name])
 
@@ -565,6 +583,9 @@ def write_report(outdir, outcomes, context, figures):
         md += ["## Figures", ""]
     for f in placed.get(None, []):
         md += [f"### {f.title}", "", f"![{f.title}](plots/{f.name}.png)", "", f.caption, ""]
+        if f.alternate is not None:
+            a = f.alternate
+            md += [f"#### {a.title}", "", f"![{a.title}](plots/{a.name}.png)", ""]
     md_path = outdir / "report.md"
     md_path.write_text("\n".join(md))
 
@@ -575,7 +596,7 @@ def write_report(outdir, outcomes, context, figures):
              "body{font-family:sans-serif;max-width:1250px;margin:2em auto;padding:0 1em}",
              "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 8px}",
              "th{background:#eee}.reproduced{background:#d8f5d8}.refuted{background:#f8d8d8}",
-             ".inconclusive{background:#f5efc8}.skipped{background:#e4e4e4}img{max-width:100%}code{background:#f4f4f4}",
+             ".inconclusive{background:#f5efc8}.measured{background:#dce8f5}.skipped{background:#e4e4e4}img{max-width:100%}code{background:#f4f4f4}",
              "</style></head><body>",
              "<h1>hrbench: reproduction of published complexity claims</h1><ul>"]
     parts += [f"<li>{esc(k)}: {esc(str(v))}</li>" for k, v in context.items()]
@@ -587,10 +608,16 @@ def write_report(outdir, outcomes, context, figures):
                         else f"<td>{esc(r[k])}</td>" for k, _ in _COLUMNS)
         parts.append(f"<tr>{cells}</tr>")
     parts.append("</table>")
-    def image(f, level):
+    def img(f):
         data = base64.b64encode(pngs[f.name]).decode("ascii")
-        return (f"<h{level}>{esc(f.title)}</h{level}><img alt='{esc(f.title)}' "
-                f"src='data:image/png;base64,{data}'><p>{esc(f.caption)}</p>")
+        return f"<img alt='{esc(f.title)}' src='data:image/png;base64,{data}'>"
+
+    def image(f, level):
+        toggle = ("" if f.alternate is None else
+                  f"<details><summary>{esc(f.alternate.title)}</summary>"
+                  f"{img(f.alternate)}</details>")
+        return (f"<h{level}>{esc(f.title)}</h{level}>{img(f)}{toggle}"
+                f"<p>{esc(f.caption)}</p>")
 
     for o in outcomes:
         parts.append(f"<h3>{esc(o.claim.id)}: {esc(o.claim.statement)}</h3>")

@@ -62,6 +62,7 @@ from .engine import (
 from .errors import AnalysisError, one_line
 from .loader import SCHEMA_VERSION, ResultFormatError, read_links_csv
 from .report import ClaimOutcome, get_claims_table, get_figures, print_claims_table, write_report
+from .solution import solution_figures
 from .store import ResultStore
 from .sweep import UNREADABLE_RECORD, ClaimData, expand_claim, get_claim_data, run_points
 from .verdict import assess_claim, skipped_assessment
@@ -192,8 +193,10 @@ def _parser(prog="hrbench-reproduce",
 
 def _reproduce_parser():
     p = _parser()
-    p.add_argument("--no-tiling", action="store_true",
-                   help="skip the link tiling figure (needs 'hrbench links')")
+    p.add_argument("--no-pictures", "--no-tiling", dest="no_pictures", action="store_true",
+                   help="skip the figures that need runs of their own: the link tiling "
+                   "('hrbench links'), the radiosity profile and the Cornell box ('hrbench "
+                   "solve')")
     return p
 
 
@@ -505,7 +508,7 @@ def _main(argv):
 
     # Draw the link tiling of one small refinement.
     links, links_title = None, ""
-    if not args.no_tiling:
+    if not args.no_pictures:
         scene, params, eps, oracle = TILING
         name = "-".join(f"{k}{v:g}" for k, v in params.items())
         csv_path = args.results / f"links-{scene}-{name}-eps{eps:g}.csv"
@@ -535,6 +538,9 @@ def _main(argv):
                    f"matplotlib {matplotlib.__version__}"),
     }
     figures = get_figures(outcomes, links, links_title)
+    if not args.no_pictures:
+        figures += solution_figures(setup.engine, args.results, args.jobs,
+                                    warn=lambda line: print(line, file=sys.stderr))
     try:
         paths = write_report(args.results, outcomes, context, figures)
     except OSError as exc:

@@ -20,7 +20,15 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .claimfile import ClaimsFileError
-from .engine import format_number, links_argv, option_text, run_argv, run_engine, save_argv
+from .engine import (
+    format_number,
+    links_argv,
+    option_text,
+    run_argv,
+    run_engine,
+    save_argv,
+    solve_argv,
+)
 from .lemmas import STATISTICS_MODE, StatisticsJob, add_to_record, measure, record_statistics
 from .loader import ResultFormatError, parse_run_json, run_environment
 from .store import ACQUIRED, DONE, LEASE_RENEW, PointKey, StoredPoint, StoreError
@@ -90,7 +98,8 @@ def expand_claim(claim, mode, hrbench, version):
     points : list of SweepPoint
         One per value of the swept parameter, in sweep order, for every combination of
         the values of ``sweep.grid`` (in the order given); command lines as in
-        :func:`hrbench_analysis.engine.run_argv`.
+        :func:`hrbench_analysis.engine.run_argv`, or
+        :func:`~hrbench_analysis.engine.solve_argv` for a claim with ``command = "solve"``.
     """
     points = []
     options = claim.options_for(mode)
@@ -102,6 +111,9 @@ def expand_claim(claim, mode, hrbench, version):
     key_options = tuple(sorted(key_options.items()))
     grid = [dict(zip(claim.grid, combo, strict=True))
             for combo in itertools.product(*claim.grid.values())]
+    # A solve is its own record (the counters and the solve's measures), never a count's.
+    solve = getattr(claim, "command", "run") == "solve"
+    make_argv, mode_key = (solve_argv, "solve") if solve else (run_argv, "count-only")
     for fixed in grid:
         for value in claim.range_for(mode).values():
             params = dict(claim.params) | fixed
@@ -115,9 +127,9 @@ def expand_claim(claim, mode, hrbench, version):
             key = PointKey(version=version, scene=claim.scene,
                            params=tuple(sorted(params.items())), eps=float(eps),
                            oracle=claim.oracle, min_area=min_area,
-                           max_depth=claim.max_depth, mode="count-only", options=key_options)
-            argv = run_argv(hrbench, claim.scene, params, eps, claim.oracle,
-                            min_area=min_area, max_depth=claim.max_depth, options=options)
+                           max_depth=claim.max_depth, mode=mode_key, options=key_options)
+            argv = make_argv(hrbench, claim.scene, params, eps, claim.oracle,
+                             min_area=min_area, max_depth=claim.max_depth, options=options)
             series = ", ".join(f"{k}={format_number(v)}" for k, v in fixed.items())
             points.append(SweepPoint(key=key, value=value, argv=tuple(argv), series=series))
     return _with_statistics(claim, points, hrbench)

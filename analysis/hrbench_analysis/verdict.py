@@ -17,13 +17,18 @@ __all__ = [
     "VERDICTS",
     "SKIPPED",
     "Assessment",
+    "MEASURED",
     "get_verdict",
     "assess_claim",
     "skipped_assessment",
 ]
 
-#: The three verdicts, in order of strength.
-VERDICTS = ("reproduced", "refuted", "inconclusive")
+#: The verdict of a claim whose exponent has no published value (key ``published =
+#: false``): the fit and its interval are reported, judged against nothing.
+MEASURED = "measured"
+
+#: The verdicts: the three judgements in order of strength, then :data:`MEASURED`.
+VERDICTS = ("reproduced", "refuted", "inconclusive", MEASURED)
 
 #: The mark of a claim that was not measured (the engine cannot run it); not a verdict.
 SKIPPED = "skipped"
@@ -36,8 +41,9 @@ class Assessment:
     Attributes
     ----------
     verdict : str
-        ``"reproduced"``, ``"refuted"`` or ``"inconclusive"``, or :data:`SKIPPED` for a
-        claim that was not measured.
+        ``"reproduced"``, ``"refuted"`` or ``"inconclusive"``; :data:`MEASURED` for a
+        claim without a published value that was fitted; or :data:`SKIPPED` for a claim
+        that was not measured.
     reason : str
         One sentence saying why.
     expected_exponent, tolerance : float
@@ -283,6 +289,16 @@ def assess_claim(claim, data, n_boot=2000):
             x_max=claim.x_max, min_points=claim.min_points, min_decades=claim.min_decades,
             window_decades=claim.window_decades, theta_band=claim.theta_band,
             step_octaves=claim.step_octaves, n_boot=n_boot)
+    if not getattr(claim, "published", True) and result.interval is not None:
+        # Nothing published to judge against: report the fit, and what the hypothesis
+        # of the claims file would have been judged.
+        i = result.interval
+        result.reason = (f"no published value: measured exponent {i.fit.exponent:.3f} "
+                         f"[{i.low:.3f}, {i.high:.3f}] over {result.decades:.1f} decades "
+                         f"({result.n_regime} points); against the hypothesis "
+                         f"{claim.expected_exponent:g} +/- {claim.tolerance:g} it would be "
+                         f"{result.verdict}")
+        result.verdict = MEASURED
     if data.failures:
         codes = sorted({f["exit_code"] for f in data.failures})
         note = (f"{len(data.failures)} point(s) failed (exit code "

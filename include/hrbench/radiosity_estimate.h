@@ -53,6 +53,11 @@ class RadiosityEstimate {
     }
 
     size_t NumRoots() const { return forest_ ? forest_->NumRoots() : values_.size(); }
+    // Bytes held: the values, and a previous solution's forest and its roots' normals.
+    size_t Bytes() const {
+        return values_.size() * sizeof(double) + normals_.size() * sizeof(Vec) +
+               (forest_ ? forest_->Size() * Forest<Shape>::kBytesPerElement : 0);
+    }
     // The largest value anywhere: 0 when nothing emits.
     double Max() const {
         double max = 0;

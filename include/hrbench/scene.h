@@ -2,7 +2,9 @@
 // dimension: segments (flatland) or polygons (3D).
 #pragma once
 
+#include <array>
 #include <map>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -13,10 +15,22 @@
 
 namespace hrbench {
 
+// A colour: red, green, blue, each in [0, 1].
+using Rgb = std::array<double, 3>;
+
 // Surface properties of a root patch, inherited by all of its elements.
 struct Material {
     double reflectance = 0.5;  // rho, in [0, 1)
     double emission = 0.0;     // emitted radiosity E, >= 0
+    // The surface's diffuse RGB where the scene gives one (an MTL Kd, an OFF face colour,
+    // a scene file's "colour", the cornell family's). For display only: the solve is
+    // monochrome and uses _reflectance_.
+    std::optional<Rgb> colour{};
+
+    // The colour to show the surface in: _colour_, else grey of the reflectance.
+    Rgb DisplayColour() const {
+        return colour.value_or(Rgb{reflectance, reflectance, reflectance});
+    }
 };
 
 // A root patch: its shape and its surface.

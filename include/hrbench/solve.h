@@ -4,6 +4,7 @@
 // docs/solve.md states every definition used here.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <ostream>
@@ -98,6 +99,10 @@ struct ElementRadiosity {
     double measure;     // length (2D) or area (3D)
     double radiosity;   // B
     double irradiance;  // H, the radiosity gathered from other patches: B = E + rho H
+    // The element's outline: numCorners of corners are used, in 2D the end points a, b
+    // (z = 0), in 3D the polygon's 3 or 4 corners in order.
+    std::array<Vec3, 4> corners{};
+    int numCorners = 0;
 };
 
 // Wall and CPU (all threads of the process) seconds of one stage.
@@ -111,7 +116,11 @@ struct UniformSolution {
     int depth = 0;
     std::vector<ElementRadiosity> elements;  // by root patch, then position
     double emittedPower = 0, absorbedPower = 0;
-    StageTime time;
+    // Solve's reference from depth 1 on: the estimate of its own discretisation error,
+    // max over the elements of depth - 1 of |this solution's area-weighted mean over the
+    // element - the depth - 1 solution's B| / max |B| (docs/solve.md).
+    std::optional<double> change;
+    StageTime time;  // with _change_, of both solves
 };
 
 // The hierarchical solution against a reference, both relative to the reference's
@@ -120,11 +129,13 @@ struct UniformSolution {
 struct ReferenceComparison {
     double maxError = 0;   // max over reference elements of |B_h - B_ref| / max B_ref
     double meanError = 0;  // sum of A |B_h - B_ref| over sum of A B_ref (relative L1)
+    double l2Error = 0;    // sqrt(sum of A (B_h - B_ref)^2 over sum of A B_ref^2) (relative L2)
 };
 
 struct SolveResult {
     RunRecord record;                      // the last pass's counters; kernel time of all
     std::vector<ElementRadiosity> leaves;  // by root patch, then preorder of its tree
+    std::vector<Material> materials;       // each root patch's, after the overrides
     int iterations = 0;                    // sweeps done
     double residual = 0;                   // of the last sweep
     double emittedPower = 0;               // sum over leaves of E A
@@ -159,7 +170,9 @@ nlohmann::json SolveToJson(const Scene &scene, const RefineOptions &refine,
 // A short human table of a solve's JSON.
 void PrintSolveTable(const nlohmann::json &solve, std::ostream &out);
 
-// One CSV row per leaf: element,root,depth,position,x,y[,z],measure,radiosity.
+// One CSV row per leaf (docs/solve.md): element,root,depth,position, the centroid,
+// measure,radiosity,irradiance, the root's reflectance,emission and display colour
+// red,green,blue, and the outline: x0,y0,x1,y1 in 2D; corners,x0,y0,z0,..,x3,y3,z3 in 3D.
 void WriteSolveCsv(const SolveResult &result, int dimension, std::ostream &out);
 
 }  // namespace hrbench

@@ -1,0 +1,152 @@
+"""The report's pictures of radiosity solved on the hierarchy (``hrbench solve``).
+
+Two figures a reader recognises at once: the radiosity along two facing plates, as each
+oracle's leaves hold it, against the dense reference; and the Cornell box rendered from
+its solution, with the element mesh at a toggle.
+"""
+
+import json
+
+from matplotlib.figure import Figure
+
+from .engine import EngineError, run_engine, solve_argv
+from .loader import ResultFormatError
+from .render import plot_radiosity_profile, read_solution, render_figure
+from .report import ReportFigure
+
+__all__ = ["PROFILE", "CORNELL", "solution_figures", "profile_figure", "cornell_figures"]
+
+#: The profile: scene, parameters, options, and (oracle, eps) per panel, the three
+#: oracles at thresholds that give a few thousand links each.
+PROFILE = ("parallel", {"l": 4, "d": 1}, {"emission": 1, "reference": 10},
+           (("garmann", 0.1), ("hanrahan", 0.03), ("bf", 0.05)))
+
+#: The Cornell box: the family's measured geometry and materials, occlusion by the
+#: sampled visible fraction, and a recursion limit (walls and blocks touch).
+CORNELL = ("cornell", {}, 0.02, "garmann", 0.002, {"visibility": "fraction"})
+
+
+def _solve(engine, scene, params, eps, oracle, options, csv_path, min_area=None):
+    # Run one solve that writes its leaves to csv_path; return its JSON record.
+    argv = solve_argv(engine, scene, params, eps, oracle, min_area=min_area,
+                      options=options) + ["--out", str(csv_path)]
+    run = run_engine(argv)
+    if run.exit_code != 0:
+        raise EngineError(f"{' '.join(run.argv[1:])} failed with exit code {run.exit_code}: "
+                          f"{run.message or 'no message'}")
+    try:
+        return json.loads(run.stdout)
+    except json.JSONDecodeError as exc:
+        raise ResultFormatError(f"{' '.join(run.argv[1:])}: output is not JSON: {exc}") from None
+
+
+def profile_figure(engine, results):
+    """The radiosity along the plates for each oracle, against the reference.
+
+    Parameters
+    ----------
+    engine : str, path-like or sequence of them
+        The engine (:func:`hrbench_analysis.engine.engine_argv`).
+    results : pathlib.Path
+        Folder for the solves' CSV files (``solution-parallel-<oracle>.csv``).
+
+    Returns
+    -------
+    figure : ReportFigure
+    """
+    scene, params, options, panels = PROFILE
+    fig = Figure(figsize=(14, 4.6), layout="constrained")
+    axes = fig.subplots(1, len(panels), sharey=True)
+    for ax, (oracle, eps) in zip(axes, panels, strict=True):
+        path = results / f"solution-{scene}-{oracle}.csv"
+        record = _solve(engine, scene, params, eps, oracle, options, path)
+        plot_radiosity_profile(ax, read_solution(path), record["reference_radiosity"],
+                               record["reference_depth"])
+        ax.set_title(f"{oracle}, eps = {eps:g}: {record['links']} links, "
+                     f"{record['leaves']} leaves\nrelative error L2 "
+                     f"{record['reference_error_l2']:.2g}, max "
+                     f"{record['reference_error_max']:.2g}", fontsize=10)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    where = " ".join(f"{k}={v:g}" for k, v in params.items())
+    caption = (f"Two facing plates ({scene} {where}), both emitting 1 with reflectance 0.5, "
+               "solved on the hierarchy of each oracle (gather over the links, push-pull, "
+               "Jacobi sweeps to a residual of 1e-6). Solid: the radiosity each leaf holds, "
+               "a step function along the plate (the plates face each other, so the "
+               "middle, which sees the most of the other plate, is brightest); dashed: "
+               f"the dense reference, {2 ** options['reference']} uniform elements per "
+               "plate with exact crossed-strings form factors. The errors are relative to "
+               "the reference (L2 over the plates, max over its elements). The garmann "
+               "oracle splits by distance alone, so its leaves are as fine at the ends as "
+               "in the middle; hanrahan and bf split where the form factor (times B) is "
+               "large.")
+    return ReportFigure("profile", "Radiosity along the plates, each oracle against the "
+                        "reference", caption, fig)
+
+
+def cornell_figures(engine, results, jobs=1):
+    """The Cornell box rendered from its solution, and the same with its element mesh.
+
+    Parameters
+    ----------
+    engine : str, path-like or sequence of them
+    results : pathlib.Path
+        Folder for the solve's CSV file (``solution-cornell.csv``).
+    jobs : int, optional
+        Threads of the solve (``--threads``); the solution does not depend on them.
+
+    Returns
+    -------
+    figure : ReportFigure
+        The image, with the meshed image as its ``alternate``.
+    """
+    scene, params, eps, oracle, min_area, options = CORNELL
+    path = results / "solution-cornell.csv"
+    record = _solve(engine, scene, params, eps, oracle, options | {"threads": jobs}, path,
+                    min_area=min_area)
+    solution = read_solution(path)
+    facts = (f"{scene}, {oracle}, eps {eps:g}, min-area {min_area:g}, visibility "
+             f"{options['visibility']}\n{record['leaves']} leaves, {record['links']} links")
+    plain = render_figure(solution, title=facts)
+    meshed = render_figure(solution, mesh=True, title=facts)
+    seconds = sum(record[f"cpu_seconds_{s}"] for s in ("refine", "coefficients", "solve"))
+    caption = ("The Cornell box (measured geometry and reflectances of the Cornell "
+               "University Program of Computer Graphics), solved on the hierarchy and seen "
+               "from its published camera: every leaf drawn flat in its material's colour "
+               "times its radiosity (the solve is monochrome: the colours only tint it), "
+               "rasterised with a depth buffer, exposed so that the brightest lit "
+               "surfaces are near white. Occlusion enters the link coefficients as the "
+               "visible fraction of each linked pair, sampled as during refinement, which "
+               "casts the blocks' shadows. Solve: "
+               f"{record['iterations']} Jacobi sweeps, {seconds:.1f} s of CPU for "
+               "refinement, coefficients and sweeps. The toggle shows the element mesh: "
+               "the leaves' boundaries seen from the camera.")
+    mesh_figure = ReportFigure("cornell-mesh", "Show the element mesh", caption, meshed)
+    return ReportFigure("cornell", "The Cornell box rendered from its radiosity solution",
+                        caption, plain, alternate=mesh_figure)
+
+
+def solution_figures(engine, results, jobs=1, warn=print):
+    """The report's solution figures that could be made.
+
+    Parameters
+    ----------
+    engine : str, path-like or sequence of them
+    results : pathlib.Path
+    jobs : int, optional
+    warn : callable, optional
+        Called with one line for each figure that could not be made (an engine without
+        ``solve`` or the options it needs, or a failed solve); the report goes on.
+
+    Returns
+    -------
+    figures : list of ReportFigure
+    """
+    figures = []
+    for name, make in (("profile", lambda: profile_figure(engine, results)),
+                       ("Cornell box", lambda: cornell_figures(engine, results, jobs))):
+        try:
+            figures.append(make())
+        except (EngineError, ResultFormatError, OSError, KeyError, ValueError) as exc:
+            warn(f"warning: no {name} figure: {' '.join(str(exc).split())}")
+    return figures

@@ -1,0 +1,418 @@
+import io
+import math
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from hrbench_analysis.loader import ResultFormatError
+from hrbench_analysis.render import (
+    COLUMNS_2D,
+    COLUMNS_3D,
+    CORNELL_CAMERA,
+    MESH_SHADE,
+    Camera,
+    plot_radiosity_profile,
+    rasterise,
+    read_solution,
+    render_figure,
+    render_image,
+)
+
+HEADER_2D = ("element,root,depth,position,x,y,measure,radiosity,irradiance,reflectance,"
+             "emission,red,green,blue,x0,y0,x1,y1")
+HEADER_3D = ("element,root,depth,position,x,y,z,measure,radiosity,irradiance,reflectance,"
+             "emission,red,green,blue,corners,x0,y0,z0,x1,y1,z1,x2,y2,z2,x3,y3,z3")
+
+# A camera on the -z axis looking at the origin: the image's right is -x, its up +y.
+EYE_Z = -5.0
+FOV = 40.0
+SIZE = (160, 120)  # width, height
+CAMERA = Camera(eye=(0.0, 0.0, EYE_Z), look_at=(0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0), fov=FOV)
+
+
+def pixel_of(x, y, z, size=SIZE):
+    """Row and column of the pixel that sees the world point, computed by hand."""
+    width, height = size
+    t = math.tan(math.radians(FOV) / 2)
+    depth = z - EYE_Z
+    px = (-x / (depth * t * width / height) + 1) * width / 2
+    py = (1 - y / (depth * t)) * height / 2
+    return int(py), int(px)
+
+
+def srgb(v):
+    return 12.92 * v if v <= 0.0031308 else 1.055 * v ** (1 / 2.4) - 0.055
+
+
+def leaf_3d(element, corners, *, colour=(1.0, 1.0, 1.0), b=1.0, emission=0.0, root=None,
+            depth=0, position=0):
+    corners = np.asarray(corners, float)
+    centre = corners.mean(axis=0)
+    fields = [element, element if root is None else root, depth, position, *centre, 1.0, b,
+              b, 0.5, emission, *colour, len(corners), *corners.ravel()]
+    if len(corners) == 3:
+        fields += ["", "", ""]
+    return ",".join(str(f) for f in fields)
+
+
+def square(x0, x1, y0, y1, z):
+    return [(x0, y0, z), (x1, y0, z), (x1, y1, z), (x0, y1, z)]
+
+
+def write(tmp_path, header, rows, name="solution.csv"):
+    path = tmp_path / name
+    path.write_text("\n".join([header, *rows]) + "\n")
+    return path
+
+
+def test_column_lists_match_the_engine_headers():
+    assert ",".join(COLUMNS_2D) == HEADER_2D
+    assert ",".join(COLUMNS_3D) == HEADER_3D
+
+
+# ---------------------------------------------------------------------------------------
+# read_solution
+
+
+def test_read_2d_solution_round_trips(tmp_path):
+    rows = ["0,0,1,0,0.5,0,1,2.5,1.5,0.4,1,0.9,0.1,0.1,0,0,1,0",
+            "1,0,1,1,1.5,0,1,3.5,2.5,0.4,0,0.9,0.1,0.1,1,0,2,0",
+            "2,1,0,0,0,1.5,3,0.25,0.625,0.4,0,0.1,0.8,0.2,0,0,0,3"]
+    sol = read_solution(write(tmp_path, HEADER_2D, rows))
+    assert sol.dimension == 2 and len(sol) == 3
+    assert sol.element.tolist() == [0, 1, 2]
+    assert sol.root.tolist() == [0, 0, 1]
+    assert sol.depth.tolist() == [1, 1, 0]
+    assert sol.position.tolist() == [0, 1, 0]
+    np.testing.assert_array_equal(sol.centre, [[0.5, 0], [1.5, 0], [0, 1.5]])
+    np.testing.assert_array_equal(sol.measure, [1, 1, 3])
+    np.testing.assert_array_equal(sol.radiosity, [2.5, 3.5, 0.25])
+    np.testing.assert_array_equal(sol.irradiance, [1.5, 2.5, 0.625])
+    np.testing.assert_array_equal(sol.emission, [1, 0, 0])
+    np.testing.assert_array_equal(sol.colour[2], [0.1, 0.8, 0.2])
+    assert sol.ends.shape == (3, 2, 2)
+    np.testing.assert_array_equal(sol.ends[1], [[1, 0], [2, 0]])
+    np.testing.assert_array_equal(sol.ends[2], [[0, 0], [0, 3]])
+    assert sol.corners is None and sol.n_corners is None
+    assert sol.source.endswith("solution.csv")
+
+
+def test_read_3d_solution_with_triangles_and_quads(tmp_path):
+    tri = [(0, 0, 0), (1, 0, 0), (0, 1, 0)]
+    quad = square(0, 2, 0, 1, 3)
+    rows = [leaf_3d(7, tri, colour=(0.25, 0.5, 0.75), b=2.0),
+            leaf_3d(8, quad, b=0.5, emission=0.5, root=1, depth=2, position=3)]
+    sol = read_solution(write(tmp_path, HEADER_3D, rows))
+    assert sol.dimension == 3 and len(sol) == 2
+    assert sol.element.tolist() == [7, 8]
+    assert sol.depth.tolist() == [0, 2] and sol.position.tolist() == [0, 3]
+    assert sol.n_corners.tolist() == [3, 4]
+    assert sol.corners.shape == (2, 4, 3)
+    np.testing.assert_array_equal(sol.corners[0, :3], tri)
+    assert np.isnan(sol.corners[0, 3]).all()
+    np.testing.assert_array_equal(sol.corners[1], quad)
+    np.testing.assert_allclose(sol.centre[1], [1, 0.5, 3])
+    np.testing.assert_array_equal(sol.colour[0], [0.25, 0.5, 0.75])
+    np.testing.assert_array_equal(sol.radiosity, [2.0, 0.5])
+    np.testing.assert_array_equal(sol.emission, [0.0, 0.5])
+    assert sol.ends is None
+
+
+def good_3d_rows():
+    return [leaf_3d(0, square(0, 1, 0, 1, 0)),
+            leaf_3d(1, [(0, 0, 1), (1, 0, 1), (0, 1, 1)])]
+
+
+@pytest.mark.parametrize("edit, line, words", [
+    (lambda h, r: (h.replace(",emission", ""),
+                   [x.replace(",0.5,0.0,1.0,", ",0.5,1.0,") for x in r]), 1, "emission"),
+    (lambda h, r: (h, [r[0], r[1].replace(",0.5,", ",abc,", 1)]), 3, "not a number"),
+    (lambda h, r: (h, [r[0].replace(",4,", ",5,", 1), r[1]]), 2, "3 or 4"),
+    (lambda h, r: (h, [r[0], r[1].replace(",,,", ",1,1,")]), 3, "fourth corner"),
+    (lambda h, r: (h, [r[0], r[1].replace(",,", ",nan,", 1)]), 3, "fourth corner"),
+    (lambda h, r: (h, [r[0], r[1] + ",1"]), 3, "fields"),
+    (lambda h, r: (h, [r[0].replace("0,0,0,0,", "0,0,0.5,0,", 1), r[1]]), 2, "integer"),
+    (lambda h, r: (h, [r[0].replace("0,0,0,0,", "0,0,1,2,", 1), r[1]]), 2, "2^depth"),
+    (lambda h, r: (h, [r[0], r[1].replace(",1.0,", ",inf,", 1)]), 3, "finite"),
+    (lambda h, r: (h, []), 2, "no element rows"),
+    (lambda h, r: ("", []), 1, "empty"),
+])
+def test_read_refuses_malformed_files(tmp_path, edit, line, words):
+    header, rows = edit(HEADER_3D, good_3d_rows())
+    path = write(tmp_path, header, rows, name="bad.csv") if header else tmp_path / "bad.csv"
+    if not header:
+        path.write_text("")
+    with pytest.raises(ResultFormatError) as err:
+        read_solution(path)
+    message = str(err.value)
+    assert "\n" not in message
+    assert str(path) in message
+    assert f"line {line}:" in message
+    assert words in message
+
+
+def test_read_refuses_a_quad_without_its_fourth_corner(tmp_path):
+    rows = good_3d_rows()
+    parts = rows[0].split(",")
+    parts[-3:] = ["", "", ""]
+    with pytest.raises(ResultFormatError, match=r"line 2: .*'x3' is not a number"):
+        read_solution(write(tmp_path, HEADER_3D, [",".join(parts), rows[1]]))
+
+
+def test_the_good_rows_of_the_refusal_tests_are_read(tmp_path):
+    assert len(read_solution(write(tmp_path, HEADER_3D, good_3d_rows()))) == 2
+
+
+# ---------------------------------------------------------------------------------------
+# render_image
+
+
+FAR = dict(corners=square(-1, 1, -1, 1, 0), colour=(0.2, 0.4, 0.8))
+NEAR = dict(corners=square(0, 1.5, -0.5, 0.5, -1), colour=(0.9, 0.6, 0.1))
+
+
+def two_squares(tmp_path, near_first):
+    far = leaf_3d(0, FAR["corners"], colour=FAR["colour"])
+    near = leaf_3d(1, NEAR["corners"], colour=NEAR["colour"])
+    rows = [near, far] if near_first else [far, near]
+    return read_solution(write(tmp_path, HEADER_3D, rows))
+
+
+@pytest.mark.parametrize("near_first", [False, True])
+def test_z_buffer_shows_the_nearer_square(tmp_path, near_first):
+    sol = two_squares(tmp_path, near_first)
+    image = render_image(sol, camera=CAMERA, size=SIZE, exposure=1.0)
+    assert image.shape == (SIZE[1], SIZE[0], 3)
+    assert image.min() >= 0 and image.max() <= 1
+    near_colour = [srgb(v) for v in NEAR["colour"]]
+    far_colour = [srgb(v) for v in FAR["colour"]]
+    # On the near square, in front of the far one.
+    overlap = pixel_of(0.5, 0.0, -1.0)
+    assert image[overlap] == pytest.approx(near_colour)
+    # On the far square only (x < 0 is not covered by the near square).
+    assert image[pixel_of(-0.5, 0.5, 0.0)] == pytest.approx(far_colour)
+    # On the near square only, outside the far one (its projection reaches x = 1.875).
+    assert image[pixel_of(1.3, 0.0, -1.0)] == pytest.approx(near_colour)
+    # Outside both.
+    assert image[pixel_of(-1.5, 0.0, 0.0)] == pytest.approx([0, 0, 0])
+    assert image[pixel_of(0.0, 1.5, 0.0)] == pytest.approx([0, 0, 0])
+    # The image's right is -x: the far-only pixel is right of the overlap.
+    assert pixel_of(-0.5, 0.5, 0.0)[1] > overlap[1]
+    ids, inverse_depth = rasterise(sol, camera=CAMERA, size=SIZE)
+    near_row = 0 if near_first else 1
+    assert ids[overlap] == near_row
+    assert inverse_depth[overlap] == pytest.approx(1 / 4)
+    assert ids[pixel_of(-1.5, 0.0, 0.0)] == -1
+
+
+@pytest.mark.parametrize("lamp_first", [False, True])
+def test_an_emitter_wins_a_tie_with_a_coplanar_surface(tmp_path, lamp_first):
+    # A lamp in the plane of the ceiling (as in the Cornell box): the lamp shows whole,
+    # in whichever order the leaves come; a surface nearer than the lamp still hides it.
+    ceiling = leaf_3d(0, square(-1, 1, -1, 1, 0), colour=(0.2, 0.2, 0.2))
+    lamp = leaf_3d(1, square(-0.5, 0.5, -0.5, 0.5, 0), emission=5.0)
+    rows = [lamp, ceiling] if lamp_first else [ceiling, lamp]
+    ids, _ = rasterise(read_solution(write(tmp_path, HEADER_3D, rows)), camera=CAMERA,
+                       size=SIZE)
+    lamp_row = 0 if lamp_first else 1
+    inside = ids[SIZE[1] // 2 - 8:SIZE[1] // 2 + 8, SIZE[0] // 2 - 8:SIZE[0] // 2 + 8]
+    assert (inside == lamp_row).all()
+    assert ids[pixel_of(0.8, 0.8, 0.0)] == 1 - lamp_row
+    cover = leaf_3d(2, square(-0.2, 0.2, -0.2, 0.2, -0.01))
+    ids, _ = rasterise(read_solution(write(tmp_path, HEADER_3D, [*rows, cover], "c.csv")),
+                       camera=CAMERA, size=SIZE)
+    assert ids[SIZE[1] // 2, SIZE[0] // 2] == 2
+
+
+def test_exposure_and_srgb_on_one_pixel(tmp_path):
+    rows = [leaf_3d(0, square(-1, 1, -1, 1, 0), colour=(0.5, 0.25, 0.001), b=2.0)]
+    sol = read_solution(write(tmp_path, HEADER_3D, rows))
+    image = render_image(sol, camera=CAMERA, size=SIZE, exposure=0.5)
+    # colour * B * exposure = (0.5, 0.25, 0.001), then the piecewise sRGB curve by hand:
+    # 1.055 * 0.5^(1/2.4) - 0.055, 1.055 * 0.25^(1/2.4) - 0.055, 12.92 * 0.001.
+    assert image[pixel_of(0, 0, 0)] == pytest.approx([0.735357, 0.537099, 0.01292], abs=1e-6)
+    # Over-exposed: clipped to white before the transfer curve.
+    image = render_image(sol, camera=CAMERA, size=SIZE, exposure=4.0)
+    assert image[pixel_of(0, 0, 0)] == pytest.approx([1.0, 1.0, srgb(0.008)])
+    with pytest.raises(ValueError, match="exposure"):
+        render_image(sol, camera=CAMERA, size=SIZE, exposure=0.0)
+
+
+def test_default_exposure_maps_visible_non_emitters_to_0_8(tmp_path):
+    rows = [
+        # Visible, not emitting: its B = 4 is the 99th percentile, mapped to 0.8.
+        leaf_3d(0, square(-1, 1, -1, 1, -1), b=4.0),
+        # Hidden behind it: brighter, but not seen, so it does not count.
+        leaf_3d(1, square(-0.5, 0.5, -0.5, 0.5, 0), b=100.0),
+        # Visible emitter: does not count either, and is clipped to white.
+        leaf_3d(2, square(1.5, 2.5, -0.5, 0.5, 0), b=50.0, emission=50.0),
+    ]
+    sol = read_solution(write(tmp_path, HEADER_3D, rows))
+    image = render_image(sol, camera=CAMERA, size=SIZE)
+    assert image[pixel_of(0, 0, -1)] == pytest.approx([srgb(0.8)] * 3)
+    assert image[pixel_of(2, 0, 0)] == pytest.approx([1, 1, 1])
+
+
+def test_mesh_darkens_visible_element_boundaries_only(tmp_path):
+    rows = [
+        # Two adjacent leaves of one root, sharing the edge x = 0 (image column W/2).
+        leaf_3d(0, square(-1, 0, -1, 1, 0), root=0, depth=1, position=0),
+        leaf_3d(1, square(0, 1, -1, 1, 0), root=0, depth=1, position=1),
+        # A third leaf in front, hiding the lower part of that edge.
+        leaf_3d(2, square(-0.4, 0.4, -0.9, -0.3, -1)),
+    ]
+    sol = read_solution(write(tmp_path, HEADER_3D, rows))
+    plain = render_image(sol, camera=CAMERA, size=SIZE, exposure=0.5)
+    meshed = render_image(sol, camera=CAMERA, size=SIZE, mesh=True, exposure=0.5)
+    ids, _ = rasterise(sol, camera=CAMERA, size=SIZE)
+    changed = (plain != meshed).any(axis=2)
+    assert changed.any()
+    # Changed pixels are darkened to MESH_SHADE of their value, never brightened.
+    np.testing.assert_allclose(meshed[changed], MESH_SHADE * plain[changed])
+    # The shared edge: the pixel left of it (its right neighbour is the other leaf) is
+    # darkened, both neighbours across are not.
+    half = SIZE[0] // 2
+    row, _ = pixel_of(0.0, 0.5, 0.0)
+    assert ids[row, half - 1] != ids[row, half]
+    assert changed[row, half - 1]
+    assert not changed[row, half] and not changed[row, half - 2]
+    # Interiors are untouched: away from every boundary nothing changes.
+    for x, y, z in [(-0.5, 0.5, 0), (0.5, 0.5, 0), (0, -0.6, -1), (0.7, -0.8, 0)]:
+        r, c = pixel_of(x, y, z)
+        assert not changed[r - 2:r + 3, c - 2:c + 3].any()
+    # The hidden part of the shared edge (behind the third leaf) is not drawn.
+    r, _ = pixel_of(0.0, -0.6, -1)
+    assert not changed[r, half - 1]
+    # Exactly the pixels whose right or lower neighbour is another leaf (or background).
+    edge = np.zeros(ids.shape, bool)
+    edge[:, :-1] |= ids[:, :-1] != ids[:, 1:]
+    edge[:-1] |= ids[:-1] != ids[1:]
+    np.testing.assert_array_equal(changed, edge & (ids >= 0))
+
+
+def test_geometry_behind_the_eye_is_clipped_not_dropped(tmp_path):
+    # A floor from behind the eye (z = -10) to z = 10, one quad.
+    floor = [(-5, -1, -10), (5, -1, -10), (5, -1, 10), (-5, -1, 10)]
+    sol = read_solution(write(tmp_path, HEADER_3D, [leaf_3d(0, floor, colour=(0, 1, 0))]))
+    image = render_image(sol, camera=CAMERA, size=SIZE, exposure=1.0)
+    width, height = SIZE
+    assert image[height - 1, width // 2] == pytest.approx([0, 1, 0])
+    assert image[height - 1, 0] == pytest.approx([0, 1, 0])
+    # Above the horizon of the floor's far edge: nothing.
+    assert image[height // 4, width // 2] == pytest.approx([0, 0, 0])
+    assert image[pixel_of(0, -1, 0)] == pytest.approx([0, 1, 0])
+
+
+def test_cornell_camera_puts_the_red_wall_left(tmp_path):
+    red = [(0.5528, 0, 0), (0.5496, 0, 0.5592), (0.556, 0.5488, 0.5592), (0.556, 0.5488, 0)]
+    green = [(0, 0, 0.5592), (0, 0, 0), (0, 0.5488, 0), (0, 0.5488, 0.5592)]
+    back = [(0.5496, 0, 0.5592), (0, 0, 0.5592), (0, 0.5488, 0.5592), (0.556, 0.5488, 0.5592)]
+    rows = [leaf_3d(0, red, colour=(1, 0, 0)), leaf_3d(1, green, colour=(0, 1, 0)),
+            leaf_3d(2, back, colour=(1, 1, 1))]
+    sol = read_solution(write(tmp_path, HEADER_3D, rows))
+    assert CORNELL_CAMERA.fov == pytest.approx(2 * math.degrees(math.atan(0.0125 / 0.035)),
+                                               abs=0.05)
+    image = render_image(sol, size=(64, 64), exposure=1.0)
+    mid = 32
+    assert image[mid, 2] == pytest.approx([1, 0, 0])
+    assert image[mid, 61] == pytest.approx([0, 1, 0])
+    assert image[mid, mid] == pytest.approx([1, 1, 1])
+
+
+def test_render_refuses_2d(tmp_path):
+    sol = read_solution(write(tmp_path, HEADER_2D,
+                              ["0,0,0,0,0.5,0,1,1,1,0.5,0,1,1,1,0,0,1,0"]))
+    with pytest.raises(ValueError, match="3D"):
+        render_image(sol)
+
+
+def test_render_figure(tmp_path):
+    sol = two_squares(tmp_path, near_first=False)
+    fig = render_figure(sol, mesh=True, title="two squares")
+    assert isinstance(fig, Figure)
+    (ax,) = fig.axes
+    (im,) = ax.get_images()
+    assert im.get_array().shape == (512, 512, 3)
+    assert list(ax.get_xticks()) == [] and list(ax.get_yticks()) == []
+    assert ax.get_title() == "two squares"
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png")
+    assert buf.getvalue().startswith(b"\x89PNG")
+
+
+# ---------------------------------------------------------------------------------------
+# plot_radiosity_profile
+
+
+def profile_solution(tmp_path):
+    # Root 0 (length 2 along x): leaves (1, 0), (2, 3), (2, 2), written out of order.
+    # Root 1 (length 3 along y): one unsubdivided leaf.
+    rows = ["0,0,1,0,0.5,0,1,2.0,0,0.5,0,1,1,1,0,0,1,0",
+            "4,0,2,3,1.75,0,0.5,5.0,0,0.5,0,1,1,1,1.5,0,2,0",
+            "3,0,2,2,1.25,0,0.5,4.0,0,0.5,0,1,1,1,1,0,1.5,0",
+            "5,1,0,0,0,1.5,3,7.0,0,0.5,0,1,1,1,0,0,0,3"]
+    return read_solution(write(tmp_path, HEADER_2D, rows))
+
+
+def test_profile_is_a_step_function_per_root(tmp_path):
+    sol = profile_solution(tmp_path)
+    fig = Figure()
+    ax = fig.add_subplot()
+    lines = plot_radiosity_profile(ax, sol)
+    assert len(ax.lines) == 2 and lines == list(ax.lines)
+    assert [line.get_label() for line in lines] == ["patch 0", "patch 1"]
+    np.testing.assert_allclose(lines[0].get_xdata(), [0, 1, 1, 1.5, 1.5, 2])
+    np.testing.assert_allclose(lines[0].get_ydata(), [2, 2, 4, 4, 5, 5])
+    np.testing.assert_allclose(lines[1].get_xdata(), [0, 3])
+    np.testing.assert_allclose(lines[1].get_ydata(), [7, 7])
+    assert "scene units" in ax.get_xlabel() and "radiosity B" in ax.get_ylabel()
+
+
+def test_profile_with_reference(tmp_path):
+    sol = profile_solution(tmp_path)
+    fig = Figure()
+    ax = fig.add_subplot()
+    reference = [1, 2, 3, 4, 10, 20, 30, 40]
+    lines = plot_radiosity_profile(ax, sol, reference=reference, reference_depth=2)
+    assert len(ax.lines) == 4
+    refs = [line for line in ax.lines if line not in lines]
+    assert all(line.get_linestyle() == "--" for line in refs)
+    for ref, length, values in zip(refs, (2, 3), ([1, 2, 3, 4], [10, 20, 30, 40]),
+                                   strict=True):
+        x = np.asarray(ref.get_xdata())
+        assert x.min() == 0 and x.max() == pytest.approx(length)
+        np.testing.assert_allclose(x[1:-1:2], np.arange(1, 4) * length / 4)
+        np.testing.assert_allclose(ref.get_ydata(), np.repeat(values, 2))
+    assert refs[0].get_color() == lines[0].get_color()
+    # The depth is inferred from the reference's size.
+    ax2 = Figure().add_subplot()
+    plot_radiosity_profile(ax2, sol, reference=reference)
+    assert len(ax2.lines) == 4
+    with pytest.raises(ValueError, match="per root"):
+        plot_radiosity_profile(Figure().add_subplot(), sol, reference=reference,
+                               reference_depth=1)
+    with pytest.raises(ValueError, match="multiple"):
+        plot_radiosity_profile(Figure().add_subplot(), sol, reference=[1, 2, 3])
+
+
+def test_profile_refuses_3d_and_untiled_roots(tmp_path):
+    sol3 = read_solution(write(tmp_path, HEADER_3D, good_3d_rows(), name="s3.csv"))
+    with pytest.raises(ValueError, match="2D"):
+        plot_radiosity_profile(Figure().add_subplot(), sol3)
+    rows = ["0,0,1,0,0.5,0,1,2.0,0,0.5,0,1,1,1,0,0,1,0"]  # half of its root is missing
+    sol = read_solution(write(tmp_path, HEADER_2D, rows, name="s2.csv"))
+    with pytest.raises(ValueError, match="tile"):
+        plot_radiosity_profile(Figure().add_subplot(), sol)
+
+
+def test_large_triangles_are_filled_without_seams(tmp_path):
+    # Wider than the rasteriser's tiles: every pixel is covered, each by the nearer leaf.
+    rows = [leaf_3d(0, square(-20, 20, -20, 20, 0), colour=(0.5, 0.5, 0.5)),
+            leaf_3d(1, square(-20, 0, -20, 20, -1), colour=(1, 1, 1))]
+    sol = read_solution(write(tmp_path, HEADER_3D, rows))
+    size = (700, 300)
+    ids, _ = rasterise(sol, camera=CAMERA, size=size)
+    assert ids.shape == (300, 700)
+    # x < 0 (the near leaf) is the image's right half.
+    assert (ids[:, :350] == 0).all() and (ids[:, 350:] == 1).all()
