@@ -1,26 +1,22 @@
+// The hierarchical solve: HierarchySolver (gather, push-pull, Jacobi or Gauss-Seidel),
+// the bf oracle's refine-solve passes, the options, and the output (JSON, table, CSV).
+// The link coefficients are in link_coefficients.cpp, the dense reference in
+// reference_solve.cpp.
 #include "hrbench/solve.h"
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
-#include <exception>
 #include <iomanip>
-#include <memory>
-#include <thread>
 
-#include <Eigen/LU>
 #include <nlohmann/json.hpp>
 
-#include "hrbench/culling.h"
-#include "hrbench/form_factor.h"
 #include "hrbench/radiosity_estimate.h"
 #include "hrbench/refine.h"
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
-#include "hrbench/visibility.h"
+#include "reference_solve.h"
+#include "solve_internal.h"
 
 namespace hrbench {
 
@@ -33,111 +29,6 @@ std::string Short(double value) {
     char text[32];
     std::snprintf(text, sizeof text, "%.3g", value);
     return text;
-}
-
-double CpuSeconds() {
-    timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-
-// Wall and process CPU time since construction.
-class Stopwatch {
-  public:
-    StageTime Elapsed() const {
-        return {std::chrono::duration<double>(Clock::now() - wall_).count(), CpuSeconds() - cpu_};
-    }
-
-  private:
-    using Clock = std::chrono::steady_clock;
-    Clock::time_point wall_ = Clock::now();
-    double cpu_ = CpuSeconds();
-};
-
-// Calls body(state, k) for every k in [0, n) on _threads_ threads, in chunks of _chunk_
-// taken in order; each worker makes its own state with make(). Which worker computes k
-// must not matter: the callers' values depend on k only. The error of the smallest
-// failing k surfaces, so that it does not depend on timing either.
-template <typename Make, typename Body>
-void ParallelFor(size_t n, size_t chunk, int threads, Make make, Body body) {
-    size_t chunks = (n + chunk - 1) / chunk;
-    size_t workers = std::max<size_t>(1, std::min<size_t>(size_t(threads), chunks));
-    std::atomic<size_t> next{0};
-    std::atomic<bool> failed{false};
-    std::vector<std::pair<size_t, std::exception_ptr>> errors(workers, {SIZE_MAX, nullptr});
-    auto work = [&](size_t w) {
-        auto state = make();
-        for (size_t c; !failed && (c = next++) < chunks;) {
-            size_t k = c * chunk;
-            try {
-                for (; k < std::min(n, (c + 1) * chunk); ++k)
-                    body(state, k);
-            } catch (...) {
-                errors[w] = {k, std::current_exception()};
-                failed = true;
-            }
-        }
-    };
-    std::vector<std::thread> pool;
-    for (size_t w = 1; w < workers; ++w)
-        pool.emplace_back(work, w);
-    work(0);
-    for (std::thread &t : pool)
-        t.join();
-    auto first = std::min_element(errors.begin(), errors.end(),
-                                  [](const auto &a, const auto &b) { return a.first < b.first; });
-    if (first->second)
-        std::rethrow_exception(first->second);
-}
-
-// The visible fraction of an element pair, as refinement estimates it (1 with
-// --visibility none); one per worker, for the scratch space of the sampling.
-template <typename Shape>
-class PairFraction {
-  public:
-    PairFraction(const Occluders *occluders, const RefineOptions &options) {
-        if (occluders)
-            sampled_.emplace(*occluders, options.raysPerSide, options.visibility);
-    }
-    double operator()(const Forest<Shape> &forest, uint32_t i, uint32_t j) {
-        return sampled_ ? sampled_->Fraction(forest, i, j, tally_) : 1.0;
-    }
-
-  private:
-    std::optional<SampledVisibility<Shape>> sampled_;
-    VisibilityTally tally_;
-};
-
-// The scene's occluders when visibility counts, else none.
-template <typename Shape>
-std::unique_ptr<Occluders> OccludersFor(const Patches<Shape> &patches, const RefineOptions &o) {
-    return o.visibility == VisibilityMode::None ? nullptr : std::make_unique<Occluders>(patches);
-}
-
-Vec3 AsVec3(const Vec2 &v) { return {v.x(), v.y(), 0}; }
-Vec3 AsVec3(const Vec3 &v) { return v; }
-
-// Element _e_ of _forest_ with its radiosity _b_ and irradiance _h_, and its outline.
-template <typename Shape>
-ElementRadiosity Describe(const Forest<Shape> &forest, uint32_t e, double b, double h) {
-    ElementRadiosity r{e,
-                       forest[e].root,
-                       forest.Depth(e),
-                       forest.Position(e),
-                       AsVec3(forest[e].center),
-                       forest[e].Size(),
-                       b,
-                       h};
-    const Shape &shape = forest.ShapeOf(e);
-    if constexpr (Shape::kDimension == 2) {
-        r.corners[0] = AsVec3(shape.a), r.corners[1] = AsVec3(shape.b);
-        r.numCorners = 2;
-    } else {
-        for (int k = 0; k < shape.n; ++k)
-            r.corners[size_t(k)] = shape.v[size_t(k)];
-        r.numCorners = shape.n;
-    }
-    return r;
 }
 
 // Every element of each tree in preorder (first child first), tree by tree, with the
@@ -303,180 +194,6 @@ class HierarchySolver {
     std::vector<double> radiosity_, gathered_, irradiance_;
 };
 
-// Elements of the uniform mesh of depth _depth_, or UINT64_MAX when there are too many.
-uint64_t UniformElements(const Scene &scene, int depth, Subdivision subdivision) {
-    uint64_t perRoot = 1;
-    for (int d = 0; d < depth && perRoot <= kMaxReferenceElements; ++d)
-        perRoot *= uint64_t(scene.Dimension() == 2 ? 2 : SubdivisionArity(subdivision));
-    uint64_t total = perRoot * scene.NumPatches();
-    return perRoot > kMaxReferenceElements || total > kMaxReferenceElements ? UINT64_MAX : total;
-}
-
-void CheckReferenceSize(const Scene &scene, int depth, const RefineOptions &refine) {
-    if (depth < 0 || depth > kSafetyDepth)
-        throw InputError("--reference must be between 0 and " + std::to_string(kSafetyDepth));
-    if (UniformElements(scene, depth, refine.subdivision) == UINT64_MAX)
-        throw InputError("--reference " + std::to_string(depth) + " gives more than " +
-                         std::to_string(kMaxReferenceElements) +
-                         " elements, the most the dense reference solves; lower it");
-    uint64_t n = UniformElements(scene, depth, refine.subdivision);
-    if (2 * n * n * sizeof(double) > EffectiveBudget(refine))
-        throw LimitError("--reference " + std::to_string(depth) +
-                         ": the dense matrices would exceed the memory budget; raise "
-                         "--max-memory or lower the depth");
-}
-
-template <typename Shape>
-UniformSolution SolveUniformOf(const Patches<Shape> &patches, int depth,
-                               const RefineOptions &refine,
-                               const std::vector<Material> &materials) {
-    Stopwatch watch;
-    Forest<Shape> forest(patches, SIZE_MAX, refine.subdivision);
-    // Split level by level, children in order: the last level is in position order.
-    std::vector<uint32_t> elements;
-    for (uint32_t root = 0; root < patches.size(); ++root) {
-        std::vector<uint32_t> level{root};
-        for (int d = 0; d < depth; ++d) {
-            std::vector<uint32_t> deeper;
-            for (uint32_t e : level) {
-                uint32_t first = forest.Children(e);
-                for (int c = 0; c < forest.Arity(); ++c)
-                    deeper.push_back(first + c);
-            }
-            level.swap(deeper);
-        }
-        elements.insert(elements.end(), level.begin(), level.end());
-    }
-    const size_t n = elements.size();
-    std::vector<PairRelation> relation(patches.size() * patches.size());
-    for (size_t p = 0; p < patches.size(); ++p)
-        for (size_t q = p + 1; q < patches.size(); ++q)
-            relation[p * patches.size() + q] = ClassifyPair(patches[p].shape, patches[q].shape);
-
-    // Form factors of every pair of elements of different, not culled, root patches.
-    Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n, n);
-    std::unique_ptr<Occluders> occluders = OccludersFor(patches, refine);
-    ParallelFor(
-        n, 4, refine.threads, [&] { return PairFraction<Shape>(occluders.get(), refine); },
-        [&](PairFraction<Shape> &fraction, size_t a) {
-            uint32_t e = elements[a];
-            for (size_t b = a + 1; b < n; ++b) {
-                uint32_t f = elements[b];
-                uint32_t p = forest[e].root, q = forest[f].root;
-                if (p == q || relation[p * patches.size() + q] == PairRelation::Culled)
-                    continue;
-                double visible = fraction(forest, e, f);
-                if (visible == 0)
-                    continue;
-                double ef = FormFactor(forest.ShapeOf(e), forest.ShapeOf(f)) * visible;
-                F(a, b) = ef;
-                F(b, a) = forest[e].Size() * ef / forest[f].Size();
-            }
-        });
-
-    // (I - diag(rho) F) B = E, by LU with partial pivoting, in place.
-    Eigen::VectorXd rho(n), E(n);
-    for (size_t a = 0; a < n; ++a) {
-        rho(a) = materials[forest[elements[a]].root].reflectance;
-        E(a) = materials[forest[elements[a]].root].emission;
-    }
-    Eigen::MatrixXd M = -(rho.asDiagonal() * F);
-    M.diagonal().array() += 1;
-    Eigen::PartialPivLU<Eigen::Ref<Eigen::MatrixXd>> lu(M);
-    Eigen::VectorXd B = lu.solve(E);
-    Eigen::VectorXd H = F * B;
-
-    UniformSolution solution;
-    solution.depth = depth;
-    for (size_t a = 0; a < n; ++a) {
-        uint32_t e = elements[a];
-        double area = forest[e].Size();
-        solution.elements.push_back(Describe(forest, e, B(a), H(a)));
-        solution.emittedPower += E(a) * area;
-        solution.absorbedPower += (1 - rho(a)) * H(a) * area;
-    }
-    solution.time = watch.Elapsed();
-    return solution;
-}
-
-// The hierarchy's leaves averaged onto the reference's elements, and the errors.
-template <typename Shape>
-ReferenceComparison Compare(const Forest<Shape> &forest, const SolveResult &result,
-                            const UniformSolution &reference) {
-    const auto &ref = reference.elements;
-    size_t perRoot = ref.size() / forest.NumRoots();
-    std::vector<double> power(ref.size(), 0), area(ref.size(), 0);
-    for (const ElementRadiosity &leaf : result.leaves) {
-        size_t base = leaf.root * perRoot;
-        if (leaf.depth >= reference.depth) {
-            uint32_t a = leaf.element;
-            while (forest.Depth(a) > reference.depth)
-                a = forest.Parent(a);
-            power[base + forest.Position(a)] += leaf.measure * leaf.radiosity;
-            area[base + forest.Position(a)] += leaf.measure;
-        } else {
-            // The leaf covers a whole block of reference elements.
-            uint64_t span = perRoot;
-            for (int d = 0; d < leaf.depth; ++d)
-                span /= uint64_t(forest.Arity());
-            for (uint64_t k = leaf.position * span; k < (leaf.position + 1) * span; ++k)
-                power[base + k] = leaf.radiosity, area[base + k] = 1;
-        }
-    }
-    double largest = 0, sumError = 0, sumPower = 0, maxError = 0, sumSquaredError = 0,
-           sumSquaredPower = 0;
-    for (const ElementRadiosity &e : ref)
-        largest = std::max(largest, std::abs(e.radiosity));
-    for (size_t k = 0; k < ref.size(); ++k) {
-        double error = std::abs(power[k] / area[k] - ref[k].radiosity);
-        maxError = std::max(maxError, error);
-        sumError += ref[k].measure * error;
-        sumPower += ref[k].measure * std::abs(ref[k].radiosity);
-        sumSquaredError += ref[k].measure * error * error;
-        sumSquaredPower += ref[k].measure * ref[k].radiosity * ref[k].radiosity;
-    }
-    auto ratio = [](double num, double den) { return den > 0 ? num / den : 0; };
-    return {ratio(maxError, largest), ratio(sumError, sumPower),
-            std::sqrt(ratio(sumSquaredError, sumSquaredPower))};
-}
-
-void Add(StageTime &sum, const StageTime &t) { sum.wall += t.wall, sum.cpu += t.cpu; }
-
-// How far _fine_ moved from _coarse_, the uniform mesh one level coarser: the largest
-// |area-weighted mean of fine over a coarse element - coarse B|, relative to fine's
-// largest |B|. Both are in root, then position order, and the children of the element at
-// position p are at positions arity p .. arity p + arity - 1: the fine elements of coarse
-// element k are arity k .. arity k + arity - 1.
-double ReferenceChange(const UniformSolution &fine, const UniformSolution &coarse) {
-    const auto &f = fine.elements, &c = coarse.elements;
-    size_t arity = f.size() / c.size();
-    double largest = 0, change = 0;
-    for (const ElementRadiosity &e : f)
-        largest = std::max(largest, std::abs(e.radiosity));
-    for (size_t k = 0; k < c.size(); ++k) {
-        double power = 0, area = 0;
-        for (size_t child = arity * k; child < arity * (k + 1); ++child)
-            power += f[child].measure * f[child].radiosity, area += f[child].measure;
-        change = std::max(change, std::abs(power / area - c[k].radiosity));
-    }
-    return largest > 0 ? change / largest : 0;
-}
-
-// The dense reference of depth _depth_ and, from depth 1 on, its change from the mesh of
-// depth - 1: whether it is converged well below the errors it measures.
-template <typename Shape>
-UniformSolution SolveReference(const Patches<Shape> &patches, int depth,
-                               const RefineOptions &refine,
-                               const std::vector<Material> &materials) {
-    UniformSolution reference = SolveUniformOf(patches, depth, refine, materials);
-    if (depth >= 1) {
-        UniformSolution coarse = SolveUniformOf(patches, depth - 1, refine, materials);
-        reference.change = ReferenceChange(reference, coarse);
-        Add(reference.time, coarse.time);
-    }
-    return reference;
-}
-
 // _options_ less the _held_ bytes that an earlier bf pass's solution still holds. Only
 // an explicit budget: without one, the budget is read from the free memory, which already
 // excludes them. LimitError when they leave nothing of it.
@@ -513,7 +230,7 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
             passOptions.estimate = &*estimate;
         Stopwatch refineWatch;
         Refinement<Shape> refinement = Refine<Shape>(scene, passOptions);
-        Add(result.refine, refineWatch.Elapsed());
+        AddTime(result.refine, refineWatch.Elapsed());
         kernelSeconds += refinement.record.seconds;
         result.record = refinement.record;
         result.record.seconds = kernelSeconds;
@@ -540,7 +257,7 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
         Stopwatch coefficientWatch;
         std::vector<LinkCoefficients> coefficients =
             ComputeCoefficients(patches, refinement.forest, refinement.links, refine);
-        Add(result.coefficients, coefficientWatch.Elapsed());
+        AddTime(result.coefficients, coefficientWatch.Elapsed());
 
         // Each pass solves from B = E: only the last pass's solution is reported.
         result.leaves.clear();
@@ -554,7 +271,7 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
             if (!last)
                 radiosity = solver.Radiosity();
         }
-        Add(result.solve, solveWatch.Elapsed());
+        AddTime(result.solve, solveWatch.Elapsed());
 
         if (!last) {
             // The next pass reads this solution; the refinement it was read by is done.
@@ -634,32 +351,6 @@ std::vector<Material> SolveMaterials(const Scene &scene, const SolveOptions &opt
     return materials;
 }
 
-template <typename Shape>
-std::vector<LinkCoefficients>
-ComputeCoefficients(const Patches<Shape> &patches, const Forest<Shape> &forest,
-                    const LinkBuffer &links, const RefineOptions &options) {
-    std::vector<LinkCoefficients> coefficients(links.size());
-    std::unique_ptr<Occluders> occluders = OccludersFor(patches, options);
-    ParallelFor(
-        links.size(), 256, options.threads,
-        [&] { return PairFraction<Shape>(occluders.get(), options); },
-        [&](PairFraction<Shape> &fraction, size_t k) {
-            uint32_t i = links[k].i, j = links[k].j;
-            double ij = FormFactor(forest.ShapeOf(i), forest.ShapeOf(j)) * fraction(forest, i, j);
-            coefficients[k] = {ij, forest[i].Size() * ij / forest[j].Size()};
-        });
-    return coefficients;
-}
-
-template std::vector<LinkCoefficients> ComputeCoefficients(const Patches<Segment> &,
-                                                           const Forest<Segment> &,
-                                                           const LinkBuffer &,
-                                                           const RefineOptions &);
-template std::vector<LinkCoefficients> ComputeCoefficients(const Patches<Polygon> &,
-                                                           const Forest<Polygon> &,
-                                                           const LinkBuffer &,
-                                                           const RefineOptions &);
-
 SolveResult Solve(const Scene &scene, const RefineOptions &refine, const SolveOptions &options) {
     ValidateSolveOptions(options);
     ValidateScene(scene);
@@ -679,21 +370,6 @@ SolveResult Solve(const Scene &scene, const RefineOptions &refine, const SolveOp
         },
         scene.patches);
     return result;
-}
-
-UniformSolution SolveUniform(const Scene &scene, int depth, const RefineOptions &refine,
-                             const SolveOptions &options) {
-    ValidateSolveOptions(options);
-    ValidateScene(scene);
-    if (refine.threads < 1 || refine.threads > 256)
-        throw InputError("--threads must be between 1 and 256");
-    if (scene.Dimension() == 2 && refine.subdivision != Subdivision::Binary)
-        throw InputError("--subdivision quadtree applies to 3D scenes only (segments are halved)");
-    std::vector<Material> materials = SolveMaterials(scene, options);
-    CheckReferenceSize(scene, depth, refine);
-    return std::visit(
-        [&](const auto &patches) { return SolveUniformOf(patches, depth, refine, materials); },
-        scene.patches);
 }
 
 // ---------------------------------------------------------------------------------------

@@ -4,7 +4,11 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
@@ -12,6 +16,7 @@
 #include "cli_helpers.h"
 #include "hrbench/generators/generators.h"
 #include "hrbench/hrbench.h"
+#include "hrbench/util/parallel_for.h"
 
 using namespace hrbench;
 using namespace hrbench_test;
@@ -400,6 +405,31 @@ TEST_CASE("Radiosity is the same bit for bit on 1 and 2 threads", "[solve]") {
     Scene box = ClosedBox(1, 0.5);
     CHECK(Radiosities(Solve(box, one3, Solving(1e-8))) ==
           Radiosities(Solve(box, two3, Solving(1e-8))));
+}
+
+TEST_CASE("ParallelFor visits every index once and rethrows the earliest failure", "[solve]") {
+    for (int threads : {1, 2, 4}) {
+        std::vector<int> visits(1000, 0);
+        std::atomic<int> states{0};
+        ParallelFor(
+            visits.size(), 7, threads, [&] { return ++states; },
+            [&](int, size_t k) { ++visits[k]; });
+        CHECK(std::count(visits.begin(), visits.end(), 1) == 1000);
+        CHECK(states == threads);  // one state per worker
+        // Chunks are taken in order and finish once taken, so 300 fails whenever 600 does.
+        for (int run = 0; run < 20; ++run)
+            CHECK_THROWS_WITH(ParallelFor(
+                                  1000, 7, threads, [] { return 0; },
+                                  [](int, size_t k) {
+                                      if (k == 300 || k == 600)
+                                          throw std::runtime_error(std::to_string(k));
+                                  }),
+                              "300");
+    }
+    bool ran = false;
+    ParallelFor(
+        0, 4, 2, [] { return 0; }, [&](int, size_t) { ran = true; });
+    CHECK_FALSE(ran);
 }
 
 // ---------------------------------------------------------------------------------------

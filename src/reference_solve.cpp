@@ -1,0 +1,220 @@
+// The dense reference on a uniform mesh (every pair of elements of different root
+// patches linked, solved by LU), its change from the mesh one level coarser, and the
+// hierarchical solution's errors against it (docs/solve.md).
+#include "reference_solve.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <Eigen/LU>
+
+#include "hrbench/culling.h"
+#include "hrbench/util/error.h"
+#include "hrbench/util/parallel_for.h"
+#include "link_coefficients.h"
+#include "solve_internal.h"
+
+namespace hrbench {
+
+namespace {
+
+// Elements of the uniform mesh of depth _depth_, or UINT64_MAX when there are too many.
+uint64_t UniformElements(const Scene &scene, int depth, Subdivision subdivision) {
+    uint64_t perRoot = 1;
+    for (int d = 0; d < depth && perRoot <= kMaxReferenceElements; ++d)
+        perRoot *= uint64_t(scene.Dimension() == 2 ? 2 : SubdivisionArity(subdivision));
+    uint64_t total = perRoot * scene.NumPatches();
+    return perRoot > kMaxReferenceElements || total > kMaxReferenceElements ? UINT64_MAX : total;
+}
+
+// The dense solution of the uniform mesh of depth _depth_.
+template <typename Shape>
+UniformSolution SolveUniformOf(const Patches<Shape> &patches, int depth,
+                               const RefineOptions &refine,
+                               const std::vector<Material> &materials) {
+    Stopwatch watch;
+    Forest<Shape> forest(patches, SIZE_MAX, refine.subdivision);
+    // Split level by level, children in order: the last level is in position order.
+    std::vector<uint32_t> elements;
+    for (uint32_t root = 0; root < patches.size(); ++root) {
+        std::vector<uint32_t> level{root};
+        for (int d = 0; d < depth; ++d) {
+            std::vector<uint32_t> deeper;
+            for (uint32_t e : level) {
+                uint32_t first = forest.Children(e);
+                for (int c = 0; c < forest.Arity(); ++c)
+                    deeper.push_back(first + c);
+            }
+            level.swap(deeper);
+        }
+        elements.insert(elements.end(), level.begin(), level.end());
+    }
+    const size_t n = elements.size();
+    std::vector<PairRelation> relation(patches.size() * patches.size());
+    for (size_t p = 0; p < patches.size(); ++p)
+        for (size_t q = p + 1; q < patches.size(); ++q)
+            relation[p * patches.size() + q] = ClassifyPair(patches[p].shape, patches[q].shape);
+
+    // Form factors of every pair of elements of different, not culled, root patches.
+    Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n, n);
+    std::unique_ptr<Occluders> occluders = OccludersFor(patches, refine);
+    ParallelFor(
+        n, 4, refine.threads, [&] { return PairFraction<Shape>(occluders.get(), refine); },
+        [&](PairFraction<Shape> &fraction, size_t a) {
+            uint32_t e = elements[a];
+            for (size_t b = a + 1; b < n; ++b) {
+                uint32_t f = elements[b];
+                uint32_t p = forest[e].root, q = forest[f].root;
+                if (p == q || relation[p * patches.size() + q] == PairRelation::Culled)
+                    continue;
+                double visible = fraction(forest, e, f);
+                if (visible == 0)
+                    continue;
+                LinkCoefficients c = PairCoefficients(forest, e, f, visible);
+                F(a, b) = c.ij;
+                F(b, a) = c.ji;
+            }
+        });
+
+    // (I - diag(rho) F) B = E, by LU with partial pivoting, in place.
+    Eigen::VectorXd rho(n), E(n);
+    for (size_t a = 0; a < n; ++a) {
+        rho(a) = materials[forest[elements[a]].root].reflectance;
+        E(a) = materials[forest[elements[a]].root].emission;
+    }
+    Eigen::MatrixXd M = -(rho.asDiagonal() * F);
+    M.diagonal().array() += 1;
+    Eigen::PartialPivLU<Eigen::Ref<Eigen::MatrixXd>> lu(M);
+    Eigen::VectorXd B = lu.solve(E);
+    Eigen::VectorXd H = F * B;
+
+    UniformSolution solution;
+    solution.depth = depth;
+    for (size_t a = 0; a < n; ++a) {
+        uint32_t e = elements[a];
+        double area = forest[e].Size();
+        solution.elements.push_back(Describe(forest, e, B(a), H(a)));
+        solution.emittedPower += E(a) * area;
+        solution.absorbedPower += (1 - rho(a)) * H(a) * area;
+    }
+    solution.time = watch.Elapsed();
+    return solution;
+}
+
+// How far _fine_ moved from _coarse_, the uniform mesh one level coarser: the largest
+// |area-weighted mean of fine over a coarse element - coarse B|, relative to fine's
+// largest |B|. Both are in root, then position order, and the children of the element at
+// position p are at positions arity p .. arity p + arity - 1: the fine elements of coarse
+// element k are arity k .. arity k + arity - 1.
+double ReferenceChange(const UniformSolution &fine, const UniformSolution &coarse) {
+    const auto &f = fine.elements, &c = coarse.elements;
+    size_t arity = f.size() / c.size();
+    double largest = 0, change = 0;
+    for (const ElementRadiosity &e : f)
+        largest = std::max(largest, std::abs(e.radiosity));
+    for (size_t k = 0; k < c.size(); ++k) {
+        double power = 0, area = 0;
+        for (size_t child = arity * k; child < arity * (k + 1); ++child)
+            power += f[child].measure * f[child].radiosity, area += f[child].measure;
+        change = std::max(change, std::abs(power / area - c[k].radiosity));
+    }
+    return largest > 0 ? change / largest : 0;
+}
+
+}  // namespace
+
+void CheckReferenceSize(const Scene &scene, int depth, const RefineOptions &refine) {
+    if (depth < 0 || depth > kSafetyDepth)
+        throw InputError("--reference must be between 0 and " + std::to_string(kSafetyDepth));
+    if (UniformElements(scene, depth, refine.subdivision) == UINT64_MAX)
+        throw InputError("--reference " + std::to_string(depth) + " gives more than " +
+                         std::to_string(kMaxReferenceElements) +
+                         " elements, the most the dense reference solves; lower it");
+    uint64_t n = UniformElements(scene, depth, refine.subdivision);
+    if (2 * n * n * sizeof(double) > EffectiveBudget(refine))
+        throw LimitError("--reference " + std::to_string(depth) +
+                         ": the dense matrices would exceed the memory budget; raise "
+                         "--max-memory or lower the depth");
+}
+
+template <typename Shape>
+UniformSolution SolveReference(const Patches<Shape> &patches, int depth,
+                               const RefineOptions &refine,
+                               const std::vector<Material> &materials) {
+    UniformSolution reference = SolveUniformOf(patches, depth, refine, materials);
+    if (depth >= 1) {
+        UniformSolution coarse = SolveUniformOf(patches, depth - 1, refine, materials);
+        reference.change = ReferenceChange(reference, coarse);
+        AddTime(reference.time, coarse.time);
+    }
+    return reference;
+}
+
+template <typename Shape>
+ReferenceComparison Compare(const Forest<Shape> &forest, const SolveResult &result,
+                            const UniformSolution &reference) {
+    const auto &ref = reference.elements;
+    size_t perRoot = ref.size() / forest.NumRoots();
+    std::vector<double> power(ref.size(), 0), area(ref.size(), 0);
+    for (const ElementRadiosity &leaf : result.leaves) {
+        size_t base = leaf.root * perRoot;
+        if (leaf.depth >= reference.depth) {
+            uint32_t a = leaf.element;
+            while (forest.Depth(a) > reference.depth)
+                a = forest.Parent(a);
+            power[base + forest.Position(a)] += leaf.measure * leaf.radiosity;
+            area[base + forest.Position(a)] += leaf.measure;
+        } else {
+            // The leaf covers a whole block of reference elements.
+            uint64_t span = perRoot;
+            for (int d = 0; d < leaf.depth; ++d)
+                span /= uint64_t(forest.Arity());
+            for (uint64_t k = leaf.position * span; k < (leaf.position + 1) * span; ++k)
+                power[base + k] = leaf.radiosity, area[base + k] = 1;
+        }
+    }
+    double largest = 0, sumError = 0, sumPower = 0, maxError = 0, sumSquaredError = 0,
+           sumSquaredPower = 0;
+    for (const ElementRadiosity &e : ref)
+        largest = std::max(largest, std::abs(e.radiosity));
+    for (size_t k = 0; k < ref.size(); ++k) {
+        double error = std::abs(power[k] / area[k] - ref[k].radiosity);
+        maxError = std::max(maxError, error);
+        sumError += ref[k].measure * error;
+        sumPower += ref[k].measure * std::abs(ref[k].radiosity);
+        sumSquaredError += ref[k].measure * error * error;
+        sumSquaredPower += ref[k].measure * ref[k].radiosity * ref[k].radiosity;
+    }
+    auto ratio = [](double num, double den) { return den > 0 ? num / den : 0; };
+    return {ratio(maxError, largest), ratio(sumError, sumPower),
+            std::sqrt(ratio(sumSquaredError, sumSquaredPower))};
+}
+
+template UniformSolution SolveReference(const Patches<Segment> &, int, const RefineOptions &,
+                                        const std::vector<Material> &);
+template UniformSolution SolveReference(const Patches<Polygon> &, int, const RefineOptions &,
+                                        const std::vector<Material> &);
+template ReferenceComparison Compare(const Forest<Segment> &, const SolveResult &,
+                                     const UniformSolution &);
+template ReferenceComparison Compare(const Forest<Polygon> &, const SolveResult &,
+                                     const UniformSolution &);
+
+UniformSolution SolveUniform(const Scene &scene, int depth, const RefineOptions &refine,
+                             const SolveOptions &options) {
+    ValidateSolveOptions(options);
+    ValidateScene(scene);
+    if (refine.threads < 1 || refine.threads > 256)
+        throw InputError("--threads must be between 1 and 256");
+    if (scene.Dimension() == 2 && refine.subdivision != Subdivision::Binary)
+        throw InputError("--subdivision quadtree applies to 3D scenes only (segments are halved)");
+    std::vector<Material> materials = SolveMaterials(scene, options);
+    CheckReferenceSize(scene, depth, refine);
+    return std::visit(
+        [&](const auto &patches) { return SolveUniformOf(patches, depth, refine, materials); },
+        scene.patches);
+}
+
+}  // namespace hrbench

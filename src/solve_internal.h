@@ -1,0 +1,62 @@
+// What the hierarchical solve (solve.cpp) and the dense reference (reference_solve.cpp)
+// share: timing a stage, and describing a solved element the same way for both.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <ctime>
+
+#include "hrbench/forest.h"
+#include "hrbench/solve.h"
+
+namespace hrbench {
+
+inline double CpuSeconds() {
+    timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+// Wall and process CPU time since construction.
+class Stopwatch {
+  public:
+    StageTime Elapsed() const {
+        return {std::chrono::duration<double>(Clock::now() - wall_).count(), CpuSeconds() - cpu_};
+    }
+
+  private:
+    using Clock = std::chrono::steady_clock;
+    Clock::time_point wall_ = Clock::now();
+    double cpu_ = CpuSeconds();
+};
+
+// Sums the stages' times over passes and solves.
+inline void AddTime(StageTime &sum, const StageTime &t) { sum.wall += t.wall, sum.cpu += t.cpu; }
+
+inline Vec3 AsVec3(const Vec2 &v) { return {v.x(), v.y(), 0}; }
+inline Vec3 AsVec3(const Vec3 &v) { return v; }
+
+// Element _e_ of _forest_ with its radiosity _b_ and irradiance _h_, and its outline.
+template <typename Shape>
+ElementRadiosity Describe(const Forest<Shape> &forest, uint32_t e, double b, double h) {
+    ElementRadiosity r{e,
+                       forest[e].root,
+                       forest.Depth(e),
+                       forest.Position(e),
+                       AsVec3(forest[e].center),
+                       forest[e].Size(),
+                       b,
+                       h};
+    const Shape &shape = forest.ShapeOf(e);
+    if constexpr (Shape::kDimension == 2) {
+        r.corners[0] = AsVec3(shape.a), r.corners[1] = AsVec3(shape.b);
+        r.numCorners = 2;
+    } else {
+        for (int k = 0; k < shape.n; ++k)
+            r.corners[size_t(k)] = shape.v[size_t(k)];
+        r.numCorners = shape.n;
+    }
+    return r;
+}
+
+}  // namespace hrbench
