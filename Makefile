@@ -3,8 +3,8 @@ PYTHON := .venv/bin/python
 CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release
 
 .PHONY: setup build build-asan build-fuzz test test-cpp test-asan test-python reproduce \
-        reproduce-full bench baseline examples python-package fuzz fuzz-smoke lint format \
-        clean
+        reproduce-full bench history baseline examples python-package fuzz fuzz-smoke lint \
+        format clean
 
 setup:
 	@bash scripts/setup.sh
@@ -50,6 +50,14 @@ bench: build
 	$(PYTHON) tools/merge_bench.py results/bench.json results/bench-refine.json \
 	  results/bench-translation.json
 
+# The benchmark history (docs/history.md): record results/bench.json for HEAD, then
+# draw the page of times and counters over commits with the detected steps.
+HISTORY_DIR := results/history
+history: bench
+	$(PYTHON) -m hrbench_analysis.history record --history $(HISTORY_DIR) results/bench.json \
+	  --hrbench build/hrbench
+	$(PYTHON) -m hrbench_analysis.history html --history $(HISTORY_DIR) --out results/history.html
+
 # The example consumer project, built against the package installed from build/ and
 # with hrbench as a subproject, and the tiny kernel of examples/tiny_kernel, whose link
 # dump the installed `hrbench check-links` must accept (examples/build_consumer.sh).
@@ -57,7 +65,7 @@ examples: build
 	@bash examples/build_consumer.sh build
 
 # The analysis as another project installs it: `pip install .` into a fresh venv, then,
-# from /, its import, its three commands, and a reproduction on the external engine of
+# from /, its import, its four commands, and a reproduction on the external engine of
 # examples/external_engine/ (CI).
 python-package: setup
 	@tmp=$$(mktemp -d) && python3 -m venv $$tmp/venv && $$tmp/venv/bin/python -m pip install -q . \
@@ -65,6 +73,7 @@ python-package: setup
 	  && $$tmp/venv/bin/hrbench-reproduce --help >/dev/null \
 	  && $$tmp/venv/bin/hrbench-sweep --help >/dev/null \
 	  && $$tmp/venv/bin/hrbench-compare --help >/dev/null \
+	  && $$tmp/venv/bin/hrbench-history --help >/dev/null \
 	  && HRBENCH_ENGINE="python3 $(CURDIR)/examples/external_engine/engine.py" \
 	     $$tmp/venv/bin/hrbench-reproduce --claims $(CURDIR)/examples/external_engine/claims.toml \
 	     --results $$tmp/results >/dev/null 2>&1; status=$$?; rm -rf $$tmp; \

@@ -8,7 +8,8 @@ claimfile   read and check the claims files (``analysis/hrbench_analysis/claims/
 expr        the safe formula evaluator used for a claim's x and y
 loader      read the engine's output (run JSON, link CSV)
 store       the SQLite results cache: checked when opened, leases for concurrent sweeps
-sweep       expand claims into runs and run them in parallel
+sweep       expand claims into runs and run them in parallel, dearest first
+schedulers  where the runs execute: a local pool, or a Dask cluster
 fit         power-law fits, bootstrap intervals, local slopes, Theta checks, models
 verdict     the verdict of a claim
 plots       plotting functions (each draws on a given Axes)

@@ -62,6 +62,7 @@ from .engine import (
 from .errors import AnalysisError, one_line
 from .loader import SCHEMA_VERSION, ResultFormatError, read_links_csv
 from .report import ClaimOutcome, get_claims_table, get_figures, print_claims_table, write_report
+from .schedulers import LOCAL, SchedulerError, check_scheduler, open_scheduler
 from .solution import solution_figures
 from .store import ResultStore
 from .sweep import UNREADABLE_RECORD, ClaimData, expand_claim, get_claim_data, run_points
@@ -157,6 +158,13 @@ EXIT_CODES = {
 }
 
 
+def _scheduler_arg(text):
+    try:
+        return check_scheduler(text)
+    except SchedulerError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 def _parser(prog="hrbench-reproduce",
             description="Sweep the hrbench engine, fit exponents and judge the published "
                         "claims."):
@@ -168,6 +176,11 @@ def _parser(prog="hrbench-reproduce",
                       help="longer sweeps over more decades")
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
                    help="concurrent engine runs (default: number of cores, %(default)s)")
+    p.add_argument("--scheduler", type=_scheduler_arg, default=LOCAL, metavar="S",
+                   help="where the engine runs execute: 'local' (default: a pool of --jobs "
+                   "threads), 'dask' (a dask.distributed LocalCluster of --jobs worker "
+                   "processes) or tcp://HOST:PORT (an existing Dask cluster, all its "
+                   "workers); the results cache stays here, so results do not depend on it")
     p.add_argument("--results", type=Path, default=Path("results"), metavar="DIR",
                    help="results directory: cache, report, plots (default: results/ under "
                    "the current directory)")
@@ -409,8 +422,9 @@ def _sweep(args, setup):
         points = {c.id: expand_claim(c, args.mode, setup.engine, setup.version)
                   for c in setup.claims if c.id not in setup.skipped}
         try:
-            summary = run_points([p for ps in points.values() for p in ps], store,
-                                 jobs=args.jobs)
+            with open_scheduler(args.scheduler, args.jobs) as scheduler:
+                summary = run_points([p for ps in points.values() for p in ps], store,
+                                     scheduler=scheduler)
         except KeyboardInterrupt:
             print(f"\ninterrupted: finished points are kept in {store.path}; "
                   "run again to resume", file=sys.stderr)
@@ -529,6 +543,7 @@ def _main(argv):
         "engine": engine_text(setup.engine),
         "engine version": setup.version,
         "host": f"{platform.node()} ({os.cpu_count()} cores, {args.jobs} jobs)",
+        "scheduler": args.scheduler,
         "points": (f"{summary['total']} ({summary['cached']} cached, {summary['ran']} run, "
                    f"{summary['failed']} failed)"),
         "claims skipped": (", ".join(f"{k} ({v})" for k, v in skipped.items())

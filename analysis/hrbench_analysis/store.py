@@ -142,6 +142,16 @@ class PointKey:
             obj["options"] = {k: str(v) for k, v in self.options}
         return json.dumps(obj, sort_keys=True)
 
+    def run_text(self):
+        """The key text without the engine version: the same run of any version."""
+        return _without_version(self.text())
+
+
+def _without_version(text):
+    obj = json.loads(text)
+    obj.pop("version", None)
+    return json.dumps(obj, sort_keys=True)
+
 
 @dataclass
 class StoredPoint:
@@ -436,6 +446,20 @@ class ResultStore:
         self.close()
 
     # -- points -------------------------------------------------------------------------
+
+    def known_seconds(self):
+        """How long each run took that succeeded, under any engine version.
+
+        Returns
+        -------
+        seconds : dict of str to float
+            Wall seconds of the latest successful run of each :meth:`PointKey.run_text`:
+            the sweep's cost model (:func:`hrbench_analysis.sweep.run_points`).
+        """
+        with self._guard():
+            rows = self._db.execute("SELECT key, wall_seconds FROM points WHERE ok = 1 "
+                                    "ORDER BY finished_at").fetchall()
+        return {_without_version(key): float(seconds) for key, seconds in rows}
 
     def get(self, key):
         """The cached run for `key`, or ``None``.

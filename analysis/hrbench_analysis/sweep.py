@@ -14,7 +14,7 @@ import os
 import sys
 import time
 from collections import deque
-from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, wait
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -31,6 +31,7 @@ from .engine import (
 )
 from .lemmas import STATISTICS_MODE, StatisticsJob, add_to_record, measure, record_statistics
 from .loader import ResultFormatError, parse_run_json, run_environment
+from .schedulers import LOCAL, open_scheduler
 from .store import ACQUIRED, DONE, LEASE_RENEW, PointKey, StoredPoint, StoreError
 
 __all__ = [
@@ -38,6 +39,9 @@ __all__ = [
     "ClaimData",
     "expand_claim",
     "run_points",
+    "order_by_cost",
+    "MAX_ATTEMPTS",
+    "WORKER_LOST",
     "get_claim_data",
     "POLL_SECONDS",
     "UNREADABLE_RECORD",
@@ -45,6 +49,13 @@ __all__ = [
 
 #: Seconds between two looks at the points another sweep is running.
 POLL_SECONDS = 0.2
+
+#: Runs of a point whose worker is lost (a killed Dask worker) before it is stored as
+#: failed.
+MAX_ATTEMPTS = 3
+#: The exit code stored for a point whose worker was lost :data:`MAX_ATTEMPTS` times (no
+#: engine ever exits with it; the next sweep runs the point again).
+WORKER_LOST = -1000
 
 #: How the message of a point whose run succeeded but printed a record the analysis cannot
 #: read (:class:`~hrbench_analysis.loader.ResultFormatError`) starts; such a point is not
@@ -209,7 +220,8 @@ def _options_mismatch(result, options):
 
 
 class _Progress:
-    """A plain-text progress bar on a stream (rewritten in place on a terminal)."""
+    """A plain-text progress bar on a stream (rewritten in place on a terminal), naming
+    the dearest of the points running (``running`` holds their keys, dearest first)."""
 
     def __init__(self, total, cached, stream, width=30):
         self.total, self.done, self.failed = total, cached, 0
@@ -218,6 +230,8 @@ class _Progress:
         self.start = time.perf_counter()
         self.tty = stream is not None and hasattr(stream, "isatty") and stream.isatty()
         self.last_print = -1.0
+        self.last_width = 0
+        self.running = []
 
     def update(self, failed=False, final=False):
         if self.stream is None:
@@ -233,13 +247,27 @@ class _Progress:
         bar = "#" * int(round(frac * self.width))
         text = (f"[{bar:<{self.width}}] {self.done}/{self.total} points "
                 f"({self.cached} cached, {self.failed} failed) {elapsed:6.1f} s")
-        self.stream.write(("\r" + text) if self.tty else (text + "\n"))
+        if self.running:
+            more = len(self.running) - 1
+            text += f"; running {_point_text(self.running[0])}" + (f" +{more}" if more else "")
+        # On a terminal, blank what is left of a longer previous line.
+        pad = " " * max(0, self.last_width - len(text)) if self.tty else ""
+        self.last_width = len(text)
+        self.stream.write(("\r" + text + pad) if self.tty else (text + "\n"))
         if final and self.tty:
             self.stream.write("\n")
         self.stream.flush()
 
 
-def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS):
+def _point_text(key):
+    # "parallel l=64 d=1 eps=0.0003 garmann": what a reader needs to recognise a run.
+    params = " ".join(f"{k}={format_number(v)}" for k, v in key.params)
+    return (f"{key.scene}{' ' + params if params else ''} eps={format_number(key.eps)} "
+            f"{key.oracle}")
+
+
+def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
+               scheduler=None):
     """Run every point that the store does not hold yet, in parallel.
 
     Parameters
@@ -247,13 +275,18 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS)
     points : sequence of SweepPoint
         Duplicates (same key) are run once.
     store : ResultStore
-        Cache; each finished point is committed to it at once.
+        Cache; each finished point is committed to it at once, by this process, whichever
+        scheduler ran it.
     jobs : int, optional
-        Number of concurrent runs; default ``os.cpu_count()``.
+        Number of concurrent runs of the local pool; default ``os.cpu_count()``.
     progress : text stream or None
         Where to draw the progress bar (standard error by default; ``None`` for silence).
     poll : float, optional
         Seconds between two looks at points that another sweep is running.
+    scheduler : Scheduler, optional
+        Where the runs execute (:func:`hrbench_analysis.schedulers.open_scheduler`): a
+        Dask cluster, say. Default: a local pool of `jobs` threads, closed on return. A
+        given scheduler is left open, and its ``slots`` replace `jobs`.
 
     Returns
     -------
@@ -265,12 +298,16 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS)
 
     Notes
     -----
-    A point is run only after :meth:`ResultStore.acquire` gave this sweep its lease, and
-    at most `jobs` leases are held at a time. A point leased by another live sweep waits
-    until that sweep stores it (it is then read back, even if it failed) or its lease
-    lapses (the owner died or stopped renewing; then this sweep runs it). Leases are
-    renewed every :data:`~hrbench_analysis.store.LEASE_RENEW` seconds while their points run, and
-    released when the sweep ends, normally or not.
+    The points run dearest first (:func:`order_by_cost`), so that the sweep does not end
+    waiting on one long run. A point is run only after :meth:`ResultStore.acquire` gave
+    this sweep its lease, and at most `jobs` (or the scheduler's slots) leases are held at
+    a time. A point leased by another live sweep waits until that sweep stores it (it is
+    then read back, even if it failed) or its lease lapses (the owner died or stopped
+    renewing; then this sweep runs it). Leases are renewed every
+    :data:`~hrbench_analysis.store.LEASE_RENEW` seconds while their points run, and
+    released when the sweep ends, normally or not. A point whose worker was lost (a Dask
+    worker killed) is submitted again, up to :data:`MAX_ATTEMPTS` times in all, and then
+    stored as failed with exit code :data:`WORKER_LOST`, which the next sweep runs again.
     """
     since = time.time()
     unique = {}
@@ -281,19 +318,21 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS)
     bar = _Progress(len(unique), cached, progress)
     ran = failed = 0
     if todo:
-        # Start the most expensive runs first (sweeps are listed cheap to dear).
-        todo.reverse()
-        jobs = jobs or os.cpu_count() or 1
+        todo = order_by_cost(todo, store.known_seconds())
+        own = scheduler is None
+        if own:
+            scheduler = open_scheduler(LOCAL, jobs or os.cpu_count() or 1)
+        slots = scheduler.slots
         pending, waiting, running = deque(todo), [], {}
-        pool = ThreadPoolExecutor(max_workers=jobs)
+        attempts = {}
         renewed = time.monotonic()
         try:
             while pending or waiting or running:
-                while pending and len(running) < jobs:
+                while pending and len(running) < slots:
                     point = pending.popleft()
                     state = store.acquire(point.key, since=since)
                     if state == ACQUIRED:
-                        running[pool.submit(_execute, point)] = point
+                        running[scheduler.executor.submit(_execute, point)] = point
                     elif state == DONE:
                         cached += 1
                         bar.cached += 1
@@ -302,15 +341,27 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS)
                     else:
                         waiting.append(point)
                 if running:
+                    bar.running = [p.key for p in running.values()]
                     timeout = poll if waiting else LEASE_RENEW
                     finished, _ = wait(running, timeout=timeout, return_when=FIRST_COMPLETED)
                     for future in finished:
-                        del running[future]
-                        result = future.result()
+                        point = running.pop(future)
+                        try:
+                            result = future.result()
+                        except scheduler.lost as exc:
+                            attempts[point.key] = attempts.get(point.key, 1) + 1
+                            if attempts[point.key] <= MAX_ATTEMPTS:
+                                running[scheduler.executor.submit(_execute, point)] = point
+                                continue
+                            result = StoredPoint(
+                                point.key, False, WORKER_LOST,
+                                f"the worker running it was lost {MAX_ATTEMPTS} times "
+                                f"({type(exc).__name__})", "", 0.0)
                         store.put(result)
                         ran += 1
                         failed += not result.ok
                         bar.done += 1
+                        bar.running = [p.key for p in running.values()]
                         bar.update(failed=not result.ok)
                     if running and time.monotonic() - renewed >= LEASE_RENEW:
                         store.renew()
@@ -322,16 +373,45 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS)
                 waiting.clear()
         except BaseException:
             # Interrupted: start no new run; the finished ones are already stored.
-            pool.shutdown(wait=True, cancel_futures=True)
+            if own:
+                scheduler.close(cancel=True)
             try:
                 store.release()
             except StoreError:
                 pass  # the leases lapse when this process is gone
             raise
-        pool.shutdown()
+        if own:
+            scheduler.close()
         store.release()
+    bar.running = []
     bar.update(final=True)
     return {"total": len(unique), "cached": cached, "ran": ran, "failed": failed}
+
+
+def order_by_cost(points, known_seconds):
+    """The points, dearest first.
+
+    The cost model: a point that ran before (under any engine version, found in
+    `known_seconds` by :meth:`~hrbench_analysis.store.PointKey.run_text`) costs what it
+    took then; these come first, longest first. The others keep the reverse of their
+    sweep order, since a sweep runs from cheap to dear (eps falling, the geometry
+    growing), so that each sweep's dearest points start first and the cheap ones fill
+    the tail.
+
+    Parameters
+    ----------
+    points : sequence of SweepPoint
+    known_seconds : dict of str to float
+        From :meth:`hrbench_analysis.store.ResultStore.known_seconds`.
+
+    Returns
+    -------
+    ordered : list of SweepPoint
+    """
+    known = [p for p in points if p.key.run_text() in known_seconds]
+    known.sort(key=lambda p: -known_seconds[p.key.run_text()])
+    unknown = [p for p in reversed(points) if p.key.run_text() not in known_seconds]
+    return known + unknown
 
 
 @dataclass

@@ -244,7 +244,8 @@ def test_no_engine_is_one_line_and_exit_code_2(tmp_path, data_dir):
     assert not (tmp_path / "results").exists()
 
 
-@pytest.mark.parametrize("command", ["hrbench-reproduce", "hrbench-sweep", "hrbench-compare"])
+@pytest.mark.parametrize("command", ["hrbench-reproduce", "hrbench-sweep", "hrbench-compare",
+                                     "hrbench-history"])
 def test_console_scripts_run_from_any_directory(command):
     script = Path(sys.executable).parent / command
     if not script.exists():

@@ -1,0 +1,1040 @@
+"""Benchmark history over commits: ``hrbench-history record`` and ``hrbench-history html``.
+
+``record`` stores one Google Benchmark run (a JSON file as ``make bench`` or
+``refine_bench --benchmark_out=F.json`` writes it, with repetitions) in a history
+directory, together with its commit (hash, commit date, subject), its machine (name,
+CPU model, core count, load average at the start) and its build (Google Benchmark's
+``library_build_type``, and the engine's version, build type, compiler and flags when
+``--hrbench PATH`` is given).
+
+``html`` draws a static, self-contained HTML page of every benchmark's time (median
+of the repetitions, min and max as a band) and exact counters over the commits, one
+series per machine, in the spirit of asv (https://asv.readthedocs.io): the commits
+where the time steps (:func:`detect_steps`) are listed in a table at the top and
+marked on the plots, and so are the commits where an exact counter changes (an
+algorithm change).
+
+Storage: one JSON file per run, ``DIR/<commit date>-<commit[:12]>-<content[:16]>.json``,
+where ``content`` is the SHA-256 of the benchmark file's canonical JSON. Plain files
+can be merged by copying (the runs of several CI machines, artifacts), read and
+diffed by people, and committed to a branch; a file is published with a hard link
+from a temporary name, which never overwrites, so concurrent recorders cannot clobber
+each other and a reader never sees half a file. The name makes a second record of the
+same run (same content, same commit) a no-op, and the content hash refuses the same
+measurement under another commit: one measurement is never two points. See
+docs/history.md.
+
+Exit codes of the command: 0 success (also a run that was already recorded), 2 usage
+or input error (one line on standard error).
+"""
+
+import argparse
+import base64
+import datetime as dt
+import hashlib
+import html
+import io
+import json
+import math
+import os
+import socket
+import subprocess
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .errors import AnalysisError, one_line
+from .gbench import InputError, get_repetition_times, load_benchmark_file
+
+__all__ = [
+    "HistoryError",
+    "Step",
+    "Run",
+    "Point",
+    "Series",
+    "CounterChange",
+    "HISTORY_FORMAT",
+    "DEFAULT_PENALTY",
+    "DEFAULT_MIN_CHANGE",
+    "DEFAULT_MIN_NOISE",
+    "detect_steps",
+    "record_run",
+    "load_history",
+    "get_series",
+    "get_counter_changes",
+    "write_html",
+    "main",
+]
+
+# Version of the stored run format (the key "hrbench_history" of every run file).
+HISTORY_FORMAT = 1
+
+# Step rule defaults (see detect_steps).
+DEFAULT_PENALTY = 6.0
+DEFAULT_MIN_CHANGE = 0.05
+DEFAULT_MIN_NOISE = 0.005
+
+# Numeric fields of a Google Benchmark iteration row that are not user counters.
+_NOT_COUNTERS = frozenset({
+    "family_index", "per_family_instance_index", "repetitions", "repetition_index",
+    "threads", "iterations", "real_time", "cpu_time", "error_occurred",
+})
+
+
+class HistoryError(AnalysisError, ValueError):
+    """A history, a benchmark file or an option cannot be used (exit code 2)."""
+
+
+# ---------------------------------------------------------------------------------------
+# Step detection.
+
+
+@dataclass(frozen=True)
+class Step:
+    """A detected step of a series.
+
+    Attributes
+    ----------
+    index : int
+        Position in the series of the first point at the new level.
+    before, after : float
+        Level of the segment before and after the step: the geometric mean of the
+        medians of its points (same unit as the input).
+    ratio : float
+        ``after / before`` (1.25: 25% slower).
+    """
+
+    index: int
+    before: float
+    after: float
+    ratio: float
+
+
+def _segment_cost(csum, csum2, s, t):
+    # Sum of squared deviations from the mean of y[s:t], vectorised over s.
+    n = t - s
+    total = csum[t] - csum[s]
+    return (csum2[t] - csum2[s]) - total * total / n
+
+
+def _optimal_partition(y, beta):
+    """Breakpoints of the least-squares piecewise-constant fit with penalty beta per step."""
+    n = y.size
+    csum = np.concatenate(([0.0], np.cumsum(y)))
+    csum2 = np.concatenate(([0.0], np.cumsum(y * y)))
+    best = np.empty(n + 1)
+    best[0] = -beta
+    last = np.zeros(n + 1, dtype=int)
+    for t in range(1, n + 1):
+        s = np.arange(t)
+        costs = best[:t] + _segment_cost(csum, csum2, s, t) + beta
+        k = int(np.argmin(costs))
+        best[t], last[t] = costs[k], k
+    breaks = []
+    t = n
+    while t > 0:
+        t = int(last[t])
+        if t > 0:
+            breaks.append(t)
+    return sorted(breaks)
+
+
+def noise_level(y):
+    """Robust noise of a series of log times: MAD of successive differences / sqrt(2).
+
+    Parameters
+    ----------
+    y : array_like
+        The series (natural log of the medians).
+
+    Returns
+    -------
+    float
+        Estimate of the standard deviation of one point, 0 for fewer than 2 points.
+        A step moves one difference only, so it barely affects the estimate.
+    """
+    y = np.asarray(y, dtype=float)
+    if y.size < 2:
+        return 0.0
+    d = np.diff(y)
+    return float(1.4826 * np.median(np.abs(d - np.median(d))) / math.sqrt(2))
+
+
+def detect_steps(values, penalty=DEFAULT_PENALTY, min_change=DEFAULT_MIN_CHANGE,
+                 min_noise=DEFAULT_MIN_NOISE):
+    """Find the points where a positive series steps to a new level.
+
+    Parameters
+    ----------
+    values : array_like
+        Positive values in commit order (the median time of each commit).
+    penalty : float, optional
+        Cost of one step in units of ``sigma**2 * ln(n)``: larger finds fewer steps.
+    min_change : float, optional
+        Smallest relative step kept (0.05: a level 5% higher or lower).
+    min_noise : float, optional
+        Floor of ``sigma`` (in log units, 0.005 is 0.5%), so that an almost noiseless
+        series does not turn every wiggle into a step.
+
+    Returns
+    -------
+    list of Step
+        In series order.
+
+    Notes
+    -----
+    The rule, in the spirit of asv's step detection: fit the logs of the values by a
+    piecewise-constant function, minimising the sum of squared residuals plus
+    ``beta = penalty * sigma**2 * ln(n)`` per step (optimal partitioning, exact, O(n^2)),
+    where ``sigma`` is the robust noise of one point (`noise_level`, at least
+    `min_noise`). Then, while the smallest step changes the level by less than
+    `min_change`, it is removed and its two segments are merged. Levels are the
+    geometric means of the segments' values.
+
+    Examples
+    --------
+    >>> s = detect_steps([10, 10.1, 9.9, 10, 12.5, 12.4, 12.6, 12.5])
+    >>> [(x.index, round(x.ratio, 2)) for x in s]
+    [(4, 1.25)]
+    """
+    v = np.asarray(values, dtype=float)
+    if v.ndim != 1 or not np.all(np.isfinite(v)) or np.any(v <= 0):
+        raise ValueError("values must be a 1-d array of finite positive numbers")
+    if not (penalty >= 0 and min_change >= 0 and min_noise > 0):
+        raise ValueError("penalty and min_change must be >= 0, min_noise > 0")
+    n = v.size
+    if n < 2:
+        return []
+    y = np.log(v)
+    sigma = max(noise_level(y), min_noise)
+    beta = penalty * sigma * sigma * math.log(n)
+    breaks = _optimal_partition(y, beta)
+
+    def levels(bs):
+        edges = [0, *bs, n]
+        return [float(np.mean(y[a:b])) for a, b in zip(edges[:-1], edges[1:], strict=True)]
+
+    while breaks:
+        lv = levels(breaks)
+        sizes = [abs(math.expm1(lv[i + 1] - lv[i])) for i in range(len(breaks))]
+        i = int(np.argmin(sizes))
+        if sizes[i] >= min_change:
+            break
+        del breaks[i]
+    lv = levels(breaks)
+    return [Step(b, math.exp(lv[i]), math.exp(lv[i + 1]), math.exp(lv[i + 1] - lv[i]))
+            for i, b in enumerate(breaks)]
+
+
+# ---------------------------------------------------------------------------------------
+# Recording.
+
+
+def _git(args, cwd=None):
+    try:
+        r = subprocess.run(["git", "--no-optional-locks", *args], cwd=cwd,
+                           capture_output=True, text=True, timeout=30)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return r.stdout if r.returncode == 0 else None
+
+
+def _commit_info(commit, date, subject, cwd=None):
+    """Hash, ISO date, subject and dirtiness of a commit (git where it can, else given)."""
+    rev = commit or "HEAD"
+    out = _git(["show", "-s", "--format=%H%n%cI%n%s", rev + "^{commit}", "--"], cwd)
+    info = {"sha": commit, "date": date, "subject": subject or "", "dirty": None,
+            "source": "options"}
+    if out is not None:
+        sha, git_date, git_subject = (out.split("\n") + ["", "", ""])[:3]
+        info.update(sha=sha, date=date or git_date, subject=subject or git_subject,
+                    source="git")
+        if commit is None:
+            status = _git(["status", "--porcelain", "--untracked-files=no"], cwd)
+            info["dirty"] = None if status is None else bool(status.strip())
+    elif commit is None:
+        raise HistoryError("no --commit given and `git rev-parse HEAD` failed here: "
+                           "run in the checkout or pass --commit SHA --date ISO")
+    if not info["date"]:
+        raise HistoryError(f"the date of commit {info['sha']} is unknown (git does not "
+                           "know it here): pass --date ISO, the commit date")
+    info["date"] = _parse_date(info["date"]).isoformat()
+    return info
+
+
+def _parse_date(text):
+    try:
+        d = dt.datetime.fromisoformat(str(text))
+    except ValueError:
+        raise HistoryError(f"{text!r} is not an ISO 8601 date (e.g. 2026-01-31T12:00:00+00:00)"
+                           ) from None
+    return d if d.tzinfo is not None else d.replace(tzinfo=dt.UTC)
+
+
+def _cpu_model():
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as f:
+            for line in f:
+                key, _, value = line.partition(":")
+                if key.strip() in ("model name", "Model", "Hardware", "cpu model"):
+                    return value.strip() or None
+    except OSError:
+        pass
+    return None
+
+
+def _engine_info(path):
+    """Version and build of the engine at `path`: ``--version`` and a tiny run's context."""
+    def call(args):
+        try:
+            r = subprocess.run([str(path), *args], capture_output=True, text=True, timeout=60)
+        except (OSError, subprocess.SubprocessError) as e:
+            raise HistoryError(f"cannot run the engine {path}: {e}") from None
+        if r.returncode != 0:
+            raise HistoryError(f"{path} {' '.join(args)} failed (exit code {r.returncode}): "
+                               f"{one_line(r.stderr.strip(), 200)}")
+        return r.stdout
+    info = {"path": str(path), "version": call(["--version"]).strip()}
+    out = call(["run", "parallel", "l=16", "d=1", "--eps", "0.5", "--json", "--count-only"])
+    try:
+        context = json.loads(out).get("context", {})
+    except (json.JSONDecodeError, AttributeError):
+        raise HistoryError(f"{path} run ... --json did not print a JSON record") from None
+    for key in ("build_type", "build_flags", "compiler", "git_commit", "cpu_model"):
+        if key in context:
+            info[key] = context[key]
+    return info
+
+
+def _canonical(data):
+    return json.dumps(data, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
+
+
+def _slug_date(iso):
+    return _parse_date(iso).astimezone(dt.UTC).strftime("%Y%m%dT%H%M%SZ")
+
+
+def record_run(history, bench_path, commit=None, date=None, subject=None, machine=None,
+               hrbench=None, cwd=None, now=None):
+    """Store one benchmark run in a history directory.
+
+    Parameters
+    ----------
+    history : path-like
+        The history directory (created if missing).
+    bench_path : path-like
+        Google Benchmark JSON file with per-repetition rows.
+    commit, date, subject : str, optional
+        The commit measured (default ``git rev-parse HEAD`` in `cwd`), its ISO commit
+        date and subject (default from git).
+    machine : str, optional
+        Machine name (default: the benchmark context's ``host_name``, else this host).
+    hrbench : path-like, optional
+        The engine, for its version and build flags.
+    cwd : path-like, optional
+        Where git runs (default: the current directory).
+    now : datetime, optional
+        The record time (default: now).
+
+    Returns
+    -------
+    path : pathlib.Path
+        The run file (the existing one if the run was recorded before).
+    created : bool
+        False if the same run (same content and commit) was already recorded.
+    record : dict
+        The stored record.
+
+    Raises
+    ------
+    HistoryError
+        A malformed benchmark file, an unknown commit date, the same measurement
+        already recorded under another commit, an engine that cannot be run.
+    """
+    try:
+        data = load_benchmark_file(bench_path)
+    except InputError as e:
+        raise HistoryError(str(e)) from None
+    times = get_repetition_times(data)
+    if not times:
+        raise HistoryError(f"{bench_path} has no per-repetition benchmark rows (empty, or "
+                           "written with --benchmark_report_aggregates_only)")
+    info = _commit_info(commit, date, subject, cwd)
+    context = data["context"]
+    content = hashlib.sha256(_canonical(data).encode()).hexdigest()
+    this_host = socket.gethostname()
+    bench_host = context.get("host_name")
+    same_host = bench_host in (None, this_host)
+    load_avg = context.get("load_avg")
+    if isinstance(load_avg, list) and load_avg:
+        load_source = "benchmark context"
+    elif same_host and hasattr(os, "getloadavg"):
+        load_avg, load_source = list(os.getloadavg()), "os.getloadavg() at record time"
+    else:
+        load_avg, load_source = None, None
+    num_cpus = context.get("num_cpus")
+    machine_info = {
+        "name": machine or bench_host or this_host,
+        "host_name": bench_host or this_host,
+        "cpu_model": _cpu_model() if same_host else None,
+        "num_cpus": num_cpus if num_cpus is not None else (os.cpu_count() if same_host
+                                                            else None),
+        "mhz_per_cpu": context.get("mhz_per_cpu"),
+        "load_avg": load_avg,
+        "load_avg_source": load_source,
+        "recorded_on": this_host,
+    }
+    build = {"library_build_type": context.get("library_build_type"),
+             "engine": _engine_info(hrbench) if hrbench else None}
+    now = now or dt.datetime.now(dt.UTC)
+    record = {
+        "hrbench_history": HISTORY_FORMAT,
+        "content_sha256": content,
+        "recorded_at": now.isoformat(timespec="microseconds"),
+        "source": os.path.basename(str(bench_path)),
+        "commit": info,
+        "machine": machine_info,
+        "build": build,
+        "benchmark": data,
+    }
+    history = Path(history)
+    if history.exists() and not history.is_dir():
+        raise HistoryError(f"{history} is not a directory")
+    history.mkdir(parents=True, exist_ok=True)
+    name = f"{_slug_date(info['date'])}-{info['sha'][:12]}-{content[:16]}.json"
+    target = history / name
+    if target.exists():
+        return target, False, _read_run_file(target)
+    for other in sorted(history.glob(f"*-{content[:16]}.json")):
+        old = _read_run_file(other)
+        if old.get("content_sha256") == content:
+            raise HistoryError(
+                f"{bench_path} is already recorded for commit {old['commit']['sha'][:12]} "
+                f"({other.name}); one measurement cannot be a point of two commits")
+    tmp = history / f".{name}.{os.getpid()}.tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        json.dump(record, f, indent=1)
+        f.write("\n")
+    try:
+        os.link(tmp, target)
+        created = True
+    except FileExistsError:
+        created = False
+    finally:
+        tmp.unlink()
+    return target, created, record
+
+
+# ---------------------------------------------------------------------------------------
+# Loading and series.
+
+
+@dataclass
+class Run:
+    """One stored run, as read from the history."""
+
+    path: Path
+    content: str
+    sha: str
+    date: dt.datetime
+    subject: str
+    recorded_at: str
+    machine: dict
+    build: dict
+    times: dict
+    counters: dict
+    series_key: tuple = ()
+    label: str = ""
+
+
+def _read_run_file(path):
+    try:
+        with open(path, encoding="utf-8") as f:
+            record = json.load(f)
+    except OSError as e:
+        raise HistoryError(f"cannot read {path}: {e.strerror}") from None
+    except json.JSONDecodeError as e:
+        raise HistoryError(f"{path} is not a history run file: not valid JSON ({e})") from None
+    if not isinstance(record, dict) or record.get("hrbench_history") != HISTORY_FORMAT:
+        raise HistoryError(f"{path} is not a history run file of format {HISTORY_FORMAT} "
+                           "(key 'hrbench_history')")
+    for key in ("commit", "machine", "build", "benchmark"):
+        if not isinstance(record.get(key), dict):
+            raise HistoryError(f"{path}: history run file without '{key}'")
+    if not isinstance(record["benchmark"].get("benchmarks"), list):
+        raise HistoryError(f"{path}: history run file without a benchmarks list")
+    return record
+
+
+def _get_counters(data):
+    counters = {}
+    for row in data["benchmarks"]:
+        if not isinstance(row, dict) or row.get("run_type", "iteration") != "iteration":
+            continue
+        if row.get("error_occurred"):
+            continue
+        name = row.get("run_name", row.get("name"))
+        if name is None:
+            continue
+        per = counters.setdefault(name, {})
+        for key, value in row.items():
+            if (key in _NOT_COUNTERS or isinstance(value, bool)
+                    or not isinstance(value, (int, float))):
+                continue
+            per.setdefault(key, []).append(float(value))
+    return counters
+
+
+def load_history(history, metric="real_time"):
+    """Read every run of a history directory.
+
+    Parameters
+    ----------
+    history : path-like
+    metric : {'real_time', 'cpu_time'}
+
+    Returns
+    -------
+    runs : list of Run
+        Sorted in commit order (commit date, then record time); each run's
+        ``series_key`` and ``label`` name its machine (see Notes).
+    notes : list of str
+        What the reader saw fit to say: duplicate files skipped, several machines.
+
+    Notes
+    -----
+    A machine is its name, CPU model and core count: runs under one name with another
+    CPU or core count are another machine (labelled with them). A file whose content
+    hash another file already has (a copy) is skipped with a note.
+    """
+    history = Path(history)
+    if not history.is_dir():
+        raise HistoryError(f"history directory {history} does not exist (record a run "
+                           "first: hrbench-history record --history DIR BENCH.json)")
+    files = sorted(p for p in history.glob("*.json") if not p.name.startswith("."))
+    if not files:
+        raise HistoryError(f"history directory {history} holds no runs")
+    runs, seen, notes = [], {}, []
+    for path in files:
+        record = _read_run_file(path)
+        content = record.get("content_sha256") or hashlib.sha256(
+            _canonical(record["benchmark"]).encode()).hexdigest()
+        if content in seen:
+            notes.append(f"{path.name} holds the same run as {seen[content]}: skipped, "
+                         "so that no point counts twice")
+            continue
+        seen[content] = path.name
+        c, m = record["commit"], record["machine"]
+        if not c.get("sha") or not c.get("date"):
+            raise HistoryError(f"{path}: history run file without a commit hash or date")
+        data = record["benchmark"]
+        runs.append(Run(path, content, str(c["sha"]), _parse_date(c["date"]),
+                        c.get("subject") or "", str(record.get("recorded_at", "")),
+                        m, record["build"], get_repetition_times(data, metric),
+                        _get_counters(data)))
+    first_seen = {}
+    for r in sorted(runs, key=lambda r: r.recorded_at):
+        first_seen.setdefault(r.sha, (r.date, r.recorded_at))
+    runs.sort(key=lambda r: (first_seen[r.sha], r.recorded_at))
+    by_name = {}
+    for r in runs:
+        r.series_key = (str(r.machine.get("name")), r.machine.get("cpu_model"),
+                        r.machine.get("num_cpus"))
+        by_name.setdefault(r.series_key[0], set()).add(r.series_key)
+    for r in runs:
+        name, cpu, cores = r.series_key
+        r.label = name if len(by_name[name]) == 1 else f"{name} ({cpu or 'CPU ?'}, " \
+            f"{cores if cores is not None else '?'} cores)"
+    for name, keys in by_name.items():
+        if len(keys) > 1:
+            notes.append(f"machine name {name!r} covers {len(keys)} different machines (CPU "
+                         "model or core count differ): each is its own series")
+    return runs, notes
+
+
+@dataclass(eq=False)
+class Point:
+    """One commit of one series: the repetitions of every run of it, pooled."""
+
+    commit_index: int
+    sha: str
+    runs: list
+    times: np.ndarray
+    counters: dict = field(default_factory=dict)
+
+    @property
+    def median(self):
+        return float(np.median(self.times))
+
+
+@dataclass(eq=False)
+class Series:
+    """One benchmark on one machine, in commit order."""
+
+    benchmark: str
+    machine: str
+    points: list
+    steps: list = field(default_factory=list)
+
+
+def _exact(values):
+    return len(values) > 0 and max(values) == min(values)
+
+
+def get_series(runs, penalty=DEFAULT_PENALTY, min_change=DEFAULT_MIN_CHANGE,
+               min_noise=DEFAULT_MIN_NOISE):
+    """Build the series of every benchmark and machine, with their steps.
+
+    Parameters
+    ----------
+    runs : list of Run
+        In commit order, as `load_history` returns them.
+    penalty, min_change, min_noise : float, optional
+        The step rule's parameters (see `detect_steps`).
+
+    Returns
+    -------
+    commits : list of tuple
+        ``(sha, date, subject)`` of every commit, in commit order.
+    series : list of Series
+        Sorted by benchmark (in first-seen order), then machine. The runs of one commit
+        on one machine are pooled into one point (their repetitions together); a
+        counter's value at a point is kept only if it is exact (the same in every
+        repetition of every pooled run) and is not a rate (``*_per_second``).
+    """
+    commits, index = [], {}
+    for r in runs:
+        if r.sha not in index:
+            index[r.sha] = len(commits)
+            commits.append((r.sha, r.date, r.subject))
+    bench_order, groups = {}, {}
+    for r in runs:
+        for bench, times in r.times.items():
+            bench_order.setdefault(bench, len(bench_order))
+            key = (bench, r.label)
+            per = groups.setdefault(key, {})
+            p = per.setdefault(index[r.sha], {"runs": [], "times": [], "counters": {}})
+            p["runs"].append(r.path.name)
+            p["times"].extend(times)
+            for name, values in r.counters.get(bench, {}).items():
+                p["counters"].setdefault(name, []).extend(values)
+    series = []
+    for (bench, label), per in sorted(groups.items(),
+                                      key=lambda kv: (bench_order[kv[0][0]], kv[0][1])):
+        points = []
+        for ci in sorted(per):
+            p = per[ci]
+            counters = {name: values[0] for name, values in p["counters"].items()
+                        if not name.endswith("_per_second") and _exact(values)}
+            points.append(Point(ci, commits[ci][0], p["runs"], np.asarray(p["times"]),
+                                counters))
+        medians = [pt.median for pt in points]
+        steps = []
+        if all(m > 0 for m in medians):
+            steps = detect_steps(medians, penalty, min_change, min_noise)
+        series.append(Series(bench, label, points, steps))
+    return commits, series
+
+
+@dataclass(frozen=True)
+class CounterChange:
+    """An exact counter that changed from one commit to the next of a series."""
+
+    benchmark: str
+    machine: str
+    index: int
+    counter: str
+    before: float
+    after: float
+
+
+def get_counter_changes(series):
+    """The changes of exact counters between consecutive points of each series.
+
+    Parameters
+    ----------
+    series : list of Series
+
+    Returns
+    -------
+    list of CounterChange
+        ``index`` is the position in ``series.points`` of the first point with the new
+        value. A counter missing or not exact at either point is not compared.
+    """
+    changes = []
+    for s in series:
+        for i in range(1, len(s.points)):
+            a, b = s.points[i - 1].counters, s.points[i].counters
+            for name in sorted(set(a) & set(b)):
+                if a[name] != b[name]:
+                    changes.append(CounterChange(s.benchmark, s.machine, i, name,
+                                                 a[name], b[name]))
+    return changes
+
+
+# ---------------------------------------------------------------------------------------
+# The page.
+
+
+def _commits(n):
+    return f"{n} commit" if n == 1 else f"{n} commits"
+
+
+def _format_time(ns):
+    for unit, scale in (("s", 1e9), ("ms", 1e6), ("us", 1e3)):
+        if ns >= scale:
+            return f"{ns / scale:.4g} {unit}"
+    return f"{ns:.4g} ns"
+
+
+def _format_count(x):
+    return f"{int(x):,}" if float(x).is_integer() and abs(x) < 1e18 else f"{x:.6g}"
+
+
+def _time_scale(ns):
+    for unit, scale in (("s", 1e9), ("ms", 1e6), ("us", 1e3)):
+        if ns >= scale:
+            return unit, scale
+    return "ns", 1.0
+
+
+def _figure_png(bench, series, commits, changes):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import FixedLocator, NullLocator
+
+    changed = sorted({c.counter for c in changes})
+    nrows = 2 if changed else 1
+    fig = Figure(figsize=(9.0, 3.2 * nrows), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(nrows, 1, sharex=True, squeeze=False)[:, 0]
+    unit, scale = _time_scale(np.median([p.median for s in series for p in s.points]))
+    ax = axes[0]
+    for s in series:
+        x = np.array([p.commit_index for p in s.points])
+        med = np.array([p.median for p in s.points]) / scale
+        lo = np.array([p.times.min() for p in s.points]) / scale
+        hi = np.array([p.times.max() for p in s.points]) / scale
+        (line,) = ax.plot(x, med, "o-", ms=3.5, lw=1.2, label=f"{s.machine} (median)")
+        ax.fill_between(x, lo, hi, color=line.get_color(), alpha=0.2, lw=0,
+                        label=f"{s.machine} (min..max)")
+        for st in s.steps:
+            xi = s.points[st.index].commit_index
+            ax.axvline(xi - 0.5, color=line.get_color(), ls="--", lw=1)
+            ax.annotate(f"x{st.ratio:.3g}", (xi - 0.5, st.after / scale), fontsize=8,
+                        xytext=(3, 3), textcoords="offset points", color=line.get_color())
+    ax.set_ylabel(f"time ({unit})")
+    ax.set_title(bench, fontsize=9)
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+    if changed:
+        ax2 = axes[1]
+        for s in series:
+            for name in changed:
+                pts = [(p.commit_index, p.counters[name]) for p in s.points
+                       if name in p.counters]
+                if not pts:
+                    continue
+                x, v = zip(*pts, strict=True)
+                v = np.asarray(v, dtype=float)
+                ref = v[0] if v[0] != 0 else 1.0
+                ax2.plot(x, v / ref, ".-", lw=1, drawstyle="steps-mid",
+                         label=f"{name} / {_format_count(ref)} ({s.machine})")
+        for c in changes:
+            s = next(t for t in series if t.machine == c.machine)
+            ax2.axvline(s.points[c.index].commit_index - 0.5, color="0.4", ls=":", lw=1)
+        ax2.set_ylabel("counter / first value")
+        ax2.legend(fontsize=7, loc="best")
+        ax2.grid(alpha=0.3)
+    n = len(commits)
+    step = max(1, math.ceil(n / 30))
+    ticks = list(range(0, n, step))
+    axes[-1].xaxis.set_major_locator(FixedLocator(ticks))
+    axes[-1].xaxis.set_minor_locator(NullLocator())
+    axes[-1].set_xticklabels([commits[i][0][:7] for i in ticks], rotation=60, fontsize=7,
+                             family="monospace")
+    axes[-1].set_xlim(-0.5, n - 0.5)
+    axes[-1].set_xlabel("commit (commit date order)")
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=80)
+    return base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def _machines_summary(runs):
+    out = {}
+    for r in runs:
+        m = out.setdefault(r.label, {"runs": 0, "commits": set(), "cpu": r.machine.get(
+            "cpu_model"), "cores": r.machine.get("num_cpus"), "builds": set(),
+            "loads": []})
+        m["runs"] += 1
+        m["commits"].add(r.sha)
+        m["builds"].add(str(r.build.get("library_build_type")))
+        la = r.machine.get("load_avg")
+        if isinstance(la, list) and la:
+            m["loads"].append(float(la[0]))
+    return out
+
+
+def _table(headers, rows):
+    esc = html.escape
+    head = "".join(f"<th>{esc(h)}</th>" for h in headers)
+    body = "".join("<tr>" + "".join(f"<td>{c}</td>" for c in row) + "</tr>" for row in rows)
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+def write_html(out, runs, notes, commits, series, *, metric="real_time",
+               machine=None, params=None, title="hrbench benchmark history"):
+    """Write the static page; return the steps and counter changes it lists.
+
+    Parameters
+    ----------
+    out : path-like
+        The HTML file to write.
+    runs, notes : as returned by `load_history` (runs already filtered by machine).
+    commits, series : as returned by `get_series`.
+    metric : str, optional
+        The time shown.
+    machine : str, optional
+        The machine the page is restricted to, if any.
+    params : dict, optional
+        The step rule's parameters, shown on the page.
+
+    Returns
+    -------
+    steps : list of (Series, Step)
+    changes : list of CounterChange
+    """
+    esc = html.escape
+    params = params or {}
+    steps = [(s, st) for s in series for st in s.steps]
+    changes = get_counter_changes(series)
+    machines = _machines_summary(runs)
+
+    def commit_cell(ci):
+        sha, date, subject = commits[ci]
+        return (f"<code title='{esc(sha)}'>{esc(sha[:10])}</code> "
+                f"{esc(date.date().isoformat())} {esc(subject[:60])}")
+
+    parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{esc(title)}</title>",
+             "<style>body{font-family:sans-serif;max-width:1100px;margin:1em auto;"
+             "padding:0 1em}table{border-collapse:collapse;font-size:90%;margin:.5em 0}"
+             "td,th{border:1px solid #bbb;padding:2px 6px;text-align:left}"
+             ".note{background:#fff4d6;border-left:4px solid #e0a800;padding:.4em .8em}"
+             "img{max-width:100%}.slower{color:#b00}.faster{color:#070}"
+             "h2{margin-top:1.5em}</style></head><body>",
+             f"<h1>{esc(title)}</h1>",
+             f"<p>{len(runs)} runs, {len(commits)} commits, "
+             f"{len({s.benchmark for s in series})} benchmarks, {esc(metric)}: median of the "
+             "repetitions, min..max as a band. Generated "
+             f"{dt.datetime.now(dt.UTC).strftime('%Y-%m-%d %H:%M UTC')}.</p>"]
+    if machine is not None:
+        parts.append(f"<p class='note'>Only machine <b>{esc(machine)}</b> is shown.</p>")
+    if len(machines) > 1:
+        parts.append(
+            f"<p class='note'>This history holds runs of {len(machines)} machines: "
+            + ", ".join(f"<b>{esc(k)}</b> ({v['runs']} runs)" for k, v in machines.items())
+            + ". Each machine is its own series: times of different machines are never "
+            "averaged or joined, and steps are detected per machine.</p>")
+    for note in notes:
+        parts.append(f"<p class='note'>{esc(note)}</p>")
+    rows = [(esc(k), esc(str(v["cpu"] or "?")), esc(str(v["cores"] or "?")), v["runs"],
+             len(v["commits"]), esc(", ".join(sorted(v["builds"]))),
+             esc(f"{min(v['loads']):.2f}..{max(v['loads']):.2f}") if v["loads"] else "?")
+            for k, v in machines.items()]
+    parts.append("<h2>Machines</h2>")
+    parts.append(_table(["machine", "CPU model", "cores", "runs", "commits",
+                         "library build", "load avg (1 min) at start"], rows))
+    parts.append("<h2 id='steps'>Detected steps</h2>")
+    rule = (f"Piecewise-constant fit of the log medians, penalty "
+            f"{params.get('penalty', DEFAULT_PENALTY)} &sigma;&sup2; ln n per step, "
+            f"&sigma; the robust noise (at least {params.get('min_noise', DEFAULT_MIN_NOISE)}"
+            f"), steps under {params.get('min_change', DEFAULT_MIN_CHANGE):.1%} merged.")
+    parts.append(f"<p>{rule}</p>")
+    if steps:
+        rows = []
+        for s, st in steps:
+            cls = "slower" if st.ratio > 1 else "faster"
+            ci, prev = s.points[st.index].commit_index, s.points[st.index - 1].commit_index
+            where = commit_cell(ci) + ("" if prev == ci - 1 else
+                                       f" (somewhere after {esc(commits[prev][0][:10])}: "
+                                       f"{_commits(ci - prev - 1)} between not measured)")
+            rows.append((f"<a href='#b{series.index(s)}'>{esc(s.benchmark)}</a>",
+                         esc(s.machine), where,
+                         f"{esc(_format_time(st.before))} &rarr; {esc(_format_time(st.after))}",
+                         f"<span class='{cls}'>{st.ratio:.3f} ({st.ratio - 1:+.1%})</span>"))
+        parts.append(_table(["benchmark", "machine", "commit", "before → after", "ratio"],
+                            rows))
+    else:
+        parts.append("<p>No step detected.</p>")
+    parts.append("<h2 id='counters'>Counter changes (algorithm changes)</h2>")
+    if changes:
+        rows = []
+        for c in changes:
+            s = next(t for t in series if t.benchmark == c.benchmark and t.machine == c.machine)
+            rows.append((esc(c.benchmark), esc(c.machine),
+                         commit_cell(s.points[c.index].commit_index), esc(c.counter),
+                         f"{_format_count(c.before)} &rarr; {_format_count(c.after)}"))
+        parts.append(_table(["benchmark", "machine", "commit", "counter", "before → after"],
+                            rows))
+    else:
+        parts.append("<p>No exact counter changed between commits.</p>")
+    by_bench = {}
+    for s in series:
+        by_bench.setdefault(s.benchmark, []).append(s)
+    parts.append("<h2>Benchmarks</h2>")
+    for bench, ss in by_bench.items():
+        bench_changes = [c for c in changes if c.benchmark == bench]
+        png = _figure_png(bench, ss, commits, bench_changes)
+        anchor = series.index(ss[0])
+        parts.append(f"<h3 id='b{anchor}'>{esc(bench)}</h3>")
+        parts.append(f"<img alt='{esc(bench)}' src='data:image/png;base64,{png}'>")
+        for s in ss:
+            last = s.points[-1]
+            const = {k: v for k, v in last.counters.items()
+                     if not any(c.counter == k and c.machine == s.machine
+                                for c in bench_changes)}
+            text = ", ".join(f"{esc(k)}={_format_count(v)}" for k, v in sorted(const.items()))
+            parts.append(f"<p><b>{esc(s.machine)}</b>: {len(s.points)} commits, last "
+                         f"median {esc(_format_time(last.median))}"
+                         + (f"; unchanged exact counters: {text}" if text else "") + "</p>")
+    parts.append("<h2>Commits</h2>")
+    rows = []
+    for ci, (sha, date, subject) in enumerate(commits):
+        ms = sorted({r.label for r in runs if r.sha == sha})
+        rows.append((ci, f"<code>{esc(sha)}</code>", esc(date.isoformat()), esc(subject),
+                     esc(", ".join(ms))))
+    parts.append(_table(["#", "commit", "date", "subject", "machines"], rows))
+    parts.append("</body></html>\n")
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
+    tmp.write_text("\n".join(parts), encoding="utf-8")
+    os.replace(tmp, out)
+    return steps, changes
+
+
+# ---------------------------------------------------------------------------------------
+# The command line.
+
+
+def _parser(prog):
+    parser = argparse.ArgumentParser(
+        prog=prog, description="Benchmark history over commits (docs/history.md).")
+    sub = parser.add_subparsers(dest="command", required=True)
+    rec = sub.add_parser("record", help="store one Google Benchmark run with its metadata")
+    rec.add_argument("bench", metavar="BENCH.json", help="Google Benchmark JSON with "
+                     "repetitions (make bench: results/bench.json)")
+    rec.add_argument("--history", required=True, metavar="DIR", help="history directory")
+    rec.add_argument("--commit", metavar="SHA", help="commit measured (default: "
+                     "git rev-parse HEAD here)")
+    rec.add_argument("--date", metavar="ISO", help="its commit date (default: from git)")
+    rec.add_argument("--subject", help="its subject line (default: from git)")
+    rec.add_argument("--machine", metavar="NAME", help="machine name (default: the "
+                     "benchmark's host_name)")
+    rec.add_argument("--hrbench", metavar="PATH", help="the engine, for its version and "
+                     "build flags")
+    page = sub.add_parser("html", help="write the static HTML page of the history")
+    page.add_argument("--history", required=True, metavar="DIR", help="history directory")
+    page.add_argument("--out", required=True, metavar="PAGE.html", help="the page to write")
+    page.add_argument("--machine", metavar="NAME", help="only this machine")
+    page.add_argument("--metric", choices=("real_time", "cpu_time"), default="real_time")
+    page.add_argument("--penalty", type=float, default=DEFAULT_PENALTY,
+                      help=f"cost of a step, in sigma^2 ln n (default {DEFAULT_PENALTY})")
+    page.add_argument("--min-change", type=float, default=DEFAULT_MIN_CHANGE,
+                      help=f"smallest relative step (default {DEFAULT_MIN_CHANGE})")
+    page.add_argument("--min-noise", type=float, default=DEFAULT_MIN_NOISE,
+                      help=f"floor of sigma, log units (default {DEFAULT_MIN_NOISE})")
+    return parser
+
+
+def _main_record(args):
+    path, created, record = record_run(args.history, args.bench, args.commit, args.date,
+                                       args.subject, args.machine, args.hrbench)
+    c, m = record["commit"], record["machine"]
+    if not created:
+        print(f"already recorded: {args.bench} for commit {c['sha'][:12]} is {path}; "
+              "nothing written")
+        return 0
+    times = get_repetition_times(record["benchmark"])
+    reps = sorted({len(v) for v in times.values()})
+    load = m["load_avg"]
+    load_text = " ".join(f"{x:.2f}" for x in load) if load else "unknown"
+    engine = record["build"]["engine"]
+    print(f"recorded {path}")
+    print(f"  commit  {c['sha'][:12]} {c['date']} {c['subject'][:60]}"
+          + ("  (working tree dirty)" if c.get("dirty") else ""))
+    print(f"  machine {m['name']}: {m['cpu_model'] or 'CPU model unknown'}, "
+          f"{m['num_cpus'] or '?'} cores, load average {load_text} at start")
+    print(f"  build   Google Benchmark library {record['build']['library_build_type'] or '?'}"
+          + (f"; engine {engine['version']} {engine.get('build_type', '')} "
+             f"{engine.get('build_flags', '')}" if engine else ""))
+    print(f"  {len(times)} benchmarks, {'/'.join(map(str, reps))} repetitions each")
+    if load and m["num_cpus"] and load[0] > m["num_cpus"]:
+        print(f"note: load average {load[0]:.2f} above the {m['num_cpus']} cores at the "
+              "start: these timings may be noisy")
+    if engine and engine.get("git_commit") and not str(engine["git_commit"]).startswith(
+            c["sha"]):
+        print(f"note: the engine was built from {engine['git_commit']}, not from "
+              f"{c['sha']}")
+    return 0
+
+
+def _main_html(args):
+    if not (args.penalty >= 0 and args.min_change >= 0 and args.min_noise > 0):
+        raise HistoryError("--penalty and --min-change must be >= 0, --min-noise > 0")
+    runs, notes = load_history(args.history, args.metric)
+    labels = sorted({r.label for r in runs})
+    if args.machine is not None:
+        kept = [r for r in runs if args.machine in (r.label, r.series_key[0])]
+        if not kept:
+            raise HistoryError(f"no run of machine {args.machine!r} in {args.history} "
+                               f"(machines: {', '.join(labels)})")
+        runs = kept
+    params = {"penalty": args.penalty, "min_change": args.min_change,
+              "min_noise": args.min_noise}
+    commits, series = get_series(runs, **params)
+    steps, changes = write_html(args.out, runs, notes, commits, series, metric=args.metric,
+                                machine=args.machine, params=params)
+    shown = sorted({r.label for r in runs})
+    print(f"wrote {args.out}: {len(runs)} runs, {len(commits)} commits, "
+          f"{len({s.benchmark for s in series})} benchmarks, machines: {', '.join(shown)}")
+    if len(shown) > 1:
+        print(f"note: {len(shown)} machines, one series each (never averaged); steps are "
+              "detected per machine")
+    for note in notes:
+        print(f"note: {note}")
+    for s, st in steps:
+        sha, prev = s.points[st.index].sha, s.points[st.index - 1]
+        gap = s.points[st.index].commit_index - prev.commit_index - 1
+        print(f"step    {s.benchmark} [{s.machine}] at {sha[:10]}: "
+              f"{_format_time(st.before)} -> {_format_time(st.after)} (x{st.ratio:.3f})"
+              + (f" (after {prev.sha[:10]}, {_commits(gap)} between not measured)"
+                 if gap else ""))
+    for c in changes:
+        sha = [p for p in series if p.benchmark == c.benchmark and p.machine == c.machine
+               ][0].points[c.index].sha
+        print(f"counter {c.benchmark} [{c.machine}] at {sha[:10]}: {c.counter} "
+              f"{_format_count(c.before)} -> {_format_count(c.after)}")
+    print(f"{len(steps)} steps, {len(changes)} counter changes")
+    return 0
+
+
+def main(argv=None, prog="hrbench-history"):
+    """Run the command line; return the exit code (0, or 2 on a usage or input error)."""
+    args = _parser(prog).parse_args(argv)
+    try:
+        if args.command == "record":
+            return _main_record(args)
+        return _main_html(args)
+    except (HistoryError, InputError) as e:
+        print(f"{prog}: error: {one_line(e)}", file=sys.stderr)
+        return 2
+    except OSError as e:
+        print(f"{prog}: error: {one_line(f'{e.filename}: {e.strerror}')}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
