@@ -3,8 +3,8 @@ PYTHON := .venv/bin/python
 CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release
 
 .PHONY: setup build build-asan build-fuzz test test-cpp test-asan test-python reproduce \
-        reproduce-full bench history baseline examples python-package fuzz fuzz-smoke lint \
-        format clean
+        reproduce-full bench history gates baseline examples python-package fuzz fuzz-smoke \
+        lint format clean
 
 setup:
 	@bash scripts/setup.sh
@@ -57,6 +57,11 @@ history: bench
 	$(PYTHON) -m hrbench_analysis.history record --history $(HISTORY_DIR) results/bench.json \
 	  --hrbench build/hrbench
 	$(PYTHON) -m hrbench_analysis.history html --history $(HISTORY_DIR) --out results/history.html
+
+# The CI gates of a change (docs/ci.md, also the GitHub Action of action.yml): build BASE
+# and HEAD, check the count baseline, time both in interleaved rounds, print a summary.
+gates: setup
+	scripts/ci/gates $(or $(BASE),origin/main) $(or $(HEAD),HEAD) $(GATES_FLAGS)
 
 # The example consumer project, built against the package installed from build/ and
 # with hrbench as a subproject, and the tiny kernel of examples/tiny_kernel, whose link

@@ -260,7 +260,7 @@ class _Progress:
 
 
 def _point_text(key):
-    # "parallel l=64 d=1 eps=0.0003 garmann": what a reader needs to recognise a run.
+    # "parallel d=1 l=64 eps=0.0003 garmann": what a reader needs to recognise a run.
     params = " ".join(f"{k}={format_number(v)}" for k, v in key.params)
     return (f"{key.scene}{' ' + params if params else ''} eps={format_number(key.eps)} "
             f"{key.oracle}")
