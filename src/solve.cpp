@@ -58,9 +58,9 @@ template <typename Shape>
 class HierarchySolver {
   public:
     HierarchySolver(const Forest<Shape> &forest, const LinkBuffer &links,
-                    const std::vector<LinkCoefficients> &coefficients,
+                    const std::vector<LinkCoefficients> &coefficients, std::vector<double> scale,
                     const std::vector<Material> &materials)
-        : forest_(forest), n_(forest.Size()) {
+        : forest_(forest), n_(forest.Size()), scale_(std::move(scale)) {
         Preorder(forest, order_, treeStart_);
         area_.resize(n_), rho_.resize(n_), emission_.resize(n_);
         for (uint32_t e = 0; e < n_; ++e) {
@@ -88,7 +88,7 @@ class HierarchySolver {
     // Bytes of the solver's arrays for _links_ links and _elements_ elements.
     static size_t Bytes(size_t links, size_t elements) {
         return links * (sizeof(LinkCoefficients) + 2 * sizeof(HalfLink)) +
-               elements * (7 * sizeof(double) + sizeof(uint32_t));
+               elements * (8 * sizeof(double) + sizeof(uint32_t));
     }
 
     // Every element's radiosity by id, inner elements the pulled means of their leaves.
@@ -144,7 +144,8 @@ class HierarchySolver {
     }
 
     // Push-pull for root patch _r_ into _out_: each element's irradiance is the sum of
-    // what it and its ancestors gathered; a leaf's radiosity is E + rho H; an inner
+    // what it and its ancestors gathered, a leaf's times its consistency scale (1 with
+    // --plain-gather); a leaf's radiosity is E + rho H; an inner
     // element's the area-weighted mean of its children's. Tracks the largest change of
     // a leaf's radiosity and the largest leaf radiosity.
     void PushPull(size_t r, std::vector<double> &out, double &change, double &largest) {
@@ -158,6 +159,7 @@ class HierarchySolver {
             uint32_t first = forest_[e].firstChild;
             double b;
             if (first == kNoChildren) {
+                irradiance_[e] *= scale_[e];  // a leaf: no child reads it
                 b = emission_[e] + rho_[e] * irradiance_[e];
                 change = std::max(change, std::abs(b - radiosity_[e]));
                 largest = std::max(largest, std::abs(b));
@@ -186,6 +188,7 @@ class HierarchySolver {
 
     const Forest<Shape> &forest_;
     size_t n_;
+    std::vector<double> scale_;
     std::vector<uint32_t> order_;
     std::vector<size_t> treeStart_;
     std::vector<double> area_, rho_, emission_;
@@ -257,6 +260,10 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
         Stopwatch coefficientWatch;
         std::vector<LinkCoefficients> coefficients =
             ComputeCoefficients(patches, refinement.forest, refinement.links, refine);
+        std::vector<double> scale = options.plainGather
+                                        ? std::vector<double>(refinement.forest.Size(), 1.0)
+                                        : ConsistencyScales(patches, refinement.forest,
+                                                            refinement.links, coefficients, refine);
         AddTime(result.coefficients, coefficientWatch.Elapsed());
 
         // Each pass solves from B = E: only the last pass's solution is reported.
@@ -266,7 +273,7 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
         std::vector<double> radiosity;
         {
             HierarchySolver<Shape> solver(refinement.forest, refinement.links, coefficients,
-                                          materials);
+                                          std::move(scale), materials);
             solver.Run(options, result);
             if (!last)
                 radiosity = solver.Radiosity();
@@ -380,6 +387,10 @@ json SolveToJson(const Scene &scene, const RefineOptions &refine, const SolveOpt
     json out = RunToJson(scene, refine, result.record);
     auto optional = [](const std::optional<double> &v) { return v ? json(*v) : json(nullptr); };
     out["solver"] = SolveMethodName(options.method);
+    // "consistent": leaves scaled to their exact form factor sums; "plain": HSA91's gather
+    // as published, asked for or forced by visibility (ConsistencyScales).
+    out["gather"] =
+        options.plainGather || refine.visibility != VisibilityMode::None ? "plain" : "consistent";
     out["tolerance"] = options.tolerance;
     out["max_iterations"] = options.maxIterations;
     out["emission"] = optional(options.emission);
@@ -433,7 +444,8 @@ void PrintSolveTable(const json &solve, std::ostream &out) {
     out << "\noracle    " << solve["oracle"].get<std::string>() << "  eps "
         << FormatDouble(solve["eps"].get<double>()) << "\nsolver    "
         << solve["solver"].get<std::string>() << "  tolerance "
-        << FormatDouble(solve["tolerance"].get<double>()) << "\n\n";
+        << FormatDouble(solve["tolerance"].get<double>()) << "  gather "
+        << solve["gather"].get<std::string>() << "\n\n";
     auto row = [&](const std::string &name, const std::string &value) {
         out << std::left << std::setw(22) << name << std::right << std::setw(12) << value << "\n";
     };

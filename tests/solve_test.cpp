@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_helpers.h"
+#include "hrbench/form_factor.h"
 #include "hrbench/generators/generators.h"
 #include "hrbench/hrbench.h"
 #include "hrbench/util/parallel_for.h"
@@ -178,16 +179,25 @@ TEST_CASE("A closed 2D room of uniform emission 1 and reflectance 0.5 has B = 2"
         CHECK(gauss.leaves[k].radiosity == Approx(jacobi.leaves[k].radiosity).epsilon(1e-8));
 }
 
-TEST_CASE("A coarser hierarchy approaches B = 2 in the closed room as eps falls", "[solve]") {
+TEST_CASE("In the closed room the consistent gather gives B = 2 at every eps, HSA91's plain "
+          "gather only as eps falls",
+          "[solve]") {
     // HSA91's approximation: a leaf gathers through its ancestors' links, whose form
     // factors are averages over the ancestor, so a leaf's row sum is 1 only on average.
-    // Its error falls with eps, and the energy balance with it (second order).
+    // The consistency scale restores each leaf's exact sum, so a uniform B is exact; the
+    // plain gather's error falls with eps, and the energy balance with it (second order).
     Scene room = UniformRoom();
+    SolveOptions plain = Solving(1e-12);
+    plain.plainGather = true;
     double last = INFINITY, lastImbalance = INFINITY;
     for (double eps : {0.2, 0.05, 0.01}) {
         INFO("eps " << eps);
-        SolveResult r = Solve(room, Refining(eps, 0.01), Solving(1e-12));
+        SolveResult consistent = Solve(room, Refining(eps, 0.01), Solving(1e-12));
+        CHECK(MaxDeviation(consistent, 2) <= 1e-9);
+        CHECK(RelativeImbalance(consistent) <= 1e-9);
+        SolveResult r = Solve(room, Refining(eps, 0.01), plain);
         double deviation = MaxDeviation(r, 2), imbalance = RelativeImbalance(r);
+        CHECK(deviation > 1e-4);
         CHECK(deviation < last);
         CHECK(imbalance < lastImbalance);
         last = deviation, lastImbalance = imbalance;
@@ -195,10 +205,48 @@ TEST_CASE("A coarser hierarchy approaches B = 2 in the closed room as eps falls"
     CHECK(last < 1e-3);           // measured 5.8e-4
     CHECK(lastImbalance < 1e-6);  // measured 1.3e-7
     // The hanrahan oracle accepts grazing pairs earlier: larger errors at one eps, falling too.
-    SolveResult coarse = Solve(room, Refining(0.002, 0.01, "hanrahan"), Solving(1e-12));
-    SolveResult fine = Solve(room, Refining(0.0005, 0.01, "hanrahan"), Solving(1e-12));
+    SolveResult coarse = Solve(room, Refining(0.002, 0.01, "hanrahan"), plain);
+    SolveResult fine = Solve(room, Refining(0.0005, 0.01, "hanrahan"), plain);
     CHECK(MaxDeviation(fine, 2) < MaxDeviation(coarse, 2));
     CHECK(MaxDeviation(fine, 2) < 0.02);  // measured 1.1e-2
+    CHECK(MaxDeviation(Solve(room, Refining(0.002, 0.01, "hanrahan"), Solving(1e-12)), 2) <= 1e-9);
+}
+
+TEST_CASE("The consistency scale is 1 where the links are exact, and never with visibility",
+          "[solve]") {
+    // Two facing plates, unrefined: the root link's coefficient is the exact form factor.
+    Scene plates = MakeScene("parallel", {{"l", 1}, {"d", 1}});
+    RefineOptions whole = Refining(100, 0);
+    Refinement<Segment> r = Refine<Segment>(plates, whole);
+    std::vector<LinkCoefficients> c =
+        ComputeCoefficients(plates.Get<Segment>(), r.forest, r.links, whole);
+    std::vector<double> s = ConsistencyScales(plates.Get<Segment>(), r.forest, r.links, c, whole);
+    REQUIRE(s.size() == 2);
+    CHECK(s[0] == Approx(1).epsilon(1e-14));
+    CHECK(s[1] == Approx(1).epsilon(1e-14));
+    // Refined: a leaf's scale is its exact form factor over its chain's coefficients.
+    RefineOptions split = Refining(0.3, 0);
+    r = Refine<Segment>(plates, split);
+    c = ComputeCoefficients(plates.Get<Segment>(), r.forest, r.links, split);
+    s = ConsistencyScales(plates.Get<Segment>(), r.forest, r.links, c, split);
+    for (uint32_t e = 0; e < r.forest.Size(); ++e) {
+        if (r.forest[e].firstChild != kNoChildren) {
+            CHECK(s[e] == 1);
+            continue;
+        }
+        double chain = 0;
+        for (uint32_t a = e;; a = r.forest.Parent(a)) {
+            for (size_t k = 0; k < r.links.size(); ++k)
+                chain += r.links[k].i == a ? c[k].ij : r.links[k].j == a ? c[k].ji : 0;
+            if (r.forest.Parent(a) == a)
+                break;
+        }
+        const Segment &other = plates.Get<Segment>()[1 - r.forest[e].root].shape;
+        CHECK(s[e] == Approx(FormFactor(r.forest.ShapeOf(e), other) / chain).epsilon(1e-13));
+    }
+    split.visibility = VisibilityMode::Fraction;
+    for (double v : ConsistencyScales(plates.Get<Segment>(), r.forest, r.links, c, split))
+        CHECK(v == 1);
 }
 
 TEST_CASE("The closed 3D box has B = E / (1 - rho)", "[solve][3d]") {
@@ -210,6 +258,13 @@ TEST_CASE("The closed 3D box has B = E / (1 - rho)", "[solve][3d]") {
     CHECK(r.record.counters.links == (192 * 192 - 6 * 32 * 32) / 2);
     CHECK(MaxDeviation(r, 2) <= 1e-6);    // measured 2.3e-10
     CHECK(RelativeImbalance(r) <= 1e-6);  // measured 1.3e-10
+    // Coarser: links between inner elements, which the consistency scale makes exact too.
+    SolveResult coarse = Solve(box, Refining(0.1, 0.05), Solving(1e-10));
+    CHECK(coarse.record.counters.links < r.record.counters.links / 2);  // 6510 of 15360
+    CHECK(MaxDeviation(coarse, 2) <= 1e-6);
+    SolveOptions plain = Solving(1e-10);
+    plain.plainGather = true;
+    CHECK(MaxDeviation(Solve(box, Refining(0.1, 0.05), plain), 2) > 1e-3);
     // Another emission and reflectance: B = 0.5 / (1 - 0.8) = 2.5.
     SolveResult bright = Solve(ClosedBox(0.5, 0.8), Refining(0.001, 0.05), Solving(1e-10));
     CHECK(MaxDeviation(bright, 2.5) <= 1e-6);  // measured 1.3e-9

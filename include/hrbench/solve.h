@@ -56,6 +56,9 @@ struct SolveOptions {
     // not given): each pass after the first refines with B from the previous solution.
     // Given with another oracle, an InputError: the others do not read B.
     std::optional<int> passes;
+    // HSA91's gather as published: a leaf's irradiance is what its chain's links gather,
+    // without the consistency scale (docs/solve.md).
+    bool plainGather = false;
 };
 
 constexpr int kDefaultPasses = 4;
@@ -90,6 +93,27 @@ extern template std::vector<LinkCoefficients> ComputeCoefficients(const Patches<
                                                                   const Forest<Polygon> &,
                                                                   const LinkBuffer &,
                                                                   const RefineOptions &);
+
+// The consistency scale of every element, by id: for a leaf x, its exact form factor to
+// every other root patch, sum over r of FormFactor(x, r), over what the links of x and of
+// its ancestors give it, the sum of their coefficients; 1 for inner elements, for a leaf
+// its chain links to nothing, and under --visibility fraction or refine (the exact
+// occluded sum is not known). Multiplying a leaf's gathered irradiance by it makes a
+// uniform radiosity exact: B = E / (1 - rho) in a closed scene at any eps.
+template <typename Shape>
+std::vector<double> ConsistencyScales(const Patches<Shape> &patches, const Forest<Shape> &forest,
+                                      const LinkBuffer &links,
+                                      const std::vector<LinkCoefficients> &coefficients,
+                                      const RefineOptions &options);
+
+extern template std::vector<double> ConsistencyScales(const Patches<Segment> &,
+                                                      const Forest<Segment> &, const LinkBuffer &,
+                                                      const std::vector<LinkCoefficients> &,
+                                                      const RefineOptions &);
+extern template std::vector<double> ConsistencyScales(const Patches<Polygon> &,
+                                                      const Forest<Polygon> &, const LinkBuffer &,
+                                                      const std::vector<LinkCoefficients> &,
+                                                      const RefineOptions &);
 
 // One element of a solution: a leaf of the hierarchy, or an element of a uniform mesh.
 struct ElementRadiosity {

@@ -28,7 +28,7 @@ statement = "error = Theta(eps)"
 scene = "parallel"
 params = { l = 4, d = 1 }
 command = "solve"
-options = { emission = 1, reference = 7 }
+options = { emission = 1, reference = 9 }
 sweep.param = "eps"
 sweep.range = { from = 0.5, to = 0.05, per_decade = 10 }
 x = "1/eps"
@@ -80,7 +80,7 @@ def test_solve_points_run_solve_and_have_their_own_cache_key(tmp_path):
     (claim,) = load_claims(write(tmp_path, SOLVE_CLAIM))
     points = expand_claim(claim, "quick", "hrbench", "v1")
     assert points[0].argv == ("hrbench", "solve", "parallel", "d=1", "l=4", "--eps", "0.5",
-                              "--oracle", "garmann", "--emission", "1", "--reference", "7",
+                              "--oracle", "garmann", "--emission", "1", "--reference", "9",
                               "--json")
     assert {p.key.mode for p in points} == {"solve"}
     (counting,) = load_claims(write(tmp_path, SOLVE_CLAIM.replace('command = "solve"\n', "")
@@ -135,6 +135,6 @@ def test_solve_claim_end_to_end(tmp_path, capsys):
     claims = json.loads((tmp_path / "out" / "claims.json").read_text())
     (c,) = claims["claims"]
     assert c["verdict"] == MEASURED and c["as_expected"] is None
-    # Leaves of length ~eps against a reference of 128 elements per plate: first order.
+    # Leaves of length ~eps against a reference of 512 elements per plate: first order.
     assert -1.3 < c["measured_exponent"] < -0.7 and c["published"] is False
     assert "no published value" in (tmp_path / "out" / "report.md").read_text()
