@@ -3,7 +3,7 @@ PYTHON := .venv/bin/python
 CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release
 
 .PHONY: setup build build-asan build-fuzz test test-cpp test-asan test-python reproduce \
-        reproduce-full bench history gates baseline examples python-package fuzz fuzz-smoke \
+        reproduce-full bench bench-naive history gates baseline examples python-package fuzz fuzz-smoke \
         lint format clean
 
 setup:
@@ -49,6 +49,11 @@ bench: build
 	  --benchmark_out_format=json $(BENCH_FLAGS)
 	$(PYTHON) tools/merge_bench.py results/bench.json results/bench-refine.json \
 	  results/bench-translation.json
+
+# hrbench's count-only kernel against the naive flat-array kernel of bench/, in paired
+# interleaved rounds by CPU time: the ratio, cycles per oracle call, bytes per element.
+bench-naive: build
+	bash bench/compare_naive.sh build
 
 # The benchmark history (docs/history.md): record results/bench.json for HEAD, then
 # draw the page of times and counters over commits with the detected steps.

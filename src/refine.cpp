@@ -39,6 +39,12 @@ class ForestUnion {
                 maps_.emplace_back(w.Size(), UINT32_MAX);
         for (auto &level : scratch_)
             level.resize(workers.size());
+        // The union has at least as many elements as the largest worker's forest (with
+        // one worker, exactly as many): reserve that, so that building it copies nothing.
+        size_t largest = canonical.Size();
+        for (const Forest &w : workers)
+            largest = std::max(largest, w.Size());
+        canonical.Reserve(largest);
         for (uint32_t root = 0; root < canonical.NumRoots(); ++root) {
             std::fill(scratch_[0].begin(), scratch_[0].end(), root);
             Visit(root, 0);

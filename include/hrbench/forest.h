@@ -60,6 +60,11 @@ class Forest {
     Subdivision Mode() const { return mode_; }
     int Arity() const { return SubdivisionArity(mode_); }
 
+    // Makes room for _n_ elements in all, so that growing to that many moves nothing.
+    void Reserve(size_t n) {
+        hot_.reserve(n), shapes_.reserve(n), depth_.reserve(n), parent_.reserve(n);
+    }
+
     // Returns the index of the first child of _i_, subdividing _i_ the first time it is
     // asked; later calls share the same children (Arity() of them, consecutive).
     uint32_t Children(uint32_t i) {
