@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .gbench import InputError, get_repetition_times, load_benchmark_file
+from .gbench import InputError, format_time, get_repetition_times, load_benchmark_file
 
 __all__ = ["TimingComparison", "get_timing_comparison", "get_comparison_report",
            "print_comparison_report", "min_pvalue", "main"]
@@ -170,13 +170,6 @@ def get_comparison_report(baseline_times, new_times, threshold=0.05, alpha=0.05)
     return comparisons, only_baseline, only_new
 
 
-def _format_time(ns):
-    for unit, scale in (("s", 1e9), ("ms", 1e6), ("us", 1e3)):
-        if ns >= scale:
-            return f"{ns / scale:.4g} {unit}"
-    return f"{ns:.4g} ns"
-
-
 def print_comparison_report(comparisons, only_baseline=(), only_new=(), threshold=0.05,
                             alpha=0.05, file=None):
     """Print the comparison as a table, one benchmark per row, and a summary.
@@ -202,8 +195,8 @@ def print_comparison_report(comparisons, only_baseline=(), only_new=(), threshol
         verdict = "SLOWER" if c.slower else (
             "faster" if c.change < -threshold else "same")
         pvalue = "-" if math.isnan(c.pvalue) else f"{c.pvalue:.4f}"
-        out(f"{c.name:<{width}}  {_format_time(c.baseline_median):>11}  "
-            f"{_format_time(c.new_median):>11}  {c.change:>+8.1%}  {pvalue:>9}  "
+        out(f"{c.name:<{width}}  {format_time(c.baseline_median):>11}  "
+            f"{format_time(c.new_median):>11}  {c.change:>+8.1%}  {pvalue:>9}  "
             f"{c.n_baseline:>2}/{c.n_new:<2}  {verdict}")
     for name in only_baseline:
         out(f"only in the baseline: {name}")

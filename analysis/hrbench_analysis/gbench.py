@@ -9,13 +9,29 @@ missing, and the schema version is checked when the file states one
 import json
 
 __all__ = ["InputError", "load_benchmark_file", "get_repetition_times",
-           "merge_benchmark_files"]
+           "merge_benchmark_files", "time_unit", "format_time"]
 
 # Schema versions of the Google Benchmark JSON format this reader understands.
 _SUPPORTED_SCHEMA_VERSIONS = (1,)
 
 # Nanoseconds per unit of Google Benchmark's `time_unit`.
 _NS_PER_UNIT = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}
+
+
+def time_unit(ns):
+    """The unit to show a time of `ns` nanoseconds in: ``(name, nanoseconds per unit)``,
+    the largest of s, ms, us that `ns` reaches, else ns."""
+    for unit, scale in (("s", 1e9), ("ms", 1e6), ("us", 1e3)):
+        if ns >= scale:
+            return unit, scale
+    return "ns", 1.0
+
+
+def format_time(ns):
+    """A time of `ns` nanoseconds in its unit (:func:`time_unit`), 4 significant digits:
+    ``"12.79 ms"``."""
+    unit, scale = time_unit(ns)
+    return f"{ns / scale:.4g} {unit}"
 
 
 class InputError(Exception):

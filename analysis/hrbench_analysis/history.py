@@ -46,7 +46,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import AnalysisError, one_line
-from .gbench import InputError, get_repetition_times, load_benchmark_file
+from .gbench import InputError, format_time, get_repetition_times, load_benchmark_file, time_unit
 
 __all__ = [
     "HistoryError",
@@ -682,22 +682,8 @@ def _commits(n):
     return f"{n} commit" if n == 1 else f"{n} commits"
 
 
-def _format_time(ns):
-    for unit, scale in (("s", 1e9), ("ms", 1e6), ("us", 1e3)):
-        if ns >= scale:
-            return f"{ns / scale:.4g} {unit}"
-    return f"{ns:.4g} ns"
-
-
 def _format_count(x):
     return f"{int(x):,}" if float(x).is_integer() and abs(x) < 1e18 else f"{x:.6g}"
-
-
-def _time_scale(ns):
-    for unit, scale in (("s", 1e9), ("ms", 1e6), ("us", 1e3)):
-        if ns >= scale:
-            return unit, scale
-    return "ns", 1.0
 
 
 def _figure_png(bench, series, commits, changes):
@@ -710,7 +696,7 @@ def _figure_png(bench, series, commits, changes):
     fig = Figure(figsize=(9.0, 3.2 * nrows), layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(nrows, 1, sharex=True, squeeze=False)[:, 0]
-    unit, scale = _time_scale(np.median([p.median for s in series for p in s.points]))
+    unit, scale = time_unit(np.median([p.median for s in series for p in s.points]))
     ax = axes[0]
     for s in series:
         x = np.array([p.commit_index for p in s.points])
@@ -862,7 +848,7 @@ def write_html(out, runs, notes, commits, series, *, metric="real_time",
                                        f"{_commits(ci - prev - 1)} between not measured)")
             rows.append((f"<a href='#b{series.index(s)}'>{esc(s.benchmark)}</a>",
                          esc(s.machine), where,
-                         f"{esc(_format_time(st.before))} &rarr; {esc(_format_time(st.after))}",
+                         f"{esc(format_time(st.before))} &rarr; {esc(format_time(st.after))}",
                          f"<span class='{cls}'>{st.ratio:.3f} ({st.ratio - 1:+.1%})</span>"))
         parts.append(_table(["benchmark", "machine", "commit", "before → after", "ratio"],
                             rows))
@@ -897,7 +883,7 @@ def write_html(out, runs, notes, commits, series, *, metric="real_time",
                                 for c in bench_changes)}
             text = ", ".join(f"{esc(k)}={_format_count(v)}" for k, v in sorted(const.items()))
             parts.append(f"<p><b>{esc(s.machine)}</b>: {len(s.points)} commits, last "
-                         f"median {esc(_format_time(last.median))}"
+                         f"median {esc(format_time(last.median))}"
                          + (f"; unchanged exact counters: {text}" if text else "") + "</p>")
     parts.append("<h2>Commits</h2>")
     rows = []
@@ -1009,7 +995,7 @@ def _main_html(args):
         sha, prev = s.points[st.index].sha, s.points[st.index - 1]
         gap = s.points[st.index].commit_index - prev.commit_index - 1
         print(f"step    {s.benchmark} [{s.machine}] at {sha[:10]}: "
-              f"{_format_time(st.before)} -> {_format_time(st.after)} (x{st.ratio:.3f})"
+              f"{format_time(st.before)} -> {format_time(st.after)} (x{st.ratio:.3f})"
               + (f" (after {prev.sha[:10]}, {_commits(gap)} between not measured)"
                  if gap else ""))
     for c in changes:

@@ -45,6 +45,7 @@ sys.path[:0] = [os.path.join(_ROOT, "tools"), os.path.join(_ROOT, "analysis")]
 from benchtools.baseline import RunError, get_counter_changes, load_baseline  # noqa: E402
 from hrbench_analysis.gbench import (  # noqa: E402
     InputError,
+    format_time,
     get_repetition_times,
     load_benchmark_file,
 )
@@ -472,13 +473,6 @@ def machine_info():
     return {"cpu": model, "cores": os.cpu_count(), "usable": usable, "load": load}
 
 
-def _format_time(ns):
-    for unit, scale in (("s", 1e9), ("ms", 1e6), ("us", 1e3)):
-        if ns >= scale:
-            return f"{ns / scale:.4g} {unit}"
-    return f"{ns:.4g} ns"
-
-
 def _md(text):
     return text.replace("|", "\\|")
 
@@ -537,8 +531,8 @@ def render_summary(ctx):
                 "|---|---:|---:|---:|---:|---:|---:|---|"]
         for c in timing["comparisons"]:
             p = "-" if math.isnan(c.pvalue) else f"{c.pvalue:.4f}"
-            out.append(f"| `{_md(c.name)}` | {_format_time(c.baseline_median)} | "
-                       f"{_format_time(c.new_median)} | {c.change:+.1%} | {p} | "
+            out.append(f"| `{_md(c.name)}` | {format_time(c.baseline_median)} | "
+                       f"{format_time(c.new_median)} | {c.change:+.1%} | {p} | "
                        f"{timing['noise'][c.name]:.1%} | {c.n_baseline}/{c.n_new} | "
                        f"{_verdict(c, args.threshold)} |")
         out.append("")
