@@ -125,3 +125,40 @@ for b in json.load(sys.stdin)["benchmarks"]:
     ns = b["ns_per_oracle_call"] * 1e9  # the JSON holds seconds per call
     print("%s: %.2f ns = %.2f cycles per oracle call (branch-free, no recursion)" % (name, ns, ns * ghz))
 ' "$GHZ"
+
+# Store mode: peak RSS per stored link (the links, 8 bytes each, and everything else of
+# the run) on 1 and 2 threads; and CPU time of store mode against count-only.
+links=$("$CLI" run parallel l=1024 d=1 --eps 0.01 --count-only --json | python3 -c \
+    'import json,sys; print(json.load(sys.stdin)["links"])')
+for threads in 1 2; do
+    kb=$(rss "$CLI" run parallel l=1024 d=1 --eps 0.01 --threads "$threads")
+    python3 -c 'import sys; t, kb, l = sys.argv[1:]; print(f"peak RSS store mode, {t} thread(s): {kb} KiB = {int(kb) * 1024 / int(l):.2f} bytes/stored link")' \
+        "$threads" "$kb" "$links"
+done
+
+# Threads: wall time of count-only on 1 and on 2 threads, and of store mode against
+# count-only on 1 thread, by CPU time, in paired rounds (BM_Headline of refine_bench).
+REFINE=$BUILD/refine_bench
+if [[ -x $REFINE ]]; then
+    for ((r = 0; r < ROUNDS; ++r)); do
+        "$REFINE" --benchmark_filter='^BM_Headline/' --benchmark_min_time="$MIN_TIME" \
+            --benchmark_format=json 2>/dev/null >"$TMP/headline-$r.json"
+    done
+    python3 - "$TMP" "$ROUNDS" "$(nproc)" <<'PYEOF'
+import json, statistics, sys
+tmp, rounds, cores = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+real, cpu = {}, {}
+for r in range(rounds):
+    for b in json.load(open(f"{tmp}/headline-{r}.json"))["benchmarks"]:
+        real.setdefault(b["name"], []).append(b["real_time"])
+        cpu.setdefault(b["name"], []).append(b["cpu_time"])
+def summary(name, xs):
+    print(f"{name}: median {statistics.median(xs):.3f}, min {min(xs):.3f}, max {max(xs):.3f}")
+one, two = "BM_Headline/garmann_count/threads:1", "BM_Headline/garmann_count/threads:2"
+store = "BM_Headline/garmann_store/threads:1"
+summary(f"speed-up count-only 2 threads / 1 thread, wall time ({cores} cores)",
+        [a / b for a, b in zip(real[one], real[two])])
+summary("link rate store mode / count-only, 1 thread, CPU time",
+        [c / s for c, s in zip(cpu[one], cpu[store])])
+PYEOF
+fi

@@ -6,6 +6,7 @@
 //
 // Run everything:       build/refine_bench --benchmark_out=F.json --benchmark_out_format=json
 // Only the headline:    build/refine_bench --benchmark_filter=BM_Headline
+// Visibility rays:      build/refine_bench --benchmark_filter=BM_CornellVisibility
 #include <malloc.h>
 
 #include <cstdint>
@@ -92,6 +93,23 @@ void BM_Headline(benchmark::State &state, bool store) {
     RunRefine(state, Parallel(1024, 1), Options("garmann", store, 0.01, threads));
 }
 
+// Visibility on the Cornell box (docs/3d.md's example: hanrahan, eps 0.01, --min-area
+// 1e-3, --visibility fraction, 5,964,111 rays), one thread. rays_per_second_per_core
+// divides the rays by the CPU time, as the machine may be shared.
+void BM_CornellVisibility(benchmark::State &state) {
+    RefineOptions o = Options("hanrahan", false, 0.01);
+    o.minArea = 1e-3;
+    o.visibility = VisibilityMode::Fraction;
+    Scene scene = MakeScene("cornell", {});
+    Counters counters;
+    for (auto _ : state)
+        counters = Refine<Polygon>(scene, o).record.counters;
+    AddRecordCounters(state, counters);
+    state.counters["rays_per_second_per_core"] = benchmark::Counter(
+        double(counters.rays) * double(state.iterations()), benchmark::Counter::kIsRate);
+    state.SetLabel(HasEmbree() ? "embree" : "cgal");
+}
+
 void EpsArgs(benchmark::internal::Benchmark *b, int64_t lowest, int64_t highest) {
     b->ArgNames({"inv_eps"})->RangeMultiplier(2)->Range(lowest, highest);
     b->Complexity(benchmark::oNSquared)->UseRealTime()->Unit(benchmark::kMillisecond);
@@ -128,6 +146,7 @@ BENCHMARK_CAPTURE(BM_GeometrySweep, hanrahan_store, "hanrahan", true, 0.002)
     ->Apply(HanrahanGeometry);
 BENCHMARK_CAPTURE(BM_Headline, garmann_count, false)->Apply(HeadlineArgs);
 BENCHMARK_CAPTURE(BM_Headline, garmann_store, true)->Apply(HeadlineArgs);
+BENCHMARK(BM_CornellVisibility)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace hrbench

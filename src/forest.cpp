@@ -75,6 +75,56 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
 }
 
 template <typename Shape>
+std::vector<uint32_t> Forest<Shape>::Canonicalize() {
+    // The new id of every element: the preorder walk of the union (ForestUnion in
+    // refine.cpp), numbering each sibling group when its parent is reached.
+    std::vector<uint32_t> id(Size());
+    uint32_t next = uint32_t(numRoots_);
+    std::vector<uint32_t> stack;
+    for (uint32_t root = uint32_t(numRoots_); root-- > 0;) {
+        id[root] = root;
+        stack.push_back(root);
+    }
+    const int arity = Arity();
+    while (!stack.empty()) {
+        uint32_t e = stack.back();
+        stack.pop_back();
+        uint32_t first = hot_[e].firstChild;
+        if (first == kNoChildren)
+            continue;
+        for (int c = 0; c < arity; ++c)
+            id[first + c] = next + c;
+        next += arity;
+        for (int c = arity; c-- > 0;)
+            stack.push_back(first + c);
+    }
+
+    // Point the links between elements at the new ids, then move every element to its
+    // new place, cycle by cycle.
+    for (uint32_t e = 0; e < Size(); ++e) {
+        if (hot_[e].firstChild != kNoChildren)
+            hot_[e].firstChild = id[hot_[e].firstChild];
+        parent_[e] = id[parent_[e]];
+    }
+    std::vector<bool> placed(Size());
+    for (uint32_t start = 0; start < Size(); ++start) {
+        if (placed[start] || id[start] == start)
+            continue;
+        ElementType hot = hot_[start];
+        Shape shape = shapes_[start];
+        uint8_t depth = depth_[start];
+        uint32_t parent = parent_[start];
+        for (uint32_t to = id[start]; !placed[start]; to = id[to]) {
+            std::swap(hot, hot_[to]), std::swap(shape, shapes_[to]);
+            std::swap(depth, depth_[to]), std::swap(parent, parent_[to]);
+            placed[to] = true;
+        }
+    }
+    maxElements_ = SIZE_MAX;
+    return id;
+}
+
+template <typename Shape>
 uint64_t Forest<Shape>::Position(uint32_t i) const {
     uint64_t position = 0, weight = 1;
     for (; parent_[i] != i; i = parent_[i], weight *= uint64_t(Arity()))

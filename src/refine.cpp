@@ -28,7 +28,8 @@ struct Budget {
 };
 
 // Builds the canonical forest, the union of the workers' forests (children are created
-// once), and for each worker the map from its element ids to canonical ids.
+// once), and for each worker the map from its element ids to canonical ids. Reads the
+// workers' forests only while it is being constructed.
 template <typename Forest>
 class ForestUnion {
   public:
@@ -203,17 +204,24 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     while (!counters.linksPerDepth.empty() && counters.linksPerDepth.back() == 0)
         counters.linksPerDepth.pop_back();
 
-    // Merge the trees into canonical ids and translate the links to them.
-    ForestUnion<F> merged(forests, result.forest, kStoreLinks);
-    if constexpr (kStoreLinks) {
-        if (numWorkers == 1) {
-            // One worker ran every task in order: translate its buffer in place.
+    // One worker ran every task in order: renumber its trees in place and translate its
+    // links, in place too.
+    if (numWorkers == 1) {
+        std::vector<uint32_t> id = forests[0].Canonicalize();
+        result.forest = std::move(forests[0]);
+        if constexpr (kStoreLinks) {
             for (Link &link : workerLinks[0])
-                link = {merged.Canonical(0, link.i), merged.Canonical(0, link.j)};
+                link = {id[link.i], id[link.j]};
             result.links = std::move(workerLinks[0]);
             result.links.ShrinkToFit();
-            return;
         }
+        return;
+    }
+
+    // Merge the trees into canonical ids and translate the links to them.
+    ForestUnion<F> merged(forests, result.forest, kStoreLinks);
+    std::vector<F>().swap(forests);  // the maps are all that is needed of them now
+    if constexpr (kStoreLinks) {
         // Concatenate the tasks' ranges in task order, translating each worker's ids.
         size_t total = 0;
         for (const auto &links : workerLinks)
@@ -225,11 +233,19 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
             const Link &link = workerLinks[0][k];
             result.links.Append({merged.Canonical(0, link.i), merged.Canonical(0, link.j)});
         }
+        // A worker ran its tasks in increasing order, so each worker's buffer is read
+        // from front to back: give what has been copied back to the system as it goes.
+        constexpr size_t kDiscardStep = size_t(1) << 18;  // links, 2 MiB
+        std::vector<size_t> discarded(numWorkers, 0);
         for (size_t t = 0; t < tasks.size(); ++t) {
             size_t w = taskWorker[t];
             for (size_t k = taskLinksEnd[t] - taskLinkCount[t]; k < taskLinksEnd[t]; ++k) {
                 const Link &link = workerLinks[w][k];
                 result.links.Append({merged.Canonical(w, link.i), merged.Canonical(w, link.j)});
+            }
+            if (taskLinksEnd[t] - discarded[w] >= kDiscardStep) {
+                workerLinks[w].Discard(taskLinksEnd[t]);
+                discarded[w] = taskLinksEnd[t];
             }
         }
     }

@@ -4,8 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hrbench/oracles/garmann.h"
@@ -78,51 +78,121 @@ Plates PlatesOf(const Scene &scene) {
     return plates;
 }
 
-// All pairs of one level at one offset. _c_ is the offset of the midpoints,
-// x_i - x_j = -offset + c * l / 2^(depth_i + 1); (p, q) is one of the pairs, by
-// its element positions, to evaluate the oracle on.
-struct PairState {
-    int64_t c;
-    uint64_t pairs;  // how many visited pairs are in this state
-    int64_t p, q;
-};
-
-// Elements of one tree at one level whose visited pairs have the states lo, lo+step,
-// ..., hi (step 2 or 4, set by the level and the tree).
-struct ElementState {
-    int64_t lo, hi;
-    uint64_t elements;  // how many elements are in this state
-
-    bool operator<(const ElementState &o) const { return lo != o.lo ? lo < o.lo : hi < o.hi; }
-};
+[[noreturn]] void Overflow() {
+    throw LimitError("--method translation: a counter exceeds 2^64; use a larger eps");
+}
 
 uint64_t CheckedAdd(uint64_t a, uint64_t b) {
     uint64_t sum;
     if (__builtin_add_overflow(a, b, &sum))
-        throw LimitError("--method translation: a counter exceeds 2^64; use a larger eps");
+        Overflow();
     return sum;
 }
 
-// Sorts _states_ and merges equal intervals, adding their element counts.
-void Merge(std::vector<ElementState> &states) {
-    std::sort(states.begin(), states.end());
-    size_t out = 0;
-    for (size_t k = 0; k < states.size(); ++k) {
-        if (out > 0 && states[out - 1].lo == states[k].lo && states[out - 1].hi == states[k].hi)
-            states[out - 1].elements = CheckedAdd(states[out - 1].elements, states[k].elements);
-        else
-            states[out++] = states[k];
-    }
-    states.resize(out);
+uint64_t Checked(unsigned __int128 sum) {
+    if (sum > UINT64_MAX)
+        Overflow();
+    return uint64_t(sum);
 }
 
-// Restricts the progression lo, lo+step, ..., hi to [rlo, rhi]; false if nothing is left.
-bool Clip(int64_t &lo, int64_t &hi, int64_t step, int64_t rlo, int64_t rhi) {
-    if (lo < rlo)
-        lo += (rlo - lo + step - 1) / step * step;
-    if (hi > rhi)
-        hi -= (hi - rhi + step - 1) / step * step;
-    return lo <= hi;
+// One state of a level: the pairs in it, and the elements counted there. An element's
+// visited pairs have a contiguous run of states, one pair per state, so the elements
+// whose run contains a state number exactly its _pairs_; an element is therefore
+// counted once, at the start of its run, and the run's end is never needed.
+struct State {
+    uint64_t pairs;         // visited pairs in the state
+    uint64_t columnStarts;  // P elements whose run of states starts here
+    uint64_t rowStarts;     // Q elements whose run of states starts here
+};
+
+// The states of one level, in a flat array: index i holds the offset c = first + 2 i
+// (the offsets of a level all have one parity).
+struct Level {
+    int64_t first = 0;
+    std::vector<State> states;
+    uint64_t pairs = 0;  // the sum over the states: the level's oracle calls
+};
+
+// The rejected states of a level, indices [lo, end) (empty when lo = end).
+// _rejected_ is monotone in |x_i - x_j| (the oracle compares a fixed size with a
+// rounded, hence monotone, function of the distance), and x_i - x_j grows with the
+// index: the rejected states are one run around the sign change, whose two ends a
+// binary search finds. _below_ says whether x_i - x_j of an index is negative.
+template <typename Rejected, typename Below>
+std::pair<size_t, size_t> RejectedRun(size_t size, const Rejected &rejected, const Below &below) {
+    // The end of the prefix of [lo, end) on which _holds_ is true.
+    auto prefixEnd = [](size_t lo, size_t end, const auto &holds) {
+        while (lo < end) {
+            size_t mid = lo + (end - lo) / 2;
+            if (holds(mid))
+                lo = mid + 1;
+            else
+                end = mid;
+        }
+        return lo;
+    };
+    size_t zero = prefixEnd(0, size, below);
+    size_t lo = prefixEnd(0, zero, [&](size_t i) { return !rejected(i); });
+    return {lo, prefixEnd(zero, size, rejected)};
+}
+
+// What the rejected run [lo, end) of a level holds.
+struct RunSums {
+    uint64_t pairs = 0, columns = 0, rows = 0;  // pairs, and elements that meet the run
+    uint64_t starts = 0;                        // distinct element states: nonzero starts
+};
+
+// Keeps the rejected run [lo, end) of the level, moved to the front, and the elements
+// that meet it: an element whose run misses it is dropped, and every other run now
+// starts at its first rejected state. The runs that contain state lo (lo + 1 for
+// the other residue, when a tree's runs step by two states) number exactly its pairs.
+RunSums KeepRejected(Level &level, size_t lo, size_t end, size_t columnRunStep) {
+    std::vector<State> &s = level.states;
+    for (size_t i = lo; i < lo + columnRunStep && i < end; ++i)
+        s[i].columnStarts = s[i].pairs;
+    s[lo].rowStarts = s[lo].pairs;
+    unsigned __int128 pairs = 0, columns = 0, rows = 0;
+    uint64_t starts = 0;
+    for (size_t i = lo; i < end; ++i) {
+        const State state = s[i];
+        pairs += state.pairs;
+        columns += state.columnStarts;
+        rows += state.rowStarts;
+        starts += (state.columnStarts != 0) + (state.rowStarts != 0);
+        s[i - lo] = state;
+    }
+    level.first += 2 * int64_t(lo);
+    s.resize(end - lo);
+    return {Checked(pairs), Checked(columns), Checked(rows), starts};
+}
+
+// Halving P: a rejected state c has the children 2c - 1 and 2c + 1 (first child
+// first), distinct for distinct c; each P run has two children runs, each Q run one run
+// of twice the states, starting at 2 lo - 1. In place, from the back.
+void HalveP(Level &level) {
+    std::vector<State> &s = level.states;
+    size_t n = s.size();
+    s.resize(2 * n);
+    for (size_t k = n; k-- > 0;) {
+        const State state = s[k];
+        s[2 * k] = state;
+        s[2 * k + 1] = {state.pairs, state.columnStarts, 0};
+    }
+    level.first = 2 * level.first - 1;
+}
+
+// Halving Q: a rejected state c has the children c - 1 and c + 1, shared with the
+// neighbouring states; each Q run has two children runs, shifted by -1 and +1, each P
+// run one run grown by a state at both ends. In place, from the back.
+void HalveQ(Level &level) {
+    std::vector<State> &s = level.states;
+    size_t n = s.size();
+    s.push_back({0, 0, 0});
+    for (size_t j = n + 1; j-- > 0;) {
+        State right = j < n ? s[j] : State{0, 0, 0}, left = j > 0 ? s[j - 1] : State{0, 0, 0};
+        s[j] = {left.pairs + right.pairs, right.columnStarts, left.rowStarts + right.rowStarts};
+    }
+    level.first -= 1;
 }
 
 }  // namespace
@@ -157,123 +227,73 @@ TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &opt
     std::vector<uint64_t> splitP, splitQ;  // elements halved, per depth, in P and in Q
 
     // Start from the root pair: offset c = 0, one column (P element) and one row (Q element).
-    std::vector<PairState> pairs{{0, 1, 0, 0}}, nextPairs;
-    std::vector<ElementState> columns{{0, 0, 1}}, rows{{0, 0, 1}}, nextColumns, nextRows;
+    Level level;
+    level.states = {{1, 1, 1}};
+    level.pairs = 1;
     const size_t budget = EffectiveBudget(options);
-    for (int level = 0; !pairs.empty(); ++level) {
-        // Refuse a level whose states could outgrow the memory budget: each state has at
-        // most two children, and the current and the next level are held together.
-        size_t bound = 3 * (pairs.size() * sizeof(PairState) +
-                            (columns.size() + rows.size()) * sizeof(ElementState));
-        if (bound > budget)
-            throw LimitError("--method translation would exceed the memory budget (" +
-                             std::to_string(pairs.size()) + " pair states at level " +
-                             std::to_string(level) + "); raise --max-memory or eps");
-
+    for (int n = 0; !level.states.empty(); ++n) {
         // At level n = depth_i + depth_j, P is halved on even levels (equal squared
         // sizes: ties go to the first argument), Q on odd ones (Q's squared size is four
         // times P's: exact while it is a normal double, which Resolves() in the forest
         // and ExactToDepth() keep).
-        const int depthI = (level + 1) / 2, depthJ = level / 2;
-        const bool splitsP = level % 2 == 0;
+        const int depthI = (n + 1) / 2, depthJ = n / 2;
+        const bool splitsP = n % 2 == 0;
         if (!ExactToDepth(plates, depthI))
             NotExact(plates, depthI);
         // Squared sizes as the engine computes them, dx*dx + dy*dy with the exact
         // (dx, dy) = (+-l / 2^depth, 0): dx*dx, as adding 0*0 changes nothing.
         const double sizeI = std::ldexp(plates.l, -depthI), sizeJ = std::ldexp(plates.l, -depthJ);
         Element<2> ei{Vec2(0, 0), sizeI * sizeI, kNoChildren, 0};
-        Element<2> ej{Vec2(0, plates.d), sizeJ * sizeJ, kNoChildren, 1};
+        Element<2> ej{Vec2(plates.xb, plates.d), sizeJ * sizeJ, kNoChildren, 1};
 
-        // Evaluate the oracle once per state, on the midpoints the engine computes for
-        // the representative pair, and count every pair of the state.
-        uint64_t levelLinks = 0;
-        size_t firstRejected = SIZE_MAX, lastRejected = 0, numRejected = 0;
-        nextPairs.clear();
-        for (size_t k = 0; k < pairs.size(); ++k) {
-            const PairState &s = pairs[k];
-            ei.center.x() = plates.l * std::ldexp(double(2 * s.p + 1), -(depthI + 1));
-            ej.center.x() = plates.xa - plates.l * std::ldexp(double(2 * s.q + 1), -(depthJ + 1));
-            counters.oracleCalls = CheckedAdd(counters.oracleCalls, s.pairs);
-            if (oracle.Acceptable(ei, ej)) {
-                levelLinks = CheckedAdd(levelLinks, s.pairs);
-                continue;
-            }
-            // The preferred element has depth _depthJ_ on both kinds of level.
-            if (depthJ >= kSafetyDepth)
-                throw LimitError("refinement of patches 0 and 1 reached the safety depth " +
-                                 std::to_string(kSafetyDepth) +
-                                 " without an acceptable link; set a recursion limit with "
-                                 "--min-area or --max-depth");
-            firstRejected = std::min(firstRejected, k);
-            lastRejected = k;
-            ++numRejected;
+        // The midpoints of a pair in state c are x_i - x_j = c u - offset apart, with
+        // u = l / 2^(depth_i + 1); ExactToDepth() makes c u and the difference exact, so
+        // these centres give the oracle the doubles of every pair in the state.
+        const double u = std::ldexp(plates.l, -(depthI + 1));
+        auto offsetOf = [&](size_t i) { return double(level.first + 2 * int64_t(i)) * u; };
+        auto rejected = [&](size_t i) {
+            ++result.oracleEvaluations;
+            ei.center.x() = offsetOf(i);
+            return !oracle.Acceptable(ei, ej);
+        };
+        auto below = [&](size_t i) { return offsetOf(i) < plates.xb; };
+        auto [lo, end] = RejectedRun(level.states.size(), rejected, below);
 
-            // Step to the children: halving P maps c to 2c -+ 1, halving Q to c -+ 1
-            // (first child first). The states stay sorted; merge the equal neighbours.
-            PairState first = s, second = s;
-            if (splitsP) {
-                first.c = 2 * s.c - 1, first.p = 2 * s.p;
-                second.c = 2 * s.c + 1, second.p = 2 * s.p + 1;
-            } else {
-                first.c = s.c - 1, first.q = 2 * s.q;
-                second.c = s.c + 1, second.q = 2 * s.q + 1;
-            }
-            for (const PairState &child : {first, second}) {
-                if (!nextPairs.empty() && nextPairs.back().c == child.c)
-                    nextPairs.back().pairs = CheckedAdd(nextPairs.back().pairs, child.pairs);
-                else
-                    nextPairs.push_back(child);
-            }
+        counters.oracleCalls = CheckedAdd(counters.oracleCalls, level.pairs);
+        result.pairStates += level.states.size();
+        if (lo == end) {
+            counters.linksPerDepth.push_back(level.pairs);
+            counters.links = CheckedAdd(counters.links, level.pairs);
+            break;
         }
-        counters.links = CheckedAdd(counters.links, levelLinks);
-        counters.linksPerDepth.push_back(levelLinks);
-        result.pairStates += pairs.size();
+        // The preferred element has depth _depthJ_ on both kinds of level.
+        if (depthJ >= kSafetyDepth)
+            throw LimitError("refinement of patches 0 and 1 reached the safety depth " +
+                             std::to_string(kSafetyDepth) +
+                             " without an acceptable link; set a recursion limit with "
+                             "--min-area or --max-depth");
+        // Refuse a level whose states could outgrow the memory budget (the array grows
+        // in place, by doubling).
+        size_t nextSize = splitsP ? 2 * (end - lo) : end - lo + 1;
+        if (2 * sizeof(State) * std::max(nextSize, level.states.size()) > budget)
+            throw LimitError("--method translation would exceed the memory budget (" +
+                             std::to_string(nextSize) + " pair states at level " +
+                             std::to_string(n + 1) + "); raise --max-memory or eps");
 
-        // The oracle is monotone in the distance, so the rejected states are one run
-        // [rlo, rhi]; the element intervals below rely on it.
-        if (numRejected > 0 && lastRejected - firstRejected + 1 != numRejected)
-            throw std::logic_error("translation count: rejected offsets are not contiguous at "
-                                   "level " +
-                                   std::to_string(level));
-        // An empty run [1, 0] when every state is accepted.
-        int64_t rlo = numRejected ? pairs[firstRejected].c : 1;
-        int64_t rhi = numRejected ? pairs[lastRejected].c : 0;
-
-        // Move the elements on: an element whose interval meets [rlo, rhi] is halved (P
-        // on even levels, Q on odd) or keeps the children's states of its pairs.
-        const int64_t columnStep = splitsP ? 2 : 4, rowStep = 2;
-        uint64_t halved = 0;
-        nextColumns.clear();
-        for (ElementState e : columns) {
-            if (!Clip(e.lo, e.hi, columnStep, rlo, rhi))
-                continue;
-            if (splitsP) {
-                halved = CheckedAdd(halved, e.elements);
-                nextColumns.push_back({2 * e.lo - 1, 2 * e.hi - 1, e.elements});
-                nextColumns.push_back({2 * e.lo + 1, 2 * e.hi + 1, e.elements});
-            } else {
-                nextColumns.push_back({e.lo - 1, e.hi + 1, e.elements});
-            }
-        }
-        nextRows.clear();
-        for (ElementState e : rows) {
-            if (!Clip(e.lo, e.hi, rowStep, rlo, rhi))
-                continue;
-            if (splitsP) {
-                nextRows.push_back({2 * e.lo - 1, 2 * e.hi + 1, e.elements});
-            } else {
-                halved = CheckedAdd(halved, e.elements);
-                nextRows.push_back({e.lo - 1, e.hi - 1, e.elements});
-                nextRows.push_back({e.lo + 1, e.hi + 1, e.elements});
-            }
-        }
-        (splitsP ? splitP : splitQ).push_back(halved);
-        result.elementStates += columns.size() + rows.size();
-        Merge(nextColumns);
-        Merge(nextRows);
-        std::swap(pairs, nextPairs);
-        std::swap(columns, nextColumns);
-        std::swap(rows, nextRows);
+        // Keep the elements that meet a rejected state, and halve P's (even levels) or
+        // Q's (odd). On odd levels a P run steps by two states (4 in c): a Q element is
+        // then twice as long as a P element, so neighbouring ones are 4 apart in c.
+        RunSums run = KeepRejected(level, lo, end, splitsP ? 1 : 2);
+        uint64_t linked = level.pairs - run.pairs;
+        counters.linksPerDepth.push_back(linked);
+        counters.links = CheckedAdd(counters.links, linked);
+        (splitsP ? splitP : splitQ).push_back(splitsP ? run.columns : run.rows);
+        result.elementStates += run.starts;
+        if (splitsP)
+            HalveP(level);
+        else
+            HalveQ(level);
+        level.pairs = Checked((unsigned __int128)run.pairs * 2);  // each pair has two children
     }
 
     // Summarise the trees: one root each, two children per halved element.

@@ -3,7 +3,9 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <functional>
+#include <limits>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -54,6 +56,27 @@ uint64_t CountTies(double l, double d, double offset, double eps) {
     return ties;
 }
 
+// Refine() and CountByTranslation() on one configuration: "" if every counter agrees.
+std::string Differences(double l, double d, double offset, double eps) {
+    Scene scene = Parallel(l, d, offset);
+    Refinement<Segment> r = Refine<Segment>(scene, CountOnly(eps));
+    TranslationCount t = CountByTranslation(scene, CountOnly(eps));
+    return CounterDifferences(r.record.counters, t.record.counters);
+}
+
+// SplitMix64: a fixed sequence on every platform, unlike the standard distributions.
+struct SplitMix {
+    uint64_t state;
+    uint64_t Next() {
+        uint64_t z = (state += 0x9e3779b97f4a7c15);
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111eb;
+        return z ^ (z >> 31);
+    }
+    int64_t Int(int64_t lo, int64_t hi) { return lo + int64_t(Next() % uint64_t(hi - lo + 1)); }
+    double Unit() { return double(Next() >> 11) * 0x1p-53; }  // in [0, 1)
+};
+
 }  // namespace
 
 TEST_CASE("The translation method reproduces the worked example of docs/conventions.md",
@@ -70,6 +93,9 @@ TEST_CASE("The translation method reproduces the worked example of docs/conventi
     CHECK(t.pairStates < t.record.counters.oracleCalls);
     CHECK(t.elementStates > 0);
     CHECK(t.elementStates < t.record.counters.nodes);
+    // The oracle decides a few states per level; the rest follow from monotonicity.
+    CHECK(t.oracleEvaluations > 0);
+    CHECK(t.oracleEvaluations < t.pairStates);
 }
 
 TEST_CASE("The translation method agrees exactly with enumeration", "[translation]") {
@@ -106,6 +132,30 @@ TEST_CASE("The translation method agrees exactly with enumeration", "[translatio
     }
 }
 
+TEST_CASE("The translation method agrees with enumeration on random dyadic plates",
+          "[translation]") {
+    // Lengths, distances and offsets with a few significant bits, at any binary scale,
+    // and thresholds that are not round numbers: the band edges fall anywhere.
+    SplitMix random{20240601};
+    int nontrivial = 0;
+    for (int k = 0; k < 300; ++k) {
+        double d = std::ldexp(double(random.Int(1, 15)), int(random.Int(-6, 2)));
+        double g = std::ldexp(double(random.Int(1, 31)), int(random.Int(-3, 3)));  // l / d
+        double l = g * d;
+        double offset = std::ldexp(double(random.Int(-64, 64)), int(random.Int(-4, 1))) * d;
+        double eps = 0.02 + 0.98 * random.Unit();
+        if (g / eps > 512)  // keep enumeration to a few million calls
+            eps = g / 512;
+        INFO("l=" << l << " d=" << d << " offset=" << offset << " eps=" << eps);
+        Scene scene = Parallel(l, d, offset);
+        Refinement<Segment> r = Refine<Segment>(scene, CountOnly(eps));
+        TranslationCount t = CountByTranslation(scene, CountOnly(eps));
+        REQUIRE(CounterDifferences(r.record.counters, t.record.counters) == "");
+        nontrivial += r.record.counters.links > 100;
+    }
+    CHECK(nontrivial > 100);
+}
+
 TEST_CASE("The translation method decides ties exactly as the engine", "[translation]") {
     // Cases with pairs at exactly max(A_i, A_j) = eps * r: the worked example, and a
     // 3-4-5 triangle (offset 1 puts midpoints 3 apart at distance 4, r = 5).
@@ -120,6 +170,30 @@ TEST_CASE("The translation method decides ties exactly as the engine", "[transla
     Refinement<Segment> r = Refine<Segment>(scene, CountOnly(eps));
     TranslationCount t = CountByTranslation(scene, CountOnly(eps));
     CHECK(CounterDifferences(r.record.counters, t.record.counters) == "");
+}
+
+TEST_CASE("The translation method decides ties at every offset and level", "[translation]") {
+    // Pythagorean triples (a, b, c): pairs a units apart horizontally at distance b have
+    // r = c exactly, so eps = size / c puts them on the threshold. Offsets move the ties
+    // across the band, and eps one ulp either side must flip them as the engine does.
+    struct Triple {
+        double a, b, c;
+    };
+    int withTies = 0, cases = 0;
+    for (Triple t : {Triple{3, 4, 5}, Triple{4, 3, 5}, Triple{5, 12, 13}, Triple{8, 15, 17}})
+        for (double unit : {0.25, 0.125})
+            for (double offset : {0.0, t.a * unit, -t.a * unit, 0.5 * t.a * unit, 1.0, -0.75})
+                for (double size : {1.0, 0.5, 0.25, 2.0})
+                    for (double towards : {0.0, -1.0, 1.0}) {
+                        double l = 16, d = t.b * unit, tie = size / (t.c * unit);
+                        double eps = towards == 0 ? tie : std::nextafter(tie, towards * 1e300);
+                        INFO("l=" << l << " d=" << d << " offset=" << offset << " eps=" << eps);
+                        withTies += CountTies(l, d, offset, eps) > 0;
+                        REQUIRE(Differences(l, d, offset, eps) == "");
+                        ++cases;
+                    }
+    CHECK(cases == 4 * 2 * 6 * 4 * 3);
+    CHECK(withTies >= 40);
 }
 
 TEST_CASE("The translation method rejects what it cannot count exactly", "[translation][errors]") {
@@ -177,6 +251,26 @@ TEST_CASE("The translation method counts beyond 10^14 links", "[translation]") {
     for (uint64_t n : t.record.counters.linksPerDepth)
         sum += n;
     CHECK(sum == t.record.counters.links);
+}
+
+TEST_CASE("The translation method keeps the counts of its first, state by state, version",
+          "[translation]") {
+    // Far past enumeration: the counters that the version evaluating the oracle on every
+    // state gave (11 s there, here well under a second), quadratic regime and an offset.
+    struct Expected {
+        double l, offset, eps;
+        uint64_t links, oracleCalls, nodes, maxDepth;
+    };
+    auto e =
+        GENERATE(Expected{1024, 0, 1e-6, 5865876496863902, 11731752993727803, 4294967294, 30},
+                 Expected{1048576, 0.5, 0.0002, 196313010633391, 392626021266781, 34359738366, 33});
+    INFO("l=" << e.l << " offset=" << e.offset << " eps=" << e.eps);
+    TranslationCount t = CountByTranslation(Parallel(e.l, 1, e.offset), CountOnly(e.eps));
+    CHECK(t.record.counters.links == e.links);
+    CHECK(t.record.counters.oracleCalls == e.oracleCalls);
+    CHECK(t.record.counters.nodes == e.nodes);
+    CHECK(t.record.counters.leaves == e.nodes / 2 + 1);
+    CHECK(t.record.counters.maxDepth == e.maxDepth);
 }
 
 TEST_CASE("hrbench run --method reports the method and the same counters", "[translation][cli]") {

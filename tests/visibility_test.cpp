@@ -10,8 +10,16 @@ using namespace hrbench;
 
 namespace {
 
-double Fraction3D(const Scene &scene, int k, uint32_t i = 0, uint32_t j = 1) {
-    Occluders occluders(scene.Get<Polygon>());
+// The backends of this build: CGAL always, Embree where it was found.
+std::vector<VisibilityBackend> Backends() {
+    if (HasEmbree())
+        return {VisibilityBackend::Cgal, VisibilityBackend::Embree};
+    return {VisibilityBackend::Cgal};
+}
+
+double Fraction3D(const Scene &scene, int k, uint32_t i = 0, uint32_t j = 1,
+                  VisibilityBackend backend = DefaultVisibilityBackend()) {
+    Occluders occluders(scene.Get<Polygon>(), backend);
     Forest<Polygon> forest(scene.Get<Polygon>(), 1000, Subdivision::Binary);
     SampledVisibility<Polygon> visibility(occluders, k, VisibilityMode::Fraction);
     VisibilityTally tally;
@@ -41,7 +49,9 @@ TEST_CASE("Visibility modes parse and print their names", "[visibility]") {
 
 TEST_CASE("Segments are blocked by third patches only, touching counts", "[visibility]") {
     Scene scene = MakeScene("occluded3d", {});  // blocker [0.25,0.75]^2 at z = 0.5
-    Occluders occluders(scene.Get<Polygon>());
+    VisibilityBackend backend = GENERATE(from_range(Backends()));
+    CAPTURE(int(backend));
+    Occluders occluders(scene.Get<Polygon>(), backend);
     SECTION("through the blocker") {
         CHECK(occluders.Blocked(Vec3(0.5, 0.5, 0), Vec3(0.5, 0.5, 1), 0, 1));
     }
@@ -62,13 +72,17 @@ TEST_CASE("Segments are blocked by third patches only, touching counts", "[visib
 }
 
 TEST_CASE("A blocker that hides everything gives visible fraction 0", "[visibility]") {
-    CHECK(Fraction3D(MakeScene("occluded3d", {{"bl", 10}}), 3) == 0);
+    for (VisibilityBackend backend : Backends())
+        CHECK(Fraction3D(MakeScene("occluded3d", {{"bl", 10}}), 3, 0, 1, backend) == 0);
     CHECK(Fraction2D(MakeScene("occluded", {{"b", 10}}), 4) == 0);
 }
 
 TEST_CASE("A blocker out of the way hides nothing", "[visibility]") {
-    CHECK(Fraction3D(MakeScene("occluded3d", {{"ox", 5}}), 3) == 1);
-    CHECK(Fraction3D(MakeScene("parallel3d", {}), 2) == 1);  // the plates do not block themselves
+    for (VisibilityBackend backend : Backends()) {
+        CHECK(Fraction3D(MakeScene("occluded3d", {{"ox", 5}}), 3, 0, 1, backend) == 1);
+        // the plates do not block themselves
+        CHECK(Fraction3D(MakeScene("parallel3d", {}), 2, 0, 1, backend) == 1);
+    }
     CHECK(Fraction2D(MakeScene("occluded", {{"offset", 5}}), 4) == 1);
 }
 
@@ -76,8 +90,10 @@ TEST_CASE("A blocker over half of one plate, close to it, hides exactly half", "
     // The blocker covers x <= l/2 at height 0.01: a ray from a sample of P at x is blocked
     // iff x < l/2, and k even puts half the samples there.
     Scene s3 = MakeScene("occluded3d", {{"bl", 10}, {"bw", 10}, {"ox", -5}, {"h", 0.01}});
-    CHECK(Fraction3D(s3, 2) == 0.5);
-    CHECK(Fraction3D(s3, 4) == 0.5);
+    for (VisibilityBackend backend : Backends()) {
+        CHECK(Fraction3D(s3, 2, 0, 1, backend) == 0.5);
+        CHECK(Fraction3D(s3, 4, 0, 1, backend) == 0.5);
+    }
     Scene s2 = MakeScene("occluded", {{"b", 10}, {"offset", -5}, {"h", 0.01}});
     CHECK(Fraction2D(s2, 2) == 0.5);
     CHECK(Fraction2D(s2, 6) == 0.5);
@@ -87,9 +103,51 @@ TEST_CASE("A central blocker hides a known share of the sample rays", "[visibili
     // Plates [0,1]^2 at distance 1, blocker [0.225,0.775]^2 at height 0.5: a ray is
     // blocked iff the midpoint of its ends lies in the blocker (no ray grazes its edges).
     Scene scene = MakeScene("occluded3d", {{"bl", 0.55}});
-    // k = 2: samples at 1/4 and 3/4 per axis; every midpoint (1/4, 1/2, 3/4) is inside.
-    CHECK(Fraction3D(scene, 2) == 0);
-    // k = 4: samples at (2i+1)/8, midpoints (i+j+1)/8; inside iff 1 <= i+j <= 5, which
-    // holds for 14 of the 16 pairs per axis.
-    CHECK(Fraction3D(scene, 4) == 1 - (14.0 / 16) * (14.0 / 16));
+    for (VisibilityBackend backend : Backends()) {
+        // k = 2: samples at 1/4 and 3/4 per axis; every midpoint (1/4, 1/2, 3/4) is inside.
+        CHECK(Fraction3D(scene, 2, 0, 1, backend) == 0);
+        // k = 4: samples at (2i+1)/8, midpoints (i+j+1)/8; inside iff 1 <= i+j <= 5, which
+        // holds for 14 of the 16 pairs per axis.
+        CHECK(Fraction3D(scene, 4, 0, 1, backend) == 1 - (14.0 / 16) * (14.0 / 16));
+    }
+}
+
+TEST_CASE("Embree and CGAL agree ray for ray on the Cornell box", "[visibility][embree]") {
+    if (!HasEmbree())
+        return;
+    // Every root pair, 8 x 8 samples per patch: 4096 rays per pair, many of them
+    // grazing the blocks' edges or leaving the light, which lies in the ceiling.
+    Scene scene = MakeScene("cornell", {});
+    const auto &patches = scene.Get<Polygon>();
+    Occluders cgal(patches, VisibilityBackend::Cgal), embree(patches, VisibilityBackend::Embree);
+    std::vector<Vec3> from, to;
+    uint64_t rays = 0;
+    for (uint32_t p = 0; p < patches.size(); ++p)
+        for (uint32_t q = p + 1; q < patches.size(); ++q) {
+            from.clear(), to.clear();
+            patches[p].shape.SamplePoints(8, from);
+            patches[q].shape.SamplePoints(8, to);
+            for (const Vec3 &a : from)
+                for (const Vec3 &b : to) {
+                    REQUIRE(cgal.Blocked(a, b, p, q) == embree.Blocked(a, b, p, q));
+                    ++rays;
+                }
+            CHECK(cgal.CountVisible(from, to, p, q) == embree.CountVisible(from, to, p, q));
+        }
+    CHECK(rays == 136 * 4096);
+}
+
+TEST_CASE("Visibility counts do not depend on the thread count", "[visibility][embree]") {
+    RefineOptions o;
+    o.oracle = "hanrahan", o.eps = 0.05, o.minArea = 1e-3, o.visibility = VisibilityMode::Fraction;
+    Scene scene = MakeScene("cornell", {});
+    Counters one = Refine<Polygon>(scene, o).record.counters;
+    o.threads = 2;
+    Counters two = Refine<Polygon>(scene, o).record.counters;
+    CHECK(one.rays > 0);
+    CHECK(one.rays == two.rays);
+    CHECK(one.visibilityQueries == two.visibilityQueries);
+    CHECK(one.occludedPairs == two.occludedPairs);
+    CHECK(one.links == two.links);
+    CHECK(one.nodes == two.nodes);
 }

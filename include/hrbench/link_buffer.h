@@ -1,11 +1,17 @@
 // Storage for links: a growable array of trivially copyable 8-byte records.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <new>
 #include <type_traits>
 #include <utility>
+
+#if defined(__unix__)
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
 
 namespace hrbench {
 
@@ -56,6 +62,22 @@ class LinkBuffer {
             return;  // keep the larger block
         }
         capacity_ = size_;
+    }
+
+    // Gives the whole memory pages among the first _n_ links back to the system; their
+    // values are lost (they read as zero), the rest of the buffer is unchanged. For a
+    // caller that has copied those links elsewhere and never reads them again, so that
+    // the copy and the original together hold little more than one of them.
+    void Discard(size_t n) {
+#if defined(__unix__)
+        static const uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
+        uintptr_t begin = (reinterpret_cast<uintptr_t>(data_) + page - 1) / page * page;
+        uintptr_t end = reinterpret_cast<uintptr_t>(data_ + std::min(n, size_)) / page * page;
+        if (end > begin)
+            madvise(reinterpret_cast<void *>(begin), end - begin, MADV_DONTNEED);
+#else
+        (void)n;
+#endif
     }
 
     // Appends a link; the caller has made room (size() < capacity()).

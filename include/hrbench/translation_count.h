@@ -7,17 +7,19 @@
 // depend only on the vector between the two midpoints. The method therefore counts
 // pairs by *state* (n, c), with c the exact integer offset of the midpoints in units
 // of l / 2^(ceil(n/2)+1), level by level, carrying for each state the number of
-// pairs in it. The elements are counted the same way: the pairs visited in one
-// element's column (or row) form a contiguous run of states, so an element is
-// described by the interval of states it meets, and equal intervals are merged.
-// The cost grows with the number of distinct states per level (about 4 / eps), not
-// with the number of links.
+// pairs in it in a flat array. The oracle is monotone in the distance, so the rejected
+// states of a level are one run, whose ends a binary search finds. The elements are
+// counted the same way: the pairs visited in one element's column (or row) form a
+// contiguous run of states, one pair per state, so the elements whose run contains a
+// state are as many as its pairs, and each element is counted once, at the state its
+// run starts. A level costs a few additions per state (about 4 / eps states), not an
+// oracle call per state and not the number of links.
 //
-// The oracle is evaluated with the engine's own code on a representative pair with
-// the engine's midpoint coordinates, and the method only accepts plates whose
-// midpoints, down to the deepest level reached, are exact in double precision
-// (dyadic lengths and offset), so that every pair in a state rounds the same way
-// and the counts equal direct enumeration, ties included.
+// The oracle is evaluated with the engine's own code on the midpoint difference of
+// the state, and the method only accepts plates whose midpoints, down to the deepest
+// level reached, are exact in double precision (dyadic lengths and offset), so that
+// every pair in a state gives the oracle the same doubles and the counts equal direct
+// enumeration, ties included.
 #pragma once
 
 #include <cstdint>
@@ -30,10 +32,11 @@ namespace hrbench {
 
 // What the translation method computed, and how much work it took.
 struct TranslationCount {
-    RunRecord record;            // method "translation": the counters Refine() reports
-                                 // in count-only mode, and the time
-    uint64_t pairStates = 0;     // distinct (level, offset) states: oracle evaluations made
-    uint64_t elementStates = 0;  // distinct (level, interval) element states processed
+    RunRecord record;                // method "translation": the counters Refine() reports
+                                     // in count-only mode, and the time
+    uint64_t pairStates = 0;         // distinct (level, offset) states carried
+    uint64_t elementStates = 0;      // distinct (level, tree, run start) element states
+    uint64_t oracleEvaluations = 0;  // oracle calls made, a few per level
 };
 
 // Throws InputError, with a message naming what is wrong, unless _scene_ and _options_

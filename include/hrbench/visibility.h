@@ -1,6 +1,7 @@
-// Visibility between elements: exact segment queries (CGAL) against an AABB tree of
-// the scene's patches, sampled on a fixed pattern so that every count is deterministic.
-// See docs/3d.md for the sampling pattern and the three modes.
+// Visibility between elements: segment queries against the scene's patches, decided
+// with CGAL's exact predicates (through CGAL's AABB tree, or Embree's BVH with CGAL
+// deciding the close calls), sampled on a fixed pattern so that every count is
+// deterministic. See docs/3d.md for the sampling pattern, the modes and the backends.
 #pragma once
 
 #include <cstdint>
@@ -13,16 +14,33 @@
 
 namespace hrbench {
 
-// The patches of a scene as occluders, in an AABB tree: 3D faces as triangles (a quad
-// as v0 v1 v2 and v0 v2 v3), 2D segments as themselves. Queries use CGAL's exact
-// predicates; a segment that touches an occluder, even at one point, is blocked, except
-// within 1e-9 of its length from either end (so that the back of a two-sided blocker or
-// a neighbour through an end point does not count). Immutable after construction, so
-// queries may run on several threads.
+// How 3D segment queries find their candidate patches: CGAL's AABB tree, or Embree's
+// BVH in single precision, whose hits are accepted only where they are beyond doubt
+// and otherwise decided by the same exact predicate (docs/3d.md). 2D scenes always
+// use CGAL.
+enum class VisibilityBackend { Cgal, Embree };
+
+// True when this build has Embree (found when it was configured).
+bool HasEmbree();
+
+// Embree where the build has it, else CGAL.
+VisibilityBackend DefaultVisibilityBackend();
+
+struct EmbreeScene;  // visibility.cpp
+
+// The patches of a scene as occluders: 3D faces as triangles (a quad as v0 v1 v2 and
+// v0 v2 v3), 2D segments as themselves. Queries use CGAL's exact predicates; a segment
+// that touches an occluder, even at one point, is blocked, except within 1e-9 of its
+// length from either end (so that the back of a two-sided blocker or a neighbour
+// through an end point does not count). Immutable after construction, so queries may
+// run on several threads.
 class Occluders {
   public:
-    explicit Occluders(const Patches<Segment> &patches);
-    explicit Occluders(const Patches<Polygon> &patches);
+    // Throws std::invalid_argument when _backend_ is Embree and the build has none.
+    explicit Occluders(const Patches<Segment> &patches,
+                       VisibilityBackend backend = DefaultVisibilityBackend());
+    explicit Occluders(const Patches<Polygon> &patches,
+                       VisibilityBackend backend = DefaultVisibilityBackend());
     ~Occluders();
     Occluders(const Occluders &) = delete;
     Occluders &operator=(const Occluders &) = delete;
@@ -33,9 +51,17 @@ class Occluders {
     bool Blocked(const Vec3 &a, const Vec3 &b, uint32_t p, uint32_t q) const;
     bool Blocked(const Vec2 &a, const Vec2 &b, uint32_t p, uint32_t q) const;
 
+    // The number of segments from a point of _from_ to a point of _to_ that are not
+    // Blocked: the same count, cast as one batch.
+    uint64_t CountVisible(const std::vector<Vec3> &from, const std::vector<Vec3> &to, uint32_t p,
+                          uint32_t q) const;
+    uint64_t CountVisible(const std::vector<Vec2> &from, const std::vector<Vec2> &to, uint32_t p,
+                          uint32_t q) const;
+
   private:
     struct Index;
     std::unique_ptr<Index> index_;
+    std::unique_ptr<EmbreeScene> embree_;  // set when the 3D queries go through Embree
 };
 
 // Counts of the visibility policy, summed over a run.
@@ -75,11 +101,8 @@ class SampledVisibility {
         samplesI_.clear(), samplesJ_.clear();
         forest.ShapeOf(i).SamplePoints(k_, samplesI_);
         forest.ShapeOf(j).SamplePoints(k_, samplesJ_);
-        uint32_t p = forest[i].root, q = forest[j].root;
-        uint64_t visible = 0;
-        for (const auto &a : samplesI_)
-            for (const auto &b : samplesJ_)
-                visible += !occluders_->Blocked(a, b, p, q);
+        uint64_t visible =
+            occluders_->CountVisible(samplesI_, samplesJ_, forest[i].root, forest[j].root);
         uint64_t rays = uint64_t(samplesI_.size()) * samplesJ_.size();
         ++tally.queries;
         tally.rays += rays;

@@ -221,7 +221,8 @@ const std::vector<OptionSpec> &OptionTable() {
          {},
          kRefining,
          "visibility samples per element side, 1..16 (default 3): K x K\nrays per pair in 2D, "
-         "K^2 x K^2 in 3D",
+         "K^2 x K^2 in 3D; 3D rays are cast with Embree\nwhere the build has it (cmake "
+         "-DHRBENCH_EMBREE=OFF: CGAL's\nAABB tree), with the same counts (docs/3d.md)",
          [](Options &o, S v) { o.refine.raysPerSide = ClampedInt(v, "--rays-per-side"); }},
         {"out",
          "--out",
