@@ -150,8 +150,9 @@ tmp, rounds, cores = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 real, cpu = {}, {}
 for r in range(rounds):
     for b in json.load(open(f"{tmp}/headline-{r}.json"))["benchmarks"]:
-        real.setdefault(b["name"], []).append(b["real_time"])
-        cpu.setdefault(b["name"], []).append(b["cpu_time"])
+        name = b["name"].removesuffix("/real_time")
+        real.setdefault(name, []).append(b["real_time"])
+        cpu.setdefault(name, []).append(b["cpu_time"])
 def summary(name, xs):
     print(f"{name}: median {statistics.median(xs):.3f}, min {min(xs):.3f}, max {max(xs):.3f}")
 one, two = "BM_Headline/garmann_count/threads:1", "BM_Headline/garmann_count/threads:2"

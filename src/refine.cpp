@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
-#include <numeric>
 #include <optional>
 #include <string>
 #include <thread>
@@ -16,6 +15,7 @@
 #include "hrbench/oracles/registry.h"
 #include "hrbench/translation_count.h"
 #include "hrbench/util/error.h"
+#include "hrbench/util/parallel_for.h"
 
 namespace hrbench {
 
@@ -28,23 +28,26 @@ struct Budget {
 };
 
 // Builds the canonical forest, the union of the workers' forests (children are created
-// once), and for each worker the map from its element ids to canonical ids. Reads the
-// workers' forests only while it is being constructed.
+// once), and for each worker the map from its element ids to canonical ids. Of the
+// workers' forests it needs only the first child of every element (Forest::FirstChildren()),
+// so that the forests themselves can be freed before.
 template <typename Forest>
 class ForestUnion {
   public:
-    ForestUnion(const std::vector<Forest> &workers, Forest &canonical, bool buildMaps)
+    using Children = std::vector<uint32_t>;  // first child of each element, or kNoChildren
+
+    ForestUnion(const std::vector<Children> &workers, Forest &canonical, bool buildMaps)
         : workers_(workers), canonical_(canonical), scratch_(kSafetyDepth + 2) {
         if (buildMaps)
-            for (const Forest &w : workers)
-                maps_.emplace_back(w.Size(), UINT32_MAX);
+            for (const Children &w : workers)
+                maps_.emplace_back(w.size(), UINT32_MAX);
         for (auto &level : scratch_)
             level.resize(workers.size());
-        // The union has at least as many elements as the largest worker's forest (with
-        // one worker, exactly as many): reserve that, so that building it copies nothing.
+        // The union has at least as many elements as the largest worker's forest:
+        // reserve that, so that building it copies nothing.
         size_t largest = canonical.Size();
-        for (const Forest &w : workers)
-            largest = std::max(largest, w.Size());
+        for (const Children &w : workers)
+            largest = std::max(largest, w.size());
         canonical.Reserve(largest);
         for (uint32_t root = 0; root < canonical.NumRoots(); ++root) {
             std::fill(scratch_[0].begin(), scratch_[0].end(), root);
@@ -66,22 +69,21 @@ class ForestUnion {
                 continue;
             if (!maps_.empty())
                 maps_[w][local[w]] = id;
-            subdivided |= workers_[w][local[w]].firstChild != kNoChildren;
+            subdivided |= workers_[w][local[w]] != kNoChildren;
         }
         if (!subdivided)
             return;
         uint32_t child = canonical_.Children(id);
         for (int c = 0; c < canonical_.Arity(); ++c) {
             for (size_t w = 0; w < workers_.size(); ++w) {
-                uint32_t first =
-                    local[w] == kAbsent ? kNoChildren : workers_[w][local[w]].firstChild;
+                uint32_t first = local[w] == kAbsent ? kNoChildren : workers_[w][local[w]];
                 scratch_[level + 1][w] = first == kNoChildren ? kAbsent : first + c;
             }
             Visit(child + c, level + 1);
         }
     }
 
-    const std::vector<Forest> &workers_;
+    const std::vector<Children> &workers_;
     Forest &canonical_;
     std::vector<std::vector<uint32_t>> scratch_;
     std::vector<std::vector<uint32_t>> maps_;
@@ -219,35 +221,39 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     }
 
     // Merge the trees into canonical ids and translate the links to them.
-    ForestUnion<F> merged(forests, result.forest, kStoreLinks);
-    std::vector<F>().swap(forests);  // the maps are all that is needed of them now
+    std::vector<std::vector<uint32_t>> children;
+    for (const F &forest : forests)
+        children.push_back(forest.FirstChildren());
+    std::vector<F>().swap(forests);
+    ForestUnion<F> merged(children, result.forest, kStoreLinks);
     if constexpr (kStoreLinks) {
-        // Concatenate the tasks' ranges in task order, translating each worker's ids.
-        size_t total = 0;
-        for (const auto &links : workerLinks)
-            total += links.size();
+        // Concatenate the tasks' ranges in task order, translating each worker's ids:
+        // every task's range has its place known in advance, so the tasks are copied
+        // on the run's threads, each giving its source range back to the system.
+        size_t topCount = workerLinks[0].size();
+        for (size_t t = 0; t < tasks.size(); ++t)
+            if (taskWorker[t] == 0)
+                topCount -= taskLinkCount[t];
+        std::vector<size_t> taskStart(tasks.size());
+        size_t total = topCount;
+        for (size_t t = 0; t < tasks.size(); ++t)
+            taskStart[t] = total, total += taskLinkCount[t];
         result.links.Reserve(total);
-        size_t topCount =
-            total - std::accumulate(taskLinkCount.begin(), taskLinkCount.end(), size_t(0));
-        for (size_t k = 0; k < topCount; ++k) {
-            const Link &link = workerLinks[0][k];
-            result.links.Append({merged.Canonical(0, link.i), merged.Canonical(0, link.j)});
-        }
-        // A worker ran its tasks in increasing order, so each worker's buffer is read
-        // from front to back: give what has been copied back to the system as it goes.
-        constexpr size_t kDiscardStep = size_t(1) << 18;  // links, 2 MiB
-        std::vector<size_t> discarded(numWorkers, 0);
-        for (size_t t = 0; t < tasks.size(); ++t) {
-            size_t w = taskWorker[t];
-            for (size_t k = taskLinksEnd[t] - taskLinkCount[t]; k < taskLinksEnd[t]; ++k) {
+        result.links.Resize(total);
+        auto copy = [&](size_t w, size_t begin, size_t end, size_t to) {
+            for (size_t k = begin; k < end; ++k, ++to) {
                 const Link &link = workerLinks[w][k];
-                result.links.Append({merged.Canonical(w, link.i), merged.Canonical(w, link.j)});
+                result.links[to] = {merged.Canonical(w, link.i), merged.Canonical(w, link.j)};
             }
-            if (taskLinksEnd[t] - discarded[w] >= kDiscardStep) {
-                workerLinks[w].Discard(taskLinksEnd[t]);
-                discarded[w] = taskLinksEnd[t];
-            }
-        }
+            workerLinks[w].Discard(begin, end);
+        };
+        copy(0, 0, topCount, 0);
+        ParallelFor(
+            tasks.size(), 16, options.threads, [] { return 0; },
+            [&](int, size_t t) {
+                size_t end = taskLinksEnd[t];
+                copy(taskWorker[t], end - taskLinkCount[t], end, taskStart[t]);
+            });
     }
 }
 

@@ -79,6 +79,15 @@ class Forest {
     // element beside the forest, where building a canonical copy would double it.
     std::vector<uint32_t> Canonicalize();
 
+    // The first child of every element, in id order (kNoChildren for a leaf): the
+    // shape of the trees without their geometry.
+    std::vector<uint32_t> FirstChildren() const {
+        std::vector<uint32_t> children(Size());
+        for (size_t e = 0; e < Size(); ++e)
+            children[e] = hot_[e].firstChild;
+        return children;
+    }
+
     // Cold data, for visibility sampling, output and tests.
     const Shape &ShapeOf(uint32_t i) const { return shapes_[i]; }
     int Depth(uint32_t i) const { return depth_[i]; }

@@ -64,21 +64,25 @@ class LinkBuffer {
         capacity_ = size_;
     }
 
-    // Gives the whole memory pages among the first _n_ links back to the system; their
+    // Gives the whole memory pages among links [begin, end) back to the system; their
     // values are lost (they read as zero), the rest of the buffer is unchanged. For a
     // caller that has copied those links elsewhere and never reads them again, so that
     // the copy and the original together hold little more than one of them.
-    void Discard(size_t n) {
+    void Discard(size_t begin, size_t end) {
 #if defined(__unix__)
         static const uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
-        uintptr_t begin = (reinterpret_cast<uintptr_t>(data_) + page - 1) / page * page;
-        uintptr_t end = reinterpret_cast<uintptr_t>(data_ + std::min(n, size_)) / page * page;
-        if (end > begin)
-            madvise(reinterpret_cast<void *>(begin), end - begin, MADV_DONTNEED);
+        uintptr_t first = (reinterpret_cast<uintptr_t>(data_ + begin) + page - 1) / page * page;
+        uintptr_t last = reinterpret_cast<uintptr_t>(data_ + std::min(end, size_)) / page * page;
+        if (last > first)
+            madvise(reinterpret_cast<void *>(first), last - first, MADV_DONTNEED);
 #else
-        (void)n;
+        (void)begin, (void)end;
 #endif
     }
+
+    // Sets the size to _n_ <= capacity(), leaving any new links unwritten: for a caller
+    // that fills them all, in any order (on several threads, each its own range).
+    void Resize(size_t n) { size_ = n; }
 
     // Appends a link; the caller has made room (size() < capacity()).
     void Append(Link link) { data_[size_++] = link; }
