@@ -11,7 +11,9 @@
 # iteration of each, and prints per round and over the rounds (median, min, max):
 # hrbench / naive-sqrt, naive-squares / naive-sqrt, and the cycles per oracle call of
 # each. Then peak RSS per element (/usr/bin/time -v) of the hrbench CLI and of the naive
-# kernel, and the branch-free oracle stream (BM_OracleStream). Clock: `perf stat -e
+# kernel, the branch-free oracle stream (BM_OracleStream), peak RSS per stored link in
+# store mode on 1 and 2 threads, and from R rounds of refine_bench's BM_Headline rows the
+# count-only speed-up on 2 threads and the store-mode link rate against count-only. Clock: `perf stat -e
 # cycles` where it counts, else "cpu MHz" of /proc/cpuinfo (nominal: on a VM that is the
 # only figure, and turbo may make the true clock higher).
 set -euo pipefail
