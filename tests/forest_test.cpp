@@ -99,6 +99,41 @@ TEST_CASE("Positions are canonical: the index along the root, whatever the creat
     CHECK(f.NumLeaves() == 5);
 }
 
+TEST_CASE("Canonicalize renumbers in preorder of the sibling groups, moving every element",
+          "[forest][2d]") {
+    // Created out of order: root 1 first, then the second half of root 0 before its first.
+    Forest<Segment> f(TwoSegments(), 1000, Subdivision::Binary);
+    REQUIRE(f.Children(1) == 2);   // 2, 3: the halves of root 1
+    REQUIRE(f.Children(0) == 4);   // 4, 5: the halves of root 0
+    REQUIRE(f.Children(5) == 6);   // 6, 7: root 0's second half split first
+    REQUIRE(f.Children(4) == 8);   // 8, 9
+    REQUIRE(f.Children(2) == 10);  // 10, 11: root 1's first half
+    std::vector<Segment> before;
+    for (uint32_t e = 0; e < f.Size(); ++e)
+        before.push_back(f.ShapeOf(e));
+    std::vector<uint32_t> id = f.Canonicalize();
+
+    // Canonical: roots, then root 0's children, its first child's, its second's, then
+    // root 1's children and its first child's.
+    CHECK(id == std::vector<uint32_t>{0, 1, 8, 9, 2, 3, 6, 7, 4, 5, 10, 11});
+    for (uint32_t e = 0; e < f.Size(); ++e) {
+        INFO("old element " << e);
+        const Segment &moved = f.ShapeOf(id[e]);
+        CHECK(moved.a == before[e].a);
+        CHECK(moved.b == before[e].b);
+    }
+    CHECK(f.Children(0) == 2);
+    CHECK(f.Children(2) == 4);
+    CHECK(f.Children(3) == 6);
+    CHECK(f.Children(1) == 8);
+    CHECK(f.Children(8) == 10);
+    CHECK(f.Parent(10) == 8);
+    CHECK(f.Parent(4) == 2);
+    CHECK(f.Position(7) == 3);
+    CHECK(f.Depth(11) == 2);
+    CHECK(f.NumLeaves() == 7);
+}
+
 TEST_CASE("Polygon forests create children once, first child first", "[forest][3d]") {
     Patches<Polygon> patches = SquareAndTriangle();
     SECTION("binary") {

@@ -445,6 +445,31 @@ TEST_CASE("Recursion limits force links and are counted", "[refine]") {
 }
 
 // ---------------------------------------------------------------------------------------
+// Link storage
+
+TEST_CASE("LinkBuffer::Discard loses only whole pages inside the range it is given",
+          "[refine][links]") {
+    LinkBuffer links;
+    const size_t n = 1 << 20;
+    links.Reserve(n);
+    for (uint32_t k = 0; k < n; ++k)
+        links.Append({k, ~k});
+    // Ranges that start and end inside pages, one of them empty of whole pages.
+    links.Discard(1000, 300001);
+    links.Discard(500003, 500100);
+    for (size_t k = 0; k < n; ++k) {
+        bool inside = (k >= 1000 && k < 300001) || (k >= 500003 && k < 500100);
+        if (!inside && (links[k].i != k || links[k].j != ~uint32_t(k)))
+            FAIL("link " << k << " outside the discarded ranges changed");
+    }
+    // What was given back reads as zero; the buffer keeps its size and stays usable.
+    CHECK(links[150000].i == 0);
+    CHECK(links.size() == n);
+    links[150000] = {7, 8};
+    CHECK(links[150000].j == 8);
+}
+
+// ---------------------------------------------------------------------------------------
 // Determinism across threads
 
 TEST_CASE("Counts, element ids and links do not depend on the number of threads",
