@@ -557,7 +557,7 @@ def _main(argv):
         figures += solution_figures(setup.engine, args.results, args.jobs,
                                     warn=lambda line: print(line, file=sys.stderr))
     try:
-        paths = write_report(args.results, outcomes, context, figures)
+        paths = write_report(args.results, outcomes, context, figures, args.jobs)
     except OSError as exc:
         raise AnalysisError(f"--results {args.results}: cannot write the report "
                             f"({exc.strerror or exc}: {exc.filename or ''})") from None

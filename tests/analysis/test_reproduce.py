@@ -89,3 +89,19 @@ def test_usage_errors_exit_2(capsys):
     with pytest.raises(SystemExit) as info:
         main(["--jobs", "0"])
     assert info.value.code == 2
+
+
+def test_figures_render_the_same_bytes_on_several_processes():
+    from matplotlib.figure import Figure
+
+    from hrbench_analysis.report import ReportFigure, render_pngs
+
+    figures = []
+    for k in range(3):
+        fig = Figure(figsize=(2, 2))
+        fig.add_subplot().plot([0, 1, 2], [0, k, 2 * k])
+        figures.append(ReportFigure(f"f{k}", f"figure {k}", "", fig))
+    serial = render_pngs(figures, jobs=1)
+    assert [png[:8] for png in serial] == [b"\x89PNG\r\n\x1a\n"] * 3
+    assert len(set(serial)) == 3  # three different pictures, in order
+    assert render_pngs(figures, jobs=2) == serial
