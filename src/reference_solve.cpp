@@ -34,7 +34,7 @@ uint64_t UniformElements(const Scene &scene, int depth, Subdivision subdivision)
 // Solves M B = E for M = I - diag(rho) F. The rows of F sum to at most 1 and rho < 1,
 // so the eigenvalues of M lie within max rho of 1 and BiCGSTAB reaches a residual of
 // kReferenceResidual of |E| in a few dozen products with M, O(n^2) each, where LU
-// takes O(n^3) (at n = 2048, 4x less time for the whole reference). LU with partial
+// takes O(n^3) (at n = 2048, 5x less time for the whole reference). LU with partial
 // pivoting, in place, where BiCGSTAB does not converge.
 Eigen::VectorXd SolveDense(Eigen::MatrixXd &M, const Eigen::VectorXd &E) {
     constexpr double kReferenceResidual = 1e-14;
