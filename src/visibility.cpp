@@ -351,12 +351,6 @@ RTCRay Ray(const Vec3 &a, const Vec3 &b, float reach, unsigned mask, unsigned id
     return ray;
 }
 
-// Trimmed(a, b).is_degenerate(), the same arithmetic without building the segment.
-bool Degenerate(const Vec3 &a, const Vec3 &b) {
-    Vec3 d = b - a;
-    return Vec3(a + kEndTrim * d) == Vec3(b - kEndTrim * d);
-}
-
 uint64_t EmbreeCountVisible(const EmbreeScene &embree,
                             const std::vector<Tagged<Triangle3>> &triangles,
                             const std::vector<Vec3> &from, const std::vector<Vec3> &to, uint32_t p,
@@ -373,7 +367,7 @@ uint64_t EmbreeCountVisible(const EmbreeScene &embree,
     unsigned mask = embree.RayMask(p, q);
     for (size_t i = 0; i < from.size(); ++i)
         for (size_t j = 0; j < to.size(); ++j) {
-            if (Degenerate(from[i], to[j]))
+            if (Trimmed(from[i], to[j]).is_degenerate())
                 ++visible;  // nothing in between to block
             else
                 rays.push_back(Ray(from[i], to[j], reach, mask, unsigned(i * to.size() + j)));
