@@ -361,8 +361,9 @@ const std::vector<MethodInfo> &Methods() {
                                Refine(scene, options));
          }},
         {"translation",
-         "exact counts of `parallel` with l2 = l, garmann, --count-only, no recursion limit, "
-         "from translation invariance (any number of links in milliseconds)",
+         "exact counts of `parallel` with l2 = l and `parallel3d` with ox = oy = 0, garmann, "
+         "--count-only, no recursion limit, from translation invariance (any number of links "
+         "in milliseconds)",
          [](const Scene &scene, const RefineOptions &options) {
              return CountByTranslation(scene, options).record;
          }},

@@ -1,5 +1,7 @@
 #include "hrbench/translation_count.h"
 
+#include "translation_internal.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -12,7 +14,7 @@
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
 
-namespace hrbench {
+namespace hrbench::translation {
 
 namespace {
 
@@ -23,14 +25,6 @@ struct Plates {
     double xb;  // x of Q's end (offset)
     double d;   // distance between the plates, > 0
 };
-
-// Exponent of the lowest set bit of a finite _x_ != 0: x = odd * 2^LowBit(x).
-int LowBit(double x) {
-    int e;
-    double m = std::frexp(std::abs(x), &e);           // |x| = m 2^e, m in [0.5, 1)
-    uint64_t mantissa = uint64_t(std::ldexp(m, 53));  // exact: at most 53 bits
-    return e - 53 + __builtin_ctzll(mantissa);
-}
 
 // True when every boundary and midpoint of both trees down to element depth _depth_,
 // and every difference of two such midpoints, is exact in double precision. Then the
@@ -78,23 +72,6 @@ Plates PlatesOf(const Scene &scene) {
     return plates;
 }
 
-[[noreturn]] void Overflow() {
-    throw LimitError("--method translation: a counter exceeds 2^64; use a larger eps");
-}
-
-uint64_t CheckedAdd(uint64_t a, uint64_t b) {
-    uint64_t sum;
-    if (__builtin_add_overflow(a, b, &sum))
-        Overflow();
-    return sum;
-}
-
-uint64_t Checked(unsigned __int128 sum) {
-    if (sum > UINT64_MAX)
-        Overflow();
-    return uint64_t(sum);
-}
-
 // One state of a level: the pairs in it, and the elements counted there. An element's
 // visited pairs have a contiguous run of states, one pair per state, so the elements
 // whose run contains a state number exactly its _pairs_; an element is therefore
@@ -112,29 +89,6 @@ struct Level {
     std::vector<State> states;
     uint64_t pairs = 0;  // the sum over the states: the level's oracle calls
 };
-
-// The rejected states of a level, indices [lo, end) (empty when lo = end).
-// _rejected_ is monotone in |x_i - x_j| (the oracle compares a fixed size with a
-// rounded, hence monotone, function of the distance), and x_i - x_j grows with the
-// index: the rejected states are one run around the sign change, whose two ends a
-// binary search finds. _below_ says whether x_i - x_j of an index is negative.
-template <typename Rejected, typename Below>
-std::pair<size_t, size_t> RejectedRun(size_t size, const Rejected &rejected, const Below &below) {
-    // The end of the prefix of [lo, end) on which _holds_ is true.
-    auto prefixEnd = [](size_t lo, size_t end, const auto &holds) {
-        while (lo < end) {
-            size_t mid = lo + (end - lo) / 2;
-            if (holds(mid))
-                lo = mid + 1;
-            else
-                end = mid;
-        }
-        return lo;
-    };
-    size_t zero = prefixEnd(0, size, below);
-    size_t lo = prefixEnd(0, zero, [&](size_t i) { return !rejected(i); });
-    return {lo, prefixEnd(zero, size, rejected)};
-}
 
 // What the rejected run [lo, end) of a level holds.
 struct RunSums {
@@ -197,25 +151,13 @@ void HalveQ(Level &level) {
 
 }  // namespace
 
-void CheckTranslationScope(const Scene &scene, const RefineOptions &options) {
-    if (options.oracle != GarmannOracle<Segment>::kInfo.name)
-        throw InputError("--method translation supports --oracle garmann only");
-    if (options.storeLinks)
-        throw InputError("--method translation only counts; add --count-only");
-    if (options.HasRecursionLimit())
-        throw InputError("--method translation needs refinement without a recursion limit; "
-                         "drop --min-area and --max-depth");
-    if (options.visibility != VisibilityMode::None)
-        throw InputError("--method translation counts without occlusion; drop --visibility");
+void CheckFlatlandScope(const Scene &scene, const RefineOptions &options) {
     if (options.subdivision != Subdivision::Binary)
         throw InputError("--method translation needs binary subdivision; drop --subdivision");
     PlatesOf(scene);
 }
 
-TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &options) {
-    ValidateOptions(options, scene.Dimension());
-    ValidateScene(scene);
-    CheckTranslationScope(scene, options);
+TranslationCount CountFlatland(const Scene &scene, const RefineOptions &options) {
     const Plates plates = PlatesOf(scene);
     const GarmannOracle<Segment> oracle(options.eps, scene.Get<Segment>());
     auto start = std::chrono::steady_clock::now();
@@ -267,11 +209,7 @@ TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &opt
             break;
         }
         // The preferred element has depth _depthJ_ on both kinds of level.
-        if (depthJ >= kSafetyDepth)
-            throw LimitError("refinement of patches 0 and 1 reached the safety depth " +
-                             std::to_string(kSafetyDepth) +
-                             " without an acceptable link; set a recursion limit with "
-                             "--min-area or --max-depth");
+        CheckSafetyDepth(depthJ);
         // Refuse a level whose states could outgrow the memory budget (the array grows
         // in place, by doubling).
         size_t nextSize = splitsP ? 2 * (end - lo) : end - lo + 1;
@@ -296,27 +234,38 @@ TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &opt
         level.pairs = Checked((unsigned __int128)run.pairs * 2);  // each pair has two children
     }
 
-    // Summarise the trees: one root each, two children per halved element.
-    size_t depths = std::max(splitP.size(), splitQ.size()) + 1;
-    splitP.resize(depths, 0), splitQ.resize(depths, 0);
-    counters.nodesPerDepth.assign(depths, 0);
-    counters.nodesPerDepth[0] = 2;
-    uint64_t halvedTotal = 0;
-    for (size_t k = 0; k + 1 < depths; ++k) {
-        counters.nodesPerDepth[k + 1] = 2 * (splitP[k] + splitQ[k]);
-        halvedTotal += splitP[k] + splitQ[k];
-    }
-    while (counters.nodesPerDepth.size() > 1 && counters.nodesPerDepth.back() == 0)
-        counters.nodesPerDepth.pop_back();
-    for (uint64_t n : counters.nodesPerDepth)
-        counters.nodes = CheckedAdd(counters.nodes, n);
-    counters.leaves = counters.nodes - halvedTotal;
-    counters.maxDepth = counters.nodesPerDepth.size() - 1;
-    while (!counters.linksPerDepth.empty() && counters.linksPerDepth.back() == 0)
-        counters.linksPerDepth.pop_back();
+    SummariseTrees(std::move(splitP), std::move(splitQ), 2, counters);
     result.record.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
+}
+
+}  // namespace hrbench::translation
+
+namespace hrbench {
+
+void CheckTranslationScope(const Scene &scene, const RefineOptions &options) {
+    if (options.oracle != GarmannOracle<Segment>::kInfo.name)
+        throw InputError("--method translation supports --oracle garmann only");
+    if (options.storeLinks)
+        throw InputError("--method translation only counts; add --count-only");
+    if (options.HasRecursionLimit())
+        throw InputError("--method translation needs refinement without a recursion limit; "
+                         "drop --min-area and --max-depth");
+    if (options.visibility != VisibilityMode::None)
+        throw InputError("--method translation counts without occlusion; drop --visibility");
+    if (scene.Dimension() == 2)
+        translation::CheckFlatlandScope(scene, options);
+    else
+        translation::CheckSpaceScope(scene, options);
+}
+
+TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &options) {
+    ValidateOptions(options, scene.Dimension());
+    ValidateScene(scene);
+    CheckTranslationScope(scene, options);
+    return scene.Dimension() == 2 ? translation::CountFlatland(scene, options)
+                                  : translation::CountSpace(scene, options);
 }
 
 }  // namespace hrbench

@@ -152,6 +152,18 @@ TEST_CASE("Polygons report area, centroid and front normal", "[geometry][3d]") {
         CHECK_THAT(p.Centroid().y(), WithinRel(4.0 / 9, 1e-15));
         CHECK_THAT(p.Centroid().x(), WithinRel(2.0, 1e-15));
     }
+    SECTION("parallelogram: the midpoint of the diagonal, exact for dyadic corners") {
+        // The area-weighted form rounds (a + 2b) / 3 and (2a + b) / 3, and gives
+        // 130.93749999999997 and 641.7441406249999 for these x; the midpoint is exact.
+        Polygon p =
+            Polygon::Quad({76.8125, 340908, 1}, {185.0625, 340908, 1},
+                          {185.0625, 340908.5146484375, 1}, {76.8125, 340908.5146484375, 1});
+        CHECK(p.Centroid() == Vec3(130.9375, 340908.25732421875, 1));
+        Polygon q =
+            Polygon::Quad({159.744140625, 6551.2890625, 0}, {1123.744140625, 6551.2890625, 0},
+                          {1123.744140625, 6752.7890625, 0}, {159.744140625, 6752.7890625, 0});
+        CHECK(q.Centroid() == Vec3(641.744140625, 6652.0390625, 0));
+    }
     SECTION("triangle facing -z when listed clockwise from above") {
         Polygon t = Polygon::Triangle({0, 0, 0}, {0, 2, 0}, {2, 0, 0});
         CHECK(t.Area() == 2);

@@ -20,6 +20,12 @@
 // level reached, are exact in double precision (dyadic lengths and offset), so that
 // every pair in a state gives the oracle the same doubles and the counts equal direct
 // enumeration, ties included.
+//
+// In 3D (`parallel3d`, the rectangles one above the other: no offset) the states are
+// the offsets (cx, cy) of the centroids in a dense grid, one rejected run per row, and
+// every element of the plate halved at a level is halved (the pair above or below it
+// is its nearest and is visited), so the trees need no states; quadtree subdivision
+// halves both sides at once (src/translation_count3d.cpp).
 #pragma once
 
 #include <cstdint>
@@ -42,9 +48,11 @@ struct TranslationCount {
 // Throws InputError, with a message naming what is wrong, unless _scene_ and _options_
 // are in the method's scope: two facing parallel plates of equal length, P from (0,0)
 // to (l,0) and Q from (offset+l,d) to (offset,d) with d > 0 (the `parallel` family with
-// l2 = l); oracle garmann; count-only; no recursion limit (no --min-area, --max-depth);
-// no visibility mode, binary subdivision; and l, offset with exact midpoints in double
-// precision (checked again, level by level, during the count).
+// l2 = l), or two facing l x w rectangles, P = [0,l] x [0,w] at z=0 and Q the same at
+// z=d > 0 (`parallel3d` with ox = oy = 0); oracle garmann; count-only; no recursion
+// limit (no --min-area, --max-depth); no visibility mode; binary subdivision (3D:
+// binary or quadtree); and sides and offset with exact midpoints and centroids in
+// double precision (checked again, level by level, during the count).
 void CheckTranslationScope(const Scene &scene, const RefineOptions &options);
 
 // Counts exactly what Refine(scene, options) counts in count-only mode, without

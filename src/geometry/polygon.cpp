@@ -37,6 +37,11 @@ double Polygon::Area() const { return std::sqrt(SquaredArea()); }
 Vec3 Polygon::Centroid() const {
     if (n == 3)
         return (v[0] + v[1] + v[2]) / 3;
+    // A parallelogram's centroid is the midpoint of its diagonals: exact where the
+    // corners are (dyadic), so that congruent elements of a grid have centroids exactly
+    // as far apart as their corners, which --method translation relies on.
+    if (v[0] + v[2] == v[1] + v[3])
+        return 0.5 * (v[0] + v[2]);
     // Weight the centroids of the triangles (v0, v1, v2) and (v0, v2, v3) by their areas.
     double a0 = (v[1] - v[0]).cross(v[2] - v[0]).norm();
     double a1 = (v[2] - v[0]).cross(v[3] - v[0]).norm();

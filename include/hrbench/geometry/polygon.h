@@ -39,7 +39,7 @@ struct Polygon {
     // below the smallest normal double).
     double Area() const;
     double Measure() const { return Area(); }
-    // Area centroid.
+    // Area centroid; for a parallelogram (v0 + v2 == v1 + v3 in doubles) 0.5 (v0 + v2).
     Vec3 Centroid() const;
     // Unit normal on the front side, from the corners v0, v1, v2 (v0, v2, v3 would give
     // the same for a planar quad).
