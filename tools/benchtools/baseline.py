@@ -51,7 +51,8 @@ def _runs(oracle, eps_scale):
 # The runs a new baseline file starts with: garmann and hanrahan on every 2D scene
 # family (hanrahan at smaller eps and g = l / d, where its refinement is not trivial),
 # one run on two threads, the translation method on the parallel family (once on the
-# configuration the two-thread run enumerates, and up to 1.4e14 links), and bf on the
+# configuration the two-thread run enumerates, and up to 1.4e14 links) and on
+# parallel3d (once on a configuration also enumerated, and at 6.7e18 links), and bf on the
 # Cornell box (no 2D family emits), binary and quadtree.
 DEFAULT_RUNS = ([
     ["parallel", "l=64", "d=1", "--eps", "0.25"],
@@ -73,6 +74,11 @@ DEFAULT_RUNS = ([
     ["parallel", "l=64", "d=1", "--eps", "0.25", "--method", "translation"],
     ["parallel", "l=1024", "d=0.25", "offset=3.5", "--eps", "0.02", "--method", "translation"],
     ["parallel", "l=2147483648", "d=1", "--eps", "0.01", "--method", "translation"],
+    ["parallel3d", "l=8", "d=1", "--eps", "0.01"],
+    ["parallel3d", "l=8", "d=1", "--eps", "0.01", "--method", "translation"],
+    ["parallel3d", "l=8", "d=1", "--eps", "0.01", "--subdivision", "quadtree", "--method",
+     "translation"],
+    ["parallel3d", "l=1024", "d=1", "--eps", "0.000001", "--method", "translation"],
     ["cornell", "--eps", "0.05", "--min-area", "0.001", "--oracle", "bf"],
     ["cornell", "--eps", "0.02", "--min-area", "0.0005", "--oracle", "bf", "--subdivision",
      "quadtree"],
