@@ -1,5 +1,6 @@
 // Google Benchmark suite of the translation method (src/translation_count.h): exact
-// counts of the parallel-plate family with the garmann oracle, far past enumeration.
+// counts of the parallel-plate families (2D and 3D) with the garmann oracle, far past
+// enumeration.
 // Its cost is the number of distinct pair states, about 4 / eps per level over
 // log2(g / eps) levels, a few additions each, not the number of links.
 //
@@ -20,8 +21,9 @@ namespace {
 constexpr double kEpsSweepG = 1024;  // geometry ratio l / d of the eps sweep
 
 // Counts the scene once per iteration and attaches the counts and the work to the row.
-void RunTranslation(benchmark::State &state, double l, double eps) {
-    Scene scene = MakeScene("parallel", {{"l", l}, {"d", 1}});
+void RunTranslation(benchmark::State &state, double l, double eps,
+                    const char *family = "parallel") {
+    Scene scene = MakeScene(family, {{"l", l}, {"d", 1}});
     RefineOptions options;
     options.eps = eps;
     options.storeLinks = false;
@@ -54,6 +56,14 @@ void BM_TranslationGeometrySweep(benchmark::State &state) {
     state.SetComplexityN(state.range(0));
 }
 
+// In 3D: two 1024 x 1024 squares at distance 1, eps = 1 / inv_eps shrinking to 2^-20
+// (7.4e18 links): a grid of about 4 / eps states per level (the offsets within the
+// rejected disc, or all offsets of the plates above it) over log2(g^2 / eps) levels.
+void BM_Translation3dEpsSweep(benchmark::State &state) {
+    RunTranslation(state, kEpsSweepG, 1.0 / double(state.range(0)), "parallel3d");
+    state.SetComplexityN(state.range(0));
+}
+
 BENCHMARK(BM_TranslationEpsSweep)
     ->ArgNames({"inv_eps"})
     ->RangeMultiplier(4)
@@ -68,6 +78,15 @@ BENCHMARK(BM_TranslationGeometrySweep)
     ->RangeMultiplier(1024)
     ->Range(int64_t(1) << 10, int64_t(1) << 40)
     ->Complexity(benchmark::oLogN)
+    ->Unit(benchmark::kMillisecond);
+
+BENCHMARK(BM_Translation3dEpsSweep)
+    ->ArgNames({"inv_eps"})
+    ->RangeMultiplier(4)
+    ->Range(16, 1 << 20)
+    ->Complexity([](benchmark::IterationCount n) {
+        return double(n) * std::log2(kEpsSweepG * kEpsSweepG * double(n));
+    })
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace
