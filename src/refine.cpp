@@ -43,12 +43,13 @@ class ForestUnion {
                 maps_.emplace_back(w.size(), UINT32_MAX);
         for (auto &level : scratch_)
             level.resize(workers.size());
-        // The union has at least as many elements as the largest worker's forest:
-        // reserve that, so that building it copies nothing.
-        size_t largest = canonical.Size();
+        // The union has at most as many elements as the workers' forests together:
+        // reserve that, so that building it copies nothing (and leaves no outgrown
+        // blocks in the heap); the pages it does not fill are never touched.
+        size_t bound = canonical.Size();
         for (const Children &w : workers)
-            largest = std::max(largest, w.size());
-        canonical.Reserve(largest);
+            bound += w.size();
+        canonical.Reserve(bound);
         for (uint32_t root = 0; root < canonical.NumRoots(); ++root) {
             std::fill(scratch_[0].begin(), scratch_[0].end(), root);
             Visit(root, 0);
@@ -241,11 +242,19 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
         result.links.Reserve(total);
         result.links.Resize(total);
         auto copy = [&](size_t w, size_t begin, size_t end, size_t to) {
-            for (size_t k = begin; k < end; ++k, ++to) {
-                const Link &link = workerLinks[w][k];
-                result.links[to] = {merged.Canonical(w, link.i), merged.Canonical(w, link.j)};
+            // Block by block, each given back once copied, so that the source and the
+            // copy together hold little more than one of them (a task's range can be
+            // tens of MB). Each give-back reaches half a block back, over the page the
+            // previous one rounded off, but not below the task's first link.
+            constexpr size_t kBlock = size_t(1) << 17;  // 1 MiB of links
+            for (size_t block = begin; block < end; block += kBlock) {
+                size_t blockEnd = std::min(end, block + kBlock);
+                for (size_t k = block; k < blockEnd; ++k, ++to) {
+                    const Link &link = workerLinks[w][k];
+                    result.links[to] = {merged.Canonical(w, link.i), merged.Canonical(w, link.j)};
+                }
+                workerLinks[w].Discard(block - std::min(block - begin, kBlock / 2), blockEnd);
             }
-            workerLinks[w].Discard(begin, end);
         };
         copy(0, 0, topCount, 0);
         ParallelFor(
