@@ -208,16 +208,17 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
         counters.linksPerDepth.pop_back();
 
     // One worker ran every task in order: renumber its trees in place and translate its
-    // links, in place too.
+    // links, in place too. Without links no id is seen, and the renumbering, a random
+    // walk over the whole forest, would cost up to as much as the refinement (3D).
     if (numWorkers == 1) {
-        std::vector<uint32_t> id = forests[0].Canonicalize();
-        result.forest = std::move(forests[0]);
         if constexpr (kStoreLinks) {
+            std::vector<uint32_t> id = forests[0].Canonicalize();
             for (Link &link : workerLinks[0])
                 link = {id[link.i], id[link.j]};
             result.links = std::move(workerLinks[0]);
             result.links.ShrinkToFit();
         }
+        result.forest = std::move(forests[0]);
         return;
     }
 

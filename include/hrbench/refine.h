@@ -44,10 +44,12 @@ struct PairTally {
     uint64_t oracleCalls;  // oracle calls spent on the pair
 };
 
-// Element ids are canonical: roots first, then the union of all trees in preorder,
-// children allocated when their parent is first reached. So ids, like counts, do
-// not depend on the number of threads. Links are ordered by the refinement's task
-// order, which does not depend on it either.
+// With links stored, element ids are canonical: roots first, then the union of all
+// trees in preorder, children allocated when their parent is first reached. So ids,
+// like counts, do not depend on the number of threads. Links are ordered by the
+// refinement's task order, which does not depend on it either. In count-only mode,
+// where no link refers to an id, the forest holds the same elements (the same counts
+// per depth), but on one thread in the order the refinement made them.
 template <typename Shape>
 struct Refinement {
     Forest<Shape> forest;
