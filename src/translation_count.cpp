@@ -1,7 +1,5 @@
 #include "hrbench/translation_count.h"
 
-#include "translation_internal.h"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -13,6 +11,7 @@
 #include "hrbench/oracles/garmann.h"
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
+#include "translation_internal.h"
 
 namespace hrbench::translation {
 
