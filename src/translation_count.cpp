@@ -159,12 +159,9 @@ void CheckFlatlandScope(const Scene &scene, const RefineOptions &options) {
 TranslationCount CountFlatland(const Scene &scene, const RefineOptions &options) {
     const Plates plates = PlatesOf(scene);
     const GarmannOracle<Segment> oracle(options.eps, scene.Get<Segment>());
-    auto start = std::chrono::steady_clock::now();
 
     TranslationCount result;
-    result.record.method = "translation";
     Counters &counters = result.record.counters;
-    counters.rootPairs = 1;
     std::vector<uint64_t> splitP, splitQ;  // elements halved, per depth, in P and in Q
 
     // Start from the root pair: offset c = 0, one column (P element) and one row (Q element).
@@ -234,8 +231,6 @@ TranslationCount CountFlatland(const Scene &scene, const RefineOptions &options)
     }
 
     SummariseTrees(std::move(splitP), std::move(splitQ), 2, counters);
-    result.record.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }
 
@@ -263,8 +258,14 @@ TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &opt
     ValidateOptions(options, scene.Dimension());
     ValidateScene(scene);
     CheckTranslationScope(scene, options);
-    return scene.Dimension() == 2 ? translation::CountFlatland(scene, options)
-                                  : translation::CountSpace(scene, options);
+    auto start = std::chrono::steady_clock::now();
+    TranslationCount result = scene.Dimension() == 2 ? translation::CountFlatland(scene, options)
+                                                     : translation::CountSpace(scene, options);
+    result.record.method = "translation";
+    result.record.counters.rootPairs = 1;
+    result.record.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
 }
 
 }  // namespace hrbench

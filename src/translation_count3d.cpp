@@ -16,7 +16,6 @@
 // every element is, and every element of the plate halved at that level is halved.
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -173,12 +172,9 @@ void CheckSpaceScope(const Scene &scene, const RefineOptions &) { RectanglesOf(s
 TranslationCount CountSpace(const Scene &scene, const RefineOptions &options) {
     const Rectangles plates = RectanglesOf(scene);
     const GarmannOracle<Polygon> oracle(options.eps, scene.Get<Polygon>());
-    auto start = std::chrono::steady_clock::now();
 
     TranslationCount result;
-    result.record.method = "translation";
     Counters &counters = result.record.counters;
-    counters.rootPairs = 1;
     const int arity = SubdivisionArity(options.subdivision);
     std::vector<uint64_t> splitP, splitQ;  // elements halved, per depth, in P and in Q
     Depths depthsP(plates.P(), options.subdivision), depthsQ(plates.Q(), options.subdivision);
@@ -273,8 +269,6 @@ TranslationCount CountSpace(const Scene &scene, const RefineOptions &options) {
     }
 
     SummariseTrees(std::move(splitP), std::move(splitQ), arity, counters);
-    result.record.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }
 
