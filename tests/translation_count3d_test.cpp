@@ -2,6 +2,7 @@
 // counter and histogram must be identical wherever both run, ties included.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -80,6 +81,64 @@ TEST_CASE("The translation method in 3D agrees exactly with enumeration", "[tran
         CHECK(CountByTranslation(scene, tie).record.counters.links !=
               CountByTranslation(scene, below).record.counters.links);
     }
+}
+
+TEST_CASE("The translation method in 3D agrees with enumeration on random dyadic plates",
+          "[translation][3d]") {
+    // Sides and distances with a few significant bits at any binary scale, thresholds
+    // that are not round numbers, either subdivision.
+    uint64_t state = 20261124;
+    auto next = [&state] {  // SplitMix64: the same sequence on every platform
+        uint64_t z = (state += 0x9e3779b97f4a7c15);
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111eb;
+        return z ^ (z >> 31);
+    };
+    auto uniform = [&](int lo, int hi) { return lo + int(next() % uint64_t(hi - lo + 1)); };
+    int nontrivial = 0;
+    for (int k = 0; k < 200; ++k) {
+        double d = std::ldexp(double(uniform(1, 15)), uniform(-6, 2));
+        double l = d * std::ldexp(double(uniform(1, 15)), uniform(-2, 1));
+        double w = d * std::ldexp(double(uniform(1, 15)), uniform(-2, 1));
+        double eps = 0.02 + 0.98 * double(next() >> 11) * 0x1p-53;
+        eps = std::max(eps, l * w / (d * d) / 200);  // keep enumeration small
+        Subdivision mode = k % 2 ? Subdivision::Quadtree : Subdivision::Binary;
+        INFO("l=" << l << " w=" << w << " d=" << d << " eps=" << eps << " quadtree=" << k % 2);
+        Scene scene = Plates(l, w, d);
+        Refinement<Polygon> r = Refine<Polygon>(scene, CountOnly(eps, mode));
+        REQUIRE(CounterDifferences(
+                    r.record.counters,
+                    CountByTranslation(scene, CountOnly(eps, mode)).record.counters) == "");
+        nontrivial += r.record.counters.links > 100;
+    }
+    CHECK(nontrivial > 50);
+}
+
+TEST_CASE("The translation method in 3D decides ties as the engine", "[translation][3d]") {
+    // eps = A_k / r^2 with r^2 = d^2 (a pair one above the other) or 2 d^2 (one apart by
+    // d along a side), both exact: the pairs of elements of area A_k at that offset lie
+    // on the threshold; one ulp either side must flip them as the engine does.
+    int cases = 0, flipped = 0;
+    for (double l : {2.0, 4.0})
+        for (double d : {1.0, 0.5})
+            for (int k = 0; k < 8; ++k)
+                for (double r2 : {d * d, 2 * d * d}) {
+                    double tie = std::ldexp(l * l, -k) / r2;
+                    if (l * l / (d * d) / tie > 2000)  // keep enumeration small
+                        continue;
+                    uint64_t links[3];
+                    for (int side = 0; side < 3; ++side) {
+                        double eps = side == 1 ? tie : std::nextafter(tie, side == 0 ? 0 : 1e300);
+                        INFO("l=" << l << " d=" << d << " eps=" << eps);
+                        REQUIRE(Differences(Plates(l, l, d), CountOnly(eps)) == "");
+                        links[side] = CountByTranslation(Plates(l, l, d), CountOnly(eps))
+                                          .record.counters.links;
+                    }
+                    ++cases;
+                    flipped += links[0] != links[1];  // the tie decided some pairs
+                }
+    CHECK(cases == 64);
+    CHECK(flipped > 50);  // 58: the tie decided pairs in almost every case
 }
 
 TEST_CASE("The translation method in 3D counts beyond 10^18 links", "[translation][3d]") {
