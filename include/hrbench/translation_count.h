@@ -42,6 +42,7 @@ struct TranslationCount {
                                      // in count-only mode, and the time
     uint64_t pairStates = 0;         // distinct (level, offset) states carried
     uint64_t elementStates = 0;      // distinct (level, tree, run start) element states
+                                     // (3D: one per level, whose plate halves entirely)
     uint64_t oracleEvaluations = 0;  // oracle calls made, a few per level
 };
 
