@@ -39,7 +39,7 @@ bool ExactToDepth(const Plates &plates, int depth) {
     if (plates.xb != 0)
         e = std::min(e, LowBit(plates.xb));
     double bound = 2 * std::max({std::abs(plates.xa), std::abs(plates.xb), plates.l});
-    return std::isfinite(bound) && std::ilogb(bound) <= 52 + e;
+    return FitsGrid(bound, e);
 }
 
 [[noreturn]] void NotExact(const Plates &plates, int depth) {

@@ -59,7 +59,7 @@ Rectangles RectanglesOf(const Scene &scene) {
 // precision: all lie on the grid of boundaries one halving deeper, and the sums
 // v0 + v2 of a centroid (at most 2 length) need at most 53 bits on it.
 bool ExactAxis(double length, int splits) {
-    return std::ilogb(2 * length) <= 52 + LowBit(length) - (splits + 1);
+    return FitsGrid(2 * length, LowBit(length) - (splits + 1));
 }
 
 [[noreturn]] void NotExact(const Rectangles &plates, int depth) {

@@ -26,6 +26,12 @@ inline int LowBit(double x) {
     return e - 53 + __builtin_ctzll(mantissa);
 }
 
+// True when every multiple of 2^_gridExponent_ of magnitude at most _bound_ is a
+// double: _bound_ needs at most 53 significant bits on that grid.
+inline bool FitsGrid(double bound, int gridExponent) {
+    return std::isfinite(bound) && std::ilogb(bound) <= 52 + gridExponent;
+}
+
 [[noreturn]] inline void Overflow() {
     throw LimitError("--method translation: a counter exceeds 2^64; use a larger eps");
 }

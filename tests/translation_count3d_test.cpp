@@ -6,15 +6,11 @@
 #include <cmath>
 #include <cstdint>
 
-#include <nlohmann/json.hpp>
-
-#include "cli_helpers.h"
 #include "hrbench/generators/generators.h"
 #include "hrbench/hrbench.h"
 #include "refinement_helpers.h"
 
 using namespace hrbench;
-using hrbench_test::Cli;
 using hrbench_test::CounterDifferences;
 
 namespace {
@@ -190,22 +186,4 @@ TEST_CASE("The translation method in 3D rejects what it cannot count exactly",
         CHECK_THROWS_WITH(CountByTranslation(Plates(1073741825, 1073741825, 1), CountOnly(0.25)),
                           Catch::Contains("not exact in double precision at depth 41"));
     }
-}
-
-TEST_CASE("hrbench run --method translation in 3D reports the counters of enumeration",
-          "[translation][3d][cli]") {
-    const std::string run = "run parallel3d l=8 w=4 d=1 --eps 0.05 --count-only --json";
-    hrbench_test::CliResult enumerated = Cli(run), translated = Cli(run + " --method translation");
-    REQUIRE(enumerated.exitCode == 0);
-    REQUIRE(translated.exitCode == 0);
-    nlohmann::json e = nlohmann::json::parse(enumerated.out),
-                   t = nlohmann::json::parse(translated.out);
-    CHECK(t["method"] == "translation");
-    for (const char *key : {"nodes", "leaves", "links", "oracle_calls", "max_depth", "forced_links",
-                            "culled_pairs", "root_pairs", "nodes_per_depth", "links_per_depth"}) {
-        INFO(key);
-        CHECK(e[key] == t[key]);
-    }
-    hrbench_test::CheckError("run parallel3d oy=1 --eps 0.2 --count-only --method translation", 2,
-                             "ox = oy = 0");
 }

@@ -274,7 +274,10 @@ TEST_CASE("The translation method keeps the counts of its first, state by state,
 }
 
 TEST_CASE("hrbench run --method reports the method and the same counters", "[translation][cli]") {
-    const std::string run = "run parallel l=64 d=1 offset=0.5 --eps 0.2 --count-only --json";
+    const std::string run = GENERATE(
+        as<std::string>{}, "run parallel l=64 d=1 offset=0.5 --eps 0.2 --count-only --json",
+        "run parallel3d l=8 w=4 d=1 --eps 0.05 --count-only --json");
+    INFO(run);
     hrbench_test::CliResult enumerated = Cli(run), translated = Cli(run + " --method translation");
     REQUIRE(enumerated.exitCode == 0);
     REQUIRE(translated.exitCode == 0);
@@ -296,6 +299,8 @@ TEST_CASE("hrbench run --method reports the method and the same counters", "[tra
         CheckError("run room --eps 0.2 --count-only --min-area 0.1 --method translation", 2,
                    "recursion limit");
         CheckError("run room --eps 0.2 --count-only --method translation", 2, "parallel");
+        CheckError("run parallel3d oy=1 --eps 0.2 --count-only --method translation", 2,
+                   "ox = oy = 0");
         CheckError("run parallel --eps 0.2 --count-only --method fast", 2, "method");
         CheckError("links parallel --eps 0.2 --out x.csv --method translation", 2, "method");
     }
