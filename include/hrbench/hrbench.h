@@ -9,6 +9,7 @@
 #include "hrbench/link_dump.h"
 #include "hrbench/links_csv.h"
 #include "hrbench/mesh_io.h"
+#include "hrbench/min_area_sweep.h"
 #include "hrbench/oracles/registry.h"
 #include "hrbench/record.h"
 #include "hrbench/refine.h"

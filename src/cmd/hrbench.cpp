@@ -1,9 +1,11 @@
 // hrbench: refine a scene with ProjectKernel and report exact counters.
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -70,6 +72,20 @@ int CheckLinksCommand(const Scene &scene, const Options &o) {
     return kExitOk;
 }
 
+// `hrbench run --min-areas`: one record per value, in the order given.
+int PrintMinAreaSweep(const Scene &scene, Options o) {
+    std::vector<RunRecord> records = CountMinAreaSweep(scene, o.refine, o.minAreas);
+    for (size_t k = 0; k < records.size(); ++k) {
+        o.refine.minArea = o.minAreas[k];
+        nlohmann::json record = RunToJson(scene, o.refine, records[k]);
+        if (o.json)
+            std::cout << record.dump() << "\n";
+        else
+            PrintRunTable(record, std::cout << (k ? "\n" : ""));
+    }
+    return kExitOk;
+}
+
 int Main(int argc, char **argv) {
     std::vector<std::string> args(argv + 1, argv + argc);
     for (const std::string &a : args) {
@@ -105,10 +121,21 @@ int Main(int argc, char **argv) {
     RefineProgress progress;
     std::optional<ProgressDisplay> display;
     if (o.command == "run" || o.command == "links" || o.command == "solve") {
-        std::string warning = MinAreaWarning(scene, o.refine);
-        if (!warning.empty())
-            std::cerr << "hrbench: warning: " << warning << std::endl;
-        if (!o.json && isatty(fileno(stderr))) {
+        // --min-areas: the values at either end, the only ones that can draw a warning
+        // the others do not.
+        std::set<std::string> warnings = {MinAreaWarning(scene, o.refine)};
+        if (!o.minAreas.empty()) {
+            auto [low, high] = std::minmax_element(o.minAreas.begin(), o.minAreas.end());
+            for (double m : {*low, *high}) {
+                RefineOptions one = o.refine;
+                one.minArea = m;
+                warnings.insert(MinAreaWarning(scene, one));
+            }
+        }
+        for (const std::string &warning : warnings)
+            if (!warning.empty())
+                std::cerr << "hrbench: warning: " << warning << std::endl;
+        if (!o.json && o.minAreas.empty() && isatty(fileno(stderr))) {
             o.refine.progress = &progress;
             display.emplace(progress, stderr);
         }
@@ -133,6 +160,8 @@ int Main(int argc, char **argv) {
         display.reset();
         return PrintSolve(scene, o, result);
     }
+    if (!o.minAreas.empty())
+        return PrintMinAreaSweep(scene, o);
     nlohmann::json record = RunToJson(scene, o.refine, Count(scene, o.refine, o.method));
     display.reset();
     if (o.json)

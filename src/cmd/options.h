@@ -30,6 +30,7 @@ struct Options {
     bool json = false;
     bool countOnly = false;
     std::string method = "enumerate";  // run: how to count (Methods())
+    std::vector<double> minAreas;      // run --min-areas: one record per value
     SolveOptions solve;
     size_t maxInputBytes = kDefaultMaxInputBytes;  // size limit of a scene or mesh file
 };
