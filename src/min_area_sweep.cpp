@@ -218,7 +218,8 @@ std::vector<RunRecord> CountMinAreaSweep(const Scene &scene, const RefineOptions
     // The thresholds in ascending order, as the bounds the kernel compares A^2 with.
     std::vector<size_t> order(minAreas.size());
     std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return minAreas[a] < minAreas[b]; });
+    std::sort(order.begin(), order.end(),
+              [&](size_t a, size_t b) { return minAreas[a] < minAreas[b]; });
     std::vector<double> bounds;
     for (size_t k = 0; k < order.size(); ++k) {
         if (k > 0 && minAreas[order[k]] == minAreas[order[k - 1]])
@@ -229,11 +230,12 @@ std::vector<RunRecord> CountMinAreaSweep(const Scene &scene, const RefineOptions
     auto start = std::chrono::steady_clock::now();
     std::vector<RunRecord> sorted = std::visit(
         [&](const auto &patches) { return Sweep(patches, options, bounds); }, scene.patches);
-    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::vector<RunRecord> records(minAreas.size());
     for (size_t k = 0; k < order.size(); ++k) {
         records[order[k]] = std::move(sorted[k]);
-        records[order[k]].seconds = seconds;
+        records[order[k]].seconds = seconds / double(order.size());
     }
     return records;
 }

@@ -81,6 +81,10 @@ class SweepPoint:
     series : str
         The values of ``sweep.grid`` this run belongs to, e.g. ``"l=16"`` ("" without a
         grid).
+    shared : tuple of str
+        For a point of a ``min_area`` sweep that one engine run can count together with
+        the others of its series (``--min-areas``): that run's command line without the
+        list of values, the same for all of them; ``()`` otherwise.
     """
 
     key: PointKey
@@ -88,9 +92,15 @@ class SweepPoint:
     argv: tuple
     statistics: object = None
     series: str = ""
+    shared: tuple = ()
 
 
-def expand_claim(claim, mode, hrbench, version):
+#: Options with which ``--min-areas`` cannot count (it runs count-only, on one thread,
+#: by enumeration, without visibility).
+_NOT_SHARED = ("visibility", "threads", "method")
+
+
+def expand_claim(claim, mode, hrbench, version, min_areas=False):
     """The runs a claim needs.
 
     Parameters
@@ -103,6 +113,10 @@ def expand_claim(claim, mode, hrbench, version):
         (:func:`~hrbench_analysis.engine.engine_argv`).
     version : str
         Engine version, part of every cache key.
+    min_areas : bool, optional
+        Whether the engine counts several ``--min-area`` values in one run
+        (``--min-areas`` in its capabilities); if so, the points of a count-only sweep
+        over ``min_area`` get a ``shared`` command line.
 
     Returns
     -------
@@ -125,6 +139,8 @@ def expand_claim(claim, mode, hrbench, version):
     # A solve is its own record (the counters and the solve's measures), never a count's.
     solve = getattr(claim, "command", "run") == "solve"
     make_argv, mode_key = (solve_argv, "solve") if solve else (run_argv, "count-only")
+    share = (min_areas and not solve and not claim.statistics
+             and claim.sweep_param == "min_area" and not set(options) & set(_NOT_SHARED))
     for fixed in grid:
         for value in claim.range_for(mode).values():
             params = dict(claim.params) | fixed
@@ -142,7 +158,12 @@ def expand_claim(claim, mode, hrbench, version):
             argv = make_argv(hrbench, claim.scene, params, eps, claim.oracle,
                              min_area=min_area, max_depth=claim.max_depth, options=options)
             series = ", ".join(f"{k}={format_number(v)}" for k, v in fixed.items())
-            points.append(SweepPoint(key=key, value=value, argv=tuple(argv), series=series))
+            shared = ()
+            if share:
+                shared = tuple(make_argv(hrbench, claim.scene, params, eps, claim.oracle,
+                                         max_depth=claim.max_depth, options=options))
+            points.append(SweepPoint(key=key, value=value, argv=tuple(argv), series=series,
+                                     shared=shared))
     return _with_statistics(claim, points, hrbench)
 
 
@@ -191,6 +212,30 @@ def _execute(point):
         else:
             output = add_to_record(run.stdout, found.statistics)
     return StoredPoint(point.key, ok, code, "" if ok else last, output, seconds)
+
+
+def _execute_shared(points):
+    # Count several points of a min_area sweep with one run (--min-areas), one record
+    # per point, each stored with its share of the run's wall time. If that run fails
+    # or prints what the analysis cannot match to the points, each point runs alone,
+    # so that a failure is stored against the point it belongs to.
+    values = ",".join(format_number(p.key.min_area) for p in points)
+    run = run_engine([*points[0].shared, "--min-areas", values])
+    lines = run.stdout.splitlines()
+    if run.exit_code != 0 or len(lines) != len(points):
+        return [_execute(p) for p in points]
+    stored = []
+    for point, line in zip(points, lines, strict=True):
+        try:
+            result = parse_run_json(line)
+        except ResultFormatError:
+            return [_execute(p) for p in points]
+        if (_options_mismatch(result, point.key.options)
+                or result.min_area != point.key.min_area):
+            return [_execute(p) for p in points]
+        stored.append(StoredPoint(point.key, True, 0, "", line + "\n",
+                                  run.wall_seconds / len(points)))
+    return stored
 
 
 def _options_mismatch(result, options):
@@ -299,11 +344,14 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
     Notes
     -----
     The points run dearest first (:func:`order_by_cost`), so that the sweep does not end
-    waiting on one long run. A point is run only after :meth:`ResultStore.acquire` gave
-    this sweep its lease, and at most `jobs` (or the scheduler's slots) leases are held at
-    a time. A point leased by another live sweep waits until that sweep stores it (it is
-    then read back, even if it failed) or its lease lapses (the owner died or stopped
-    renewing; then this sweep runs it). Leases are renewed every
+    waiting on one long run. Points with the same ``shared`` command line run as one
+    engine run (``--min-areas``), which starts with the first of them to come up; if
+    it fails, its points run one by one. A point is run only after
+    :meth:`ResultStore.acquire` gave this sweep its lease, and at most `jobs` (or the
+    scheduler's slots) engine runs are under way at a time. A point leased by another
+    live sweep waits until that sweep stores it (it is then read back, even if it
+    failed) or its lease lapses (the owner died or stopped renewing; then this sweep
+    runs it). Leases are renewed every
     :data:`~hrbench_analysis.store.LEASE_RENEW` seconds while their points run, and
     released when the sweep ends, normally or not. A point whose worker was lost (a Dask
     worker killed) is submitted again, up to :data:`MAX_ATTEMPTS` times in all, and then
@@ -329,40 +377,51 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
         try:
             while pending or waiting or running:
                 while pending and len(running) < slots:
+                    # A point with a shared run takes the others of its run along.
                     point = pending.popleft()
-                    state = store.acquire(point.key, since=since)
-                    if state == ACQUIRED:
-                        running[scheduler.executor.submit(_execute, point)] = point
-                    elif state == DONE:
-                        cached += 1
-                        bar.cached += 1
-                        bar.done += 1
-                        bar.update()
-                    else:
-                        waiting.append(point)
+                    batch = [point]
+                    if point.shared:
+                        batch += [p for p in pending if p.shared == point.shared]
+                        pending = deque(p for p in pending if p.shared != point.shared)
+                    acquired = []
+                    for p in batch:
+                        state = store.acquire(p.key, since=since)
+                        if state == ACQUIRED:
+                            acquired.append(p)
+                        elif state == DONE:
+                            cached += 1
+                            bar.cached += 1
+                            bar.done += 1
+                            bar.update()
+                        else:
+                            waiting.append(p)
+                    if acquired:
+                        running[_submit(scheduler, acquired)] = acquired
                 if running:
-                    bar.running = [p.key for p in running.values()]
+                    bar.running = [p.key for ps in running.values() for p in ps]
                     timeout = poll if waiting else LEASE_RENEW
                     finished, _ = wait(running, timeout=timeout, return_when=FIRST_COMPLETED)
                     for future in finished:
-                        point = running.pop(future)
+                        batch = running.pop(future)
                         try:
-                            result = future.result()
+                            results = future.result()
                         except scheduler.lost as exc:
-                            attempts[point.key] = attempts.get(point.key, 1) + 1
-                            if attempts[point.key] <= MAX_ATTEMPTS:
-                                running[scheduler.executor.submit(_execute, point)] = point
+                            first = batch[0].key
+                            attempts[first] = attempts.get(first, 1) + 1
+                            if attempts[first] <= MAX_ATTEMPTS:
+                                running[_submit(scheduler, batch)] = batch
                                 continue
-                            result = StoredPoint(
-                                point.key, False, WORKER_LOST,
+                            results = [StoredPoint(
+                                p.key, False, WORKER_LOST,
                                 f"the worker running it was lost {MAX_ATTEMPTS} times "
-                                f"({type(exc).__name__})", "", 0.0)
-                        store.put(result)
-                        ran += 1
-                        failed += not result.ok
-                        bar.done += 1
-                        bar.running = [p.key for p in running.values()]
-                        bar.update(failed=not result.ok)
+                                f"({type(exc).__name__})", "", 0.0) for p in batch]
+                        for result in results:
+                            store.put(result)
+                            ran += 1
+                            failed += not result.ok
+                            bar.done += 1
+                            bar.running = [p.key for ps in running.values() for p in ps]
+                            bar.update(failed=not result.ok)
                     if running and time.monotonic() - renewed >= LEASE_RENEW:
                         store.renew()
                         renewed = time.monotonic()
@@ -386,6 +445,18 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
     bar.running = []
     bar.update(final=True)
     return {"total": len(unique), "cached": cached, "ran": ran, "failed": failed}
+
+
+def _submit(scheduler, batch):
+    # One engine run for a batch of points: the point's own, or their shared run. The
+    # future gives a list of StoredPoint either way.
+    if len(batch) > 1:
+        return scheduler.executor.submit(_execute_shared, batch)
+    return scheduler.executor.submit(_execute_list, batch[0])
+
+
+def _execute_list(point):
+    return [_execute(point)]
 
 
 def order_by_cost(points, known_seconds):

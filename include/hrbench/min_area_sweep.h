@@ -25,7 +25,8 @@ namespace hrbench {
 
 // The run record of _scene_ at each value of _minAreas_ (in the order given, each > 0,
 // no two equal), from one enumeration: what Count(scene, options with minArea = m,
-// "enumerate") reports for each m, with _seconds_ the time of the whole enumeration.
+// "enumerate") reports for each m, with _seconds_ an equal share of the enumeration's
+// time (so that the records' seconds add up to it).
 // Count-only, one thread, no visibility (InputError otherwise, naming the option);
 // options.minArea is ignored. Throws what Refine() throws at the smallest value (the
 // safety depth, the memory budget, precision), even where a larger value alone would

@@ -118,7 +118,8 @@ const std::vector<OptionSpec> &OptionTable() {
          {},
          {"run"},
          "count each of several --min-area values, from one enumeration at\nthe "
-         "smallest (count-only, one thread; with --json one record per line)",
+         "smallest (count-only, one thread; with --json one record per line,\neach "
+         "with an equal share of the time in seconds)",
          [](Options &o, S v) { o.minAreas = ParseDoubleList(v, "--min-areas"); }},
         {"max_depth",
          "--max-depth",

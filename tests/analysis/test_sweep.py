@@ -7,6 +7,8 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 from hrbench_analysis.claimfile import load_claims
 from hrbench_analysis.engine import engine_version
 from hrbench_analysis.store import ResultStore
@@ -151,3 +153,98 @@ def test_expand_claim_runs_the_range_for_every_grid_value(tmp_path, data_dir, fa
     claim, points = claim_points(tmp_path, fake_hrbench, "area.toml")
     assert [p.key.min_area for p in points][:2] == [1.0, 0.63096]
     assert "--min-area" in points[1].argv and "0.63096" in points[1].argv
+
+
+MIN_AREA_CLAIM = """
+[source]
+key = "test"
+citation = "hrbench test data"
+
+[[claim]]
+id = "T-corner"
+statement = "N grows as the recursion limit falls"
+description = "Touching perpendicular plates swept over --min-area."
+scene = "perpendicular"
+params = { l = 1, gap = 0 }
+eps = 0.05
+sweep.param = "min_area"
+sweep.range = { from = 0.001, to = 0.000000001, per_decade = 2 }
+x = "1 / min_area"
+y = "N"
+x_label = "1/A0"
+y_label = "N"
+expected_exponent = 0
+tolerance = 0.5
+min_decades = 1
+"""
+
+HRBENCH = ROOT / "build" / "hrbench"
+needs_engine = pytest.mark.skipif(not HRBENCH.exists(), reason="build/hrbench not built")
+
+
+def logged_engine(tmp_path, fail_shared=False):
+    # The real engine behind a script that logs each command line (and, if asked,
+    # fails every --min-areas run the way a crashing engine would).
+    log = tmp_path / "runs.log"
+    script = tmp_path / "hrbench"
+    fail = 'case "$*" in *--min-areas*) exit 70;; esac\n' if fail_shared else ""
+    script.write_text(f'#!/bin/sh\necho "$*" >> {log}\n{fail}exec {HRBENCH} "$@"\n')
+    script.chmod(0o755)
+    return script, log
+
+
+def records(store, points):
+    # Every stored record without what differs from run to run (context, time).
+    out = {}
+    for p in points:
+        stored = store.get(p.key)
+        assert stored is not None and stored.ok, stored
+        record = json.loads(stored.output)
+        record.pop("context"), record.pop("seconds")
+        out[p.key] = record
+    return out
+
+
+@needs_engine
+@pytest.mark.parametrize("fail_shared", [False, True])
+def test_min_area_sweep_runs_once_and_stores_what_separate_runs_give(tmp_path, fail_shared):
+    path = tmp_path / "claims.toml"
+    path.write_text(MIN_AREA_CLAIM)
+    (claim,) = load_claims(path)
+    engine, log = logged_engine(tmp_path, fail_shared)
+    version = engine_version(engine)
+    shared = expand_claim(claim, "quick", engine, version, min_areas=True)
+    alone = expand_claim(claim, "quick", engine, version)
+    assert len(shared) == 13 and len({p.shared for p in shared}) == 1
+    assert [p.key for p in shared] == [p.key for p in alone]
+    assert all(p.shared == () for p in alone)
+    assert "--min-area" not in shared[0].shared
+    with ResultStore(tmp_path / "shared.sqlite") as store:
+        log.write_text("")
+        summary = run_points(shared, store, jobs=2, progress=None)
+        assert summary == {"total": 13, "cached": 0, "ran": 13, "failed": 0}
+        runs = log.read_text().splitlines()
+        # One run for all 13 points, or, when it fails, that run and one per point.
+        assert sum("--min-areas" in r for r in runs) == 1
+        assert len(runs) == (14 if fail_shared else 1)
+        got = records(store, shared)
+        assert sum(store.get(p.key).wall_seconds for p in shared) > 0
+    with ResultStore(tmp_path / "alone.sqlite") as store:
+        run_points(alone, store, jobs=2, progress=None)
+        want = records(store, alone)
+    assert got == want
+    assert len({r["nodes"] for r in got.values()}) > 5  # the limit changes the counts
+
+
+@needs_engine
+def test_only_count_only_min_area_sweeps_without_conflicting_options_share_a_run(tmp_path):
+    path = tmp_path / "claims.toml"
+    path.write_text(MIN_AREA_CLAIM.replace('eps = 0.05\n',
+                                           'eps = 0.05\noptions = { threads = 2 }\n'))
+    (claim,) = load_claims(path)
+    points = expand_claim(claim, "quick", HRBENCH, engine_version(HRBENCH), min_areas=True)
+    assert all(p.shared == () for p in points)
+    eps_claim = load_claims(Path(__file__).parent / "data" / "small_claims.toml")[0]
+    points = expand_claim(eps_claim, "quick", HRBENCH, engine_version(HRBENCH),
+                          min_areas=True)
+    assert all(p.shared == () for p in points)
