@@ -82,9 +82,11 @@ class SweepPoint:
         The values of ``sweep.grid`` this run belongs to, e.g. ``"l=16"`` ("" without a
         grid).
     shared : tuple of str
-        For a point of a ``min_area`` sweep that one engine run can count together with
-        the others of its series (``--min-areas``): that run's command line without the
-        list of values, the same for all of them; ``()`` otherwise.
+        For a point of an ``eps`` or ``min_area`` sweep that one engine run can count
+        together with the others of its series (``--sweep``): that run's command line,
+        the same for all of them, with ``"--sweep"`` followed by the parameter's name
+        (``"eps"``, ``"min_area"``), to which the run adds ``=`` and the values, before
+        ``--count-only --json``; ``()`` otherwise.
     """
 
     key: PointKey
@@ -95,12 +97,14 @@ class SweepPoint:
     shared: tuple = ()
 
 
-#: Options with which ``--min-areas`` cannot count (it runs count-only, on one thread,
-#: by enumeration, without visibility).
-_NOT_SHARED = ("visibility", "threads", "method")
+#: Options with which ``--sweep`` cannot count (it runs count-only, on one thread, by
+#: enumeration).
+_NOT_SHARED = ("threads", "method")
+#: The parameters ``--sweep`` varies, with their flags.
+_SHARED_PARAMS = {"eps": "--eps", "min_area": "--min-area"}
 
 
-def expand_claim(claim, mode, hrbench, version, min_areas=False):
+def expand_claim(claim, mode, hrbench, version, shared_runs=False):
     """The runs a claim needs.
 
     Parameters
@@ -113,10 +117,10 @@ def expand_claim(claim, mode, hrbench, version, min_areas=False):
         (:func:`~hrbench_analysis.engine.engine_argv`).
     version : str
         Engine version, part of every cache key.
-    min_areas : bool, optional
-        Whether the engine counts several ``--min-area`` values in one run
-        (``--min-areas`` in its capabilities); if so, the points of a count-only sweep
-        over ``min_area`` get a ``shared`` command line.
+    shared_runs : bool, optional
+        Whether the engine counts several values of eps or ``--min-area`` in one run
+        (``--sweep`` in its capabilities); if so, the points of a count-only sweep over
+        ``eps`` or ``min_area`` get a ``shared`` command line.
 
     Returns
     -------
@@ -139,8 +143,9 @@ def expand_claim(claim, mode, hrbench, version, min_areas=False):
     # A solve is its own record (the counters and the solve's measures), never a count's.
     solve = getattr(claim, "command", "run") == "solve"
     make_argv, mode_key = (solve_argv, "solve") if solve else (run_argv, "count-only")
-    share = (min_areas and not solve and not claim.statistics
-             and claim.sweep_param == "min_area" and not set(options) & set(_NOT_SHARED))
+    flag = _SHARED_PARAMS.get(claim.sweep_param)
+    share = (shared_runs and flag and not solve and not claim.statistics
+             and not set(options) & set(_NOT_SHARED))
     for fixed in grid:
         for value in claim.range_for(mode).values():
             params = dict(claim.params) | fixed
@@ -160,8 +165,10 @@ def expand_claim(claim, mode, hrbench, version, min_areas=False):
             series = ", ".join(f"{k}={format_number(v)}" for k, v in fixed.items())
             shared = ()
             if share:
-                shared = tuple(make_argv(hrbench, claim.scene, params, eps, claim.oracle,
-                                         max_depth=claim.max_depth, options=options))
+                # The point's command line less the swept flag and its value.
+                at = argv.index(flag)
+                rest = [*argv[:at], *argv[at + 2:]]
+                shared = (*rest[:-2], "--sweep", claim.sweep_param, *rest[-2:])
             points.append(SweepPoint(key=key, value=value, argv=tuple(argv), series=series,
                                      shared=shared))
     return _with_statistics(claim, points, hrbench)
@@ -215,12 +222,15 @@ def _execute(point):
 
 
 def _execute_shared(points):
-    # Count several points of a min_area sweep with one run (--min-areas), one record
-    # per point, each stored with its share of the run's wall time. If that run fails
-    # or prints what the analysis cannot match to the points, each point runs alone,
-    # so that a failure is stored against the point it belongs to.
-    values = ",".join(format_number(p.key.min_area) for p in points)
-    run = run_engine([*points[0].shared, "--min-areas", values])
+    # Count several points of an eps or min_area sweep with one run (--sweep), one
+    # record per point, each stored with its share of the run's wall time. If that run
+    # fails or prints what the analysis cannot match to the points, each point runs
+    # alone, so that a failure is stored against the point it belongs to.
+    words = list(points[0].shared)
+    at = words.index("--sweep") + 1
+    param = words[at]
+    words[at] = f"{param}=" + ",".join(format_number(getattr(p.key, param)) for p in points)
+    run = run_engine(words)
     lines = run.stdout.splitlines()
     if run.exit_code != 0 or len(lines) != len(points):
         return [_execute(p) for p in points]
@@ -230,7 +240,7 @@ def _execute_shared(points):
             result = parse_run_json(line)
         except ResultFormatError:
             return [_execute(p) for p in points]
-        if (_options_mismatch(result, point.key.options)
+        if (_options_mismatch(result, point.key.options) or result.eps != point.key.eps
                 or result.min_area != point.key.min_area):
             return [_execute(p) for p in points]
         stored.append(StoredPoint(point.key, True, 0, "", line + "\n",
@@ -345,7 +355,7 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
     -----
     The points run dearest first (:func:`order_by_cost`), so that the sweep does not end
     waiting on one long run. Points with the same ``shared`` command line run as one
-    engine run (``--min-areas``), which starts with the first of them to come up; if
+    engine run (``--sweep``), which starts with the first of them to come up; if
     it fails, its points run one by one. A point is run only after
     :meth:`ResultStore.acquire` gave this sweep its lease, and at most `jobs` (or the
     scheduler's slots) engine runs are under way at a time. A point leased by another

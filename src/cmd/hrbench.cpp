@@ -72,11 +72,11 @@ int CheckLinksCommand(const Scene &scene, const Options &o) {
     return kExitOk;
 }
 
-// `hrbench run --min-areas`: one record per value, in the order given.
-int PrintMinAreaSweep(const Scene &scene, Options o) {
-    std::vector<RunRecord> records = CountMinAreaSweep(scene, o.refine, o.minAreas);
+// `hrbench run --sweep`: one record per value, in the order given.
+int PrintSweep(const Scene &scene, Options o) {
+    std::vector<RunRecord> records = CountSweep(scene, o.refine, *o.sweep);
     for (size_t k = 0; k < records.size(); ++k) {
-        o.refine.minArea = o.minAreas[k];
+        (o.sweep->param == "eps" ? o.refine.eps : o.refine.minArea) = o.sweep->values[k];
         nlohmann::json record = RunToJson(scene, o.refine, records[k]);
         if (o.json)
             std::cout << record.dump() << "\n";
@@ -121,11 +121,12 @@ int Main(int argc, char **argv) {
     RefineProgress progress;
     std::optional<ProgressDisplay> display;
     if (o.command == "run" || o.command == "links" || o.command == "solve") {
-        // --min-areas: the values at either end, the only ones that can draw a warning
-        // the others do not.
+        // --sweep min_area: the values at either end, the only ones that can draw a
+        // warning the others do not.
         std::set<std::string> warnings = {MinAreaWarning(scene, o.refine)};
-        if (!o.minAreas.empty()) {
-            auto [low, high] = std::minmax_element(o.minAreas.begin(), o.minAreas.end());
+        if (o.sweep && o.sweep->param == "min_area") {
+            const std::vector<double> &values = o.sweep->values;
+            auto [low, high] = std::minmax_element(values.begin(), values.end());
             for (double m : {*low, *high}) {
                 RefineOptions one = o.refine;
                 one.minArea = m;
@@ -135,7 +136,7 @@ int Main(int argc, char **argv) {
         for (const std::string &warning : warnings)
             if (!warning.empty())
                 std::cerr << "hrbench: warning: " << warning << std::endl;
-        if (!o.json && o.minAreas.empty() && isatty(fileno(stderr))) {
+        if (!o.json && !o.sweep && isatty(fileno(stderr))) {
             o.refine.progress = &progress;
             display.emplace(progress, stderr);
         }
@@ -160,8 +161,8 @@ int Main(int argc, char **argv) {
         display.reset();
         return PrintSolve(scene, o, result);
     }
-    if (!o.minAreas.empty())
-        return PrintMinAreaSweep(scene, o);
+    if (o.sweep)
+        return PrintSweep(scene, o);
     nlohmann::json record = RunToJson(scene, o.refine, Count(scene, o.refine, o.method));
     display.reset();
     if (o.json)

@@ -14,17 +14,6 @@ namespace hrbench {
 
 namespace {
 
-// A comma-separated list of numbers, e.g. "1e-9,2e-9".
-std::vector<double> ParseDoubleList(const std::string &text, const std::string &flag) {
-    std::vector<double> values;
-    std::istringstream words(text);
-    for (std::string word; std::getline(words, word, ',');)
-        values.push_back(ParseDouble(word, flag));
-    if (values.empty() || text.back() == ',')
-        throw InputError(flag + " needs numbers separated by commas, not '" + text + "'");
-    return values;
-}
-
 int ClampedInt(const std::string &text, const std::string &flag) {
     return int(std::min<int64_t>(ParseInt(text, flag), 1 << 20));
 }
@@ -112,15 +101,15 @@ const std::vector<OptionSpec> &OptionTable() {
          "link a pair whose preferred element is smaller than A (length in\n2D, area in 3D; "
          "forced link)",
          [](Options &o, S v) { o.refine.minArea = ParseDouble(v, "--min-area"); }},
-        {"min_areas",
-         "--min-areas",
-         "A,A,...",
+        {"sweep",
+         "--sweep",
+         "P=V,V,...",
          {},
          {"run"},
-         "count each of several --min-area values, from one enumeration at\nthe "
-         "smallest (count-only, one thread; with --json one record per line,\neach "
+         "count the run at each value of P, eps or min_area, from one\nenumeration at "
+         "the smallest (count-only, one thread; with --json one\nrecord per line, each "
          "with an equal share of the time in seconds)",
-         [](Options &o, S v) { o.minAreas = ParseDoubleList(v, "--min-areas"); }},
+         [](Options &o, S v) { o.sweep = ParseSweep(v); }},
         {"max_depth",
          "--max-depth",
          "D",
@@ -410,6 +399,16 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
     } else if (!o.scene.empty() || !o.params.empty()) {
         throw InputError(o.command + " takes no scene");
     }
+    if (o.sweep) {
+        bool eps = o.sweep->param == "eps";
+        if (seen.count(eps ? "--eps" : "--min-area"))
+            throw InputError(std::string("--sweep ") + o.sweep->param + " replaces " +
+                             (eps ? "--eps" : "--min-area") + ": give one of them");
+        if (eps)
+            o.eps = o.sweep->values.front();  // each run's own is set when it is counted
+        if (o.method != "enumerate")
+            throw InputError("--sweep counts by enumeration: drop --method");
+    }
     if (refines && !o.eps)
         throw InputError(o.command + " needs --eps");
     if (o.command == "links" && o.out.empty())
@@ -418,12 +417,6 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
         throw InputError("check-links needs --links F, the link dump to check");
     if (o.command == "capabilities" && !o.json)
         throw InputError("capabilities prints JSON only; add --json");
-    if (!o.minAreas.empty()) {
-        if (o.refine.minArea > 0 || seen.count("--min-area"))
-            throw InputError("--min-areas replaces --min-area: give one of them");
-        if (o.method != "enumerate")
-            throw InputError("--min-areas counts by enumeration: drop --method");
-    }
     o.refine.eps = o.eps.value_or(0);
     o.refine.storeLinks = o.command == "links" || !o.countOnly;
     return o;

@@ -9,6 +9,7 @@
 
 #include "hrbench/refine_options.h"
 #include "hrbench/solve.h"
+#include "hrbench/sweep_count.h"
 #include "hrbench/util/input_file.h"
 
 namespace hrbench {
@@ -30,7 +31,7 @@ struct Options {
     bool json = false;
     bool countOnly = false;
     std::string method = "enumerate";  // run: how to count (Methods())
-    std::vector<double> minAreas;      // run --min-areas: one record per value
+    std::optional<SweepValues> sweep;  // run --sweep: one record per value
     SolveOptions solve;
     size_t maxInputBytes = kDefaultMaxInputBytes;  // size limit of a scene or mesh file
 };

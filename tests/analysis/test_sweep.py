@@ -184,10 +184,10 @@ needs_engine = pytest.mark.skipif(not HRBENCH.exists(), reason="build/hrbench no
 
 def logged_engine(tmp_path, fail_shared=False):
     # The real engine behind a script that logs each command line (and, if asked,
-    # fails every --min-areas run the way a crashing engine would).
+    # fails every --sweep run the way a crashing engine would).
     log = tmp_path / "runs.log"
     script = tmp_path / "hrbench"
-    fail = 'case "$*" in *--min-areas*) exit 70;; esac\n' if fail_shared else ""
+    fail = 'case "$*" in *--sweep*) exit 70;; esac\n' if fail_shared else ""
     script.write_text(f'#!/bin/sh\necho "$*" >> {log}\n{fail}exec {HRBENCH} "$@"\n')
     script.chmod(0o755)
     return script, log
@@ -205,27 +205,33 @@ def records(store, points):
     return out
 
 
+EPS_CLAIM = MIN_AREA_CLAIM.replace('eps = 0.05\nsweep.param = "min_area"',
+                                   'min_area = 1e-9\nsweep.param = "eps"').replace(
+    "from = 0.001, to = 0.000000001, per_decade = 2", "from = 0.5, to = 0.005, per_decade = 6")
+
+
 @needs_engine
 @pytest.mark.parametrize("fail_shared", [False, True])
-def test_min_area_sweep_runs_once_and_stores_what_separate_runs_give(tmp_path, fail_shared):
+@pytest.mark.parametrize("text, flag", [(MIN_AREA_CLAIM, "--min-area"), (EPS_CLAIM, "--eps")])
+def test_sweep_runs_once_and_stores_what_separate_runs_give(tmp_path, fail_shared, text, flag):
     path = tmp_path / "claims.toml"
-    path.write_text(MIN_AREA_CLAIM)
+    path.write_text(text)
     (claim,) = load_claims(path)
     engine, log = logged_engine(tmp_path, fail_shared)
     version = engine_version(engine)
-    shared = expand_claim(claim, "quick", engine, version, min_areas=True)
+    shared = expand_claim(claim, "quick", engine, version, shared_runs=True)
     alone = expand_claim(claim, "quick", engine, version)
     assert len(shared) == 13 and len({p.shared for p in shared}) == 1
     assert [p.key for p in shared] == [p.key for p in alone]
     assert all(p.shared == () for p in alone)
-    assert "--min-area" not in shared[0].shared
+    assert flag not in shared[0].shared and shared[0].shared[-2:] == ("--count-only", "--json")
     with ResultStore(tmp_path / "shared.sqlite") as store:
         log.write_text("")
         summary = run_points(shared, store, jobs=2, progress=None)
         assert summary == {"total": 13, "cached": 0, "ran": 13, "failed": 0}
         runs = log.read_text().splitlines()
         # One run for all 13 points, or, when it fails, that run and one per point.
-        assert sum("--min-areas" in r for r in runs) == 1
+        assert sum("--sweep" in r for r in runs) == 1
         assert len(runs) == (14 if fail_shared else 1)
         got = records(store, shared)
         assert sum(store.get(p.key).wall_seconds for p in shared) > 0
@@ -233,18 +239,15 @@ def test_min_area_sweep_runs_once_and_stores_what_separate_runs_give(tmp_path, f
         run_points(alone, store, jobs=2, progress=None)
         want = records(store, alone)
     assert got == want
-    assert len({r["nodes"] for r in got.values()}) > 5  # the limit changes the counts
+    assert len({r["nodes"] for r in got.values()}) > 5  # the swept value changes the counts
 
 
 @needs_engine
-def test_only_count_only_min_area_sweeps_without_conflicting_options_share_a_run(tmp_path):
+@pytest.mark.parametrize("options", ["{ threads = 2 }", '{ method = "enumerate" }'])
+def test_sweeps_with_options_a_shared_run_cannot_take_run_point_by_point(tmp_path, options):
     path = tmp_path / "claims.toml"
-    path.write_text(MIN_AREA_CLAIM.replace('eps = 0.05\n',
-                                           'eps = 0.05\noptions = { threads = 2 }\n'))
+    path.write_text(EPS_CLAIM.replace("min_area = 1e-9\n",
+                                      f"min_area = 1e-9\noptions = {options}\n"))
     (claim,) = load_claims(path)
-    points = expand_claim(claim, "quick", HRBENCH, engine_version(HRBENCH), min_areas=True)
-    assert all(p.shared == () for p in points)
-    eps_claim = load_claims(Path(__file__).parent / "data" / "small_claims.toml")[0]
-    points = expand_claim(eps_claim, "quick", HRBENCH, engine_version(HRBENCH),
-                          min_areas=True)
-    assert all(p.shared == () for p in points)
+    points = expand_claim(claim, "quick", HRBENCH, engine_version(HRBENCH), shared_runs=True)
+    assert points and all(p.shared == () for p in points)
