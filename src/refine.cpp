@@ -267,16 +267,6 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     }
 }
 
-// Calls _f_ with the visibility policy of _options_: NoVisibility when occlusion is
-// ignored (compiled out of the kernel), SampledVisibility otherwise.
-template <typename Shape, typename F>
-void WithVisibility(const Patches<Shape> &patches, const RefineOptions &options, F &&f) {
-    if (options.visibility == VisibilityMode::None)
-        return f(NoVisibility());
-    Occluders occluders(patches);
-    f(SampledVisibility<Shape>(occluders, options.raysPerSide, options.visibility));
-}
-
 // The one dispatch of a run: picks the oracle, the arity, the storage mode and the
 // visibility policy once, outside the recursion, and runs the kernel compiled for them.
 template <typename Shape>

@@ -175,15 +175,6 @@ std::vector<uint64_t> Trimmed(std::vector<uint64_t> histogram) {
     return histogram;
 }
 
-// The visibility policy of _options_, as Refine() chooses it.
-template <typename Shape, typename Fn>
-void WithVisibility(const Patches<Shape> &patches, const RefineOptions &options, Fn &&f) {
-    if (options.visibility == VisibilityMode::None)
-        return f(NoVisibility());
-    Occluders occluders(patches);
-    f(SampledVisibility<Shape>(occluders, options.raysPerSide, options.visibility));
-}
-
 // The records of each value in ascending order (_options_ per value).
 template <typename Shape>
 std::vector<RunRecord> Sweep(const Patches<Shape> &patches,

@@ -116,4 +116,15 @@ class SampledVisibility {
     std::vector<typename Shape::Vec> samplesI_, samplesJ_;
 };
 
+// Calls _f_ with the visibility policy of _options_, the one way a refinement picks
+// it: NoVisibility when occlusion is ignored (compiled out of the kernel),
+// SampledVisibility otherwise.
+template <typename Shape, typename F>
+void WithVisibility(const Patches<Shape> &patches, const RefineOptions &options, F &&f) {
+    if (options.visibility == VisibilityMode::None)
+        return f(NoVisibility());
+    Occluders occluders(patches);
+    f(SampledVisibility<Shape>(occluders, options.raysPerSide, options.visibility));
+}
+
 }  // namespace hrbench
