@@ -1,8 +1,9 @@
 """Sweeps: expand claims into ``hrbench run`` invocations and run them in parallel.
 
 Every run is looked up in the :class:`~hrbench_analysis.store.ResultStore` first; only missing
-points are run, on a pool of worker threads (each runs one ``hrbench`` process), and
-each finished point is committed to the store as soon as it finishes. Before a point
+points are run, on a pool of worker threads (each runs one ``hrbench`` process: one point,
+or the missing points of a count-only eps or min_area sweep together, ``hrbench run
+--sweep``), and each finished point is committed to the store as soon as it finishes. Before a point
 runs, the sweep takes its lease in the store, so that sweeps sharing one cache run each
 point once: a point another sweep is running is skipped and its result read when it is
 stored. The command lines and the processes themselves are :mod:`hrbench_analysis.engine`'s.
