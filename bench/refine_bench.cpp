@@ -7,10 +7,13 @@
 // Run everything:       build/refine_bench --benchmark_out=F.json --benchmark_out_format=json
 // Only the headline:    build/refine_bench --benchmark_filter=BM_Headline
 // Visibility rays:      build/refine_bench --benchmark_filter=BM_CornellVisibility
+// Sweeps (--sweep):     build/refine_bench --benchmark_filter=BM_Sweep
 #include <malloc.h>
 
+#include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
@@ -110,6 +113,49 @@ void BM_CornellVisibility(benchmark::State &state) {
     state.SetLabel(HasEmbree() ? "embree" : "cgal");
 }
 
+// _n_ values from _from_ to _to_, evenly spaced in log scale, as a sweep of the
+// analysis spaces them.
+std::vector<double> LogValues(double from, double to, int n) {
+    std::vector<double> values;
+    for (int k = 0; k < n; ++k)
+        values.push_back(from * std::pow(to / from, double(k) / (n - 1)));
+    return values;
+}
+
+// A sweep of the quick reproduction, smaller: the Cornell box over --min-area (17
+// values, 1e-4 to 1e-6, eps 0.1), or the occluded plates with visibility over eps (11
+// values, 1 to 0.1). _shared_: counted from one enumeration (CountSweep(), `run
+// --sweep`), else value by value (Count() per value). Both rows count the same links
+// (links_all_values); the ratio of their times is what `--sweep` saves.
+void BM_Sweep(benchmark::State &state, const std::string &which, bool shared) {
+    bool cornell = which == "cornell_min_area";
+    Scene scene = cornell ? MakeScene("cornell", {})
+                          : MakeScene("occluded3d", {{"l", 8}, {"d", 1}, {"bl", 2}, {"h", 0.5}});
+    RefineOptions options = Options("garmann", false, 0.1);
+    if (!cornell) {
+        options.visibility = VisibilityMode::Fraction;
+        options.raysPerSide = 2;
+    }
+    SweepValues sweep = cornell ? SweepValues{"min_area", LogValues(1e-4, 1e-6, 17)}
+                                : SweepValues{"eps", LogValues(1, 0.1, 11)};
+    uint64_t links = 0;
+    for (auto _ : state) {
+        links = 0;
+        if (shared) {
+            for (const RunRecord &r : CountSweep(scene, options, sweep))
+                links += r.counters.links;
+        } else {
+            for (double value : sweep.values) {
+                (cornell ? options.minArea : options.eps) = value;
+                links += Count(scene, options, "enumerate").counters.links;
+            }
+        }
+    }
+    state.counters["values"] = double(sweep.values.size());
+    state.counters["links_all_values"] = double(links);
+    state.SetLabel(shared ? "one enumeration" : "one run per value");
+}
+
 void EpsArgs(benchmark::internal::Benchmark *b, int64_t lowest, int64_t highest) {
     b->ArgNames({"inv_eps"})->RangeMultiplier(2)->Range(lowest, highest);
     b->Complexity(benchmark::oNSquared)->UseRealTime()->Unit(benchmark::kMillisecond);
@@ -147,6 +193,14 @@ BENCHMARK_CAPTURE(BM_GeometrySweep, hanrahan_store, "hanrahan", true, 0.002)
 BENCHMARK_CAPTURE(BM_Headline, garmann_count, false)->Apply(HeadlineArgs);
 BENCHMARK_CAPTURE(BM_Headline, garmann_store, true)->Apply(HeadlineArgs);
 BENCHMARK(BM_CornellVisibility)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Sweep, cornell_min_area_shared, "cornell_min_area", true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Sweep, cornell_min_area_separate, "cornell_min_area", false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Sweep, occluded3d_eps_shared, "occluded3d_eps", true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Sweep, occluded3d_eps_separate, "occluded3d_eps", false)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace hrbench
