@@ -1,6 +1,10 @@
 #include "hrbench/culling.h"
 
+#include <string>
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include "hrbench/util/error.h"
 
 namespace hrbench {
 
@@ -54,6 +58,14 @@ PairRelation ClassifyPair(const Polygon &p, const Polygon &q) {
             if (CGAL::do_intersect(tp[a], tq[b]))
                 return PairRelation::Touching;
     return PairRelation::Interacting;
+}
+
+bool RefinesRootPair(PairRelation relation, uint32_t p, uint32_t q, const RefineOptions &options) {
+    if (relation == PairRelation::Touching && !options.HasRecursionLimit())
+        throw InputError("patches " + std::to_string(p) + " and " + std::to_string(q) +
+                         " touch, so refinement cannot terminate; set a recursion limit with "
+                         "--min-area or --max-depth");
+    return relation != PairRelation::Culled;
 }
 
 }  // namespace hrbench

@@ -118,14 +118,10 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
             if (progress)
                 progress->At(counters.rootPairs);
             PairRelation relation = ClassifyPair(patches[p].shape, patches[q].shape);
-            if (relation == PairRelation::Culled) {
+            if (!RefinesRootPair(relation, p, q, options)) {
                 ++counters.culledPairs;
                 continue;
             }
-            if (relation == PairRelation::Touching && !options.HasRecursionLimit())
-                throw InputError("patches " + std::to_string(p) + " and " + std::to_string(q) +
-                                 " touch, so refinement cannot terminate; set a recursion "
-                                 "limit with --min-area or --max-depth");
             Tally before = topKernel.tally;
             topKernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), topLinks, &tasks);
             result.pairs.push_back({p, q, topKernel.tally.links - before.links,

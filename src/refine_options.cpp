@@ -33,6 +33,13 @@ VisibilityMode ParseVisibility(const std::string &name) {
     throw InputError("unknown visibility mode '" + name + "' (choose none, fraction or refine)");
 }
 
+void ThrowSafetyDepth(uint64_t p, uint64_t q) {
+    throw LimitError("refinement of patches " + std::to_string(p) + " and " + std::to_string(q) +
+                     " reached the safety depth " + std::to_string(kSafetyDepth) +
+                     " without an acceptable link; set a recursion limit with --min-area or "
+                     "--max-depth");
+}
+
 void ValidateOptions(const RefineOptions &o, int dimension) {
     const OracleInfo &oracle = FindOracle(o.oracle);
     if (!oracle.Supports(dimension))

@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <numeric>
-#include <sstream>
 #include <variant>
 
 #include "hrbench/culling.h"
 #include "hrbench/forest.h"
 #include "hrbench/oracles/registry.h"
-#include "hrbench/util/args.h"
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
 #include "hrbench/visibility.h"
@@ -93,11 +91,7 @@ class SweepKernel {
         int split = accepted;
         if (preferredDepth >= depthLimit_) {
             if (!userDepthLimit_ && accepted > 0)
-                throw LimitError("refinement of patches " + std::to_string(ei.root) + " and " +
-                                 std::to_string(ej.root) + " reached the safety depth " +
-                                 std::to_string(kSafetyDepth) +
-                                 " without an acceptable link; set a recursion limit with "
-                                 "--min-area or --max-depth");
+                ThrowSafetyDepth(ei.root, ej.root);
             split = 0;
         }
         if (bounds_.size() == 1)
@@ -138,8 +132,6 @@ class SweepKernel {
             }
             return oracle.Acceptable(ei, ej);
         };
-        if (reached == 0)
-            return 0;
         if (oracles_.size() == 1)
             return accepts(0) ? 0 : reached;
         int lo = 0, hi = reached;
@@ -206,16 +198,10 @@ std::vector<RunRecord> Sweep(const Patches<Shape> &patches,
                     for (uint32_t q = p + 1; q < numPatches; ++q) {
                         ++shared.rootPairs;
                         PairRelation relation = ClassifyPair(patches[p].shape, patches[q].shape);
-                        if (relation == PairRelation::Culled) {
+                        if (RefinesRootPair(relation, p, q, options))
+                            kernel.Project(p, q);
+                        else
                             ++shared.culledPairs;
-                            continue;
-                        }
-                        if (relation == PairRelation::Touching && !options.HasRecursionLimit())
-                            throw InputError("patches " + std::to_string(p) + " and " +
-                                             std::to_string(q) +
-                                             " touch, so refinement cannot terminate; set a "
-                                             "recursion limit with --min-area or --max-depth");
-                        kernel.Project(p, q);
                     }
                 }
                 splitAt = std::move(kernel.splitAt);
@@ -262,21 +248,6 @@ std::vector<RunRecord> Sweep(const Patches<Shape> &patches,
 }
 
 }  // namespace
-
-SweepValues ParseSweep(const std::string &text) {
-    size_t equals = text.find('=');
-    SweepValues sweep{text.substr(0, std::min(equals, text.size())), {}};
-    if (equals == std::string::npos || (sweep.param != "eps" && sweep.param != "min_area"))
-        throw InputError("--sweep needs eps=V,V,... or min_area=V,V,..., not '" + text + "'");
-    std::string list = text.substr(equals + 1);
-    std::istringstream words(list);
-    for (std::string word; std::getline(words, word, ',');)
-        sweep.values.push_back(ParseDouble(word, "--sweep " + sweep.param));
-    if (sweep.values.empty() || list.back() == ',')
-        throw InputError("--sweep needs numbers separated by commas after " + sweep.param +
-                         "=, not '" + list + "'");
-    return sweep;
-}
 
 std::vector<RunRecord> CountSweep(const Scene &scene, const RefineOptions &options,
                                   const SweepValues &sweep) {

@@ -83,10 +83,7 @@ std::pair<size_t, size_t> RejectedRun(size_t size, const Rejected &rejected, con
 // patches 0 and 1 has reached the safety depth.
 inline void CheckSafetyDepth(int preferredDepth) {
     if (preferredDepth >= kSafetyDepth)
-        throw LimitError("refinement of patches 0 and 1 reached the safety depth " +
-                         std::to_string(kSafetyDepth) +
-                         " without an acceptable link; set a recursion limit with "
-                         "--min-area or --max-depth");
+        ThrowSafetyDepth(0, 1);
 }
 
 // Fills the tree counters from the elements halved per depth in P and Q (each halving

@@ -233,20 +233,22 @@ def _execute_shared(points):
     words[at] = f"{param}=" + ",".join(format_number(getattr(p.key, param)) for p in points)
     run = run_engine(words)
     lines = run.stdout.splitlines()
-    if run.exit_code != 0 or len(lines) != len(points):
-        return [_execute(p) for p in points]
-    stored = []
-    for point, line in zip(points, lines, strict=True):
-        try:
-            result = parse_run_json(line)
-        except ResultFormatError:
-            return [_execute(p) for p in points]
-        if (_options_mismatch(result, point.key.options) or result.eps != point.key.eps
-                or result.min_area != point.key.min_area):
-            return [_execute(p) for p in points]
-        stored.append(StoredPoint(point.key, True, 0, "", line + "\n",
-                                  run.wall_seconds / len(points)))
-    return stored
+    if run.exit_code == 0 and len(lines) == len(points) and all(
+            _record_of(point, line) for point, line in zip(points, lines, strict=True)):
+        return [StoredPoint(point.key, True, 0, "", line + "\n", run.wall_seconds / len(points))
+                for point, line in zip(points, lines, strict=True)]
+    return [_execute(p) for p in points]
+
+
+def _record_of(point, line):
+    # Whether _line_ is a record of _point_'s run: readable, with its eps, min_area and
+    # options.
+    try:
+        result = parse_run_json(line)
+    except ResultFormatError:
+        return False
+    return (not _options_mismatch(result, point.key.options) and result.eps == point.key.eps
+            and result.min_area == point.key.min_area)
 
 
 def _options_mismatch(result, options):

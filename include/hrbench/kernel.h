@@ -102,7 +102,7 @@ class ProjectKernel {
         int preferredDepth = splitI ? depthI : depthJ;
         if (preferredSizeSquared < minAreaBound_ || preferredDepth >= depthLimit_) {
             if (!userDepthLimit_ && preferredDepth >= depthLimit_)
-                ThrowSafetyCap(i, j);
+                ThrowSafetyDepth(ei.root, ej.root);
             ++tally.forcedLinks;
             return AddLink(i, j, depthI + depthJ);
         }
@@ -168,7 +168,7 @@ class ProjectKernel {
         int preferredDepth = splitI ? depthI : depthJ;
         if (preferredSizeSquared < minAreaBound_ || preferredDepth >= depthLimit_) {
             if (!userDepthLimit_ && preferredDepth >= depthLimit_)
-                ThrowSafetyCap(i, j);
+                ThrowSafetyDepth(ei.root, ej.root);
             ++tally.forcedLinks;
             return AddLink(i, j, depthI + depthJ);
         }
@@ -203,14 +203,6 @@ class ProjectKernel {
                              std::to_string(links_->size()) +
                              " links); use --count-only, a larger eps or --max-memory");
         links_->Reserve(capacity);
-    }
-
-    [[noreturn]] void ThrowSafetyCap(uint32_t i, uint32_t j) const {
-        throw LimitError("refinement of patches " + std::to_string(forest_[i].root) + " and " +
-                         std::to_string(forest_[j].root) + " reached the safety depth " +
-                         std::to_string(kSafetyDepth) +
-                         " without an acceptable link; set a recursion limit with --min-area "
-                         "or --max-depth");
     }
 
     Forest &forest_;

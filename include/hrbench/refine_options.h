@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <variant>
 
@@ -38,6 +39,10 @@ VisibilityMode ParseVisibility(const std::string &name);
 // their midpoints to double rounding, and a pair that gets there would not terminate
 // on its own (touching patches). Reaching it is an error.
 constexpr int kSafetyDepth = 48;
+
+// Throws the LimitError of a rejected pair of the trees of root patches _p_ and _q_
+// whose preferred element has reached kSafetyDepth without a user limit.
+[[noreturn]] void ThrowSafetyDepth(uint64_t p, uint64_t q);
 
 struct RefineOptions {
     std::string oracle = "garmann";  // a name of the oracle registry (oracles/registry.h)

@@ -42,9 +42,6 @@ struct SweepValues {
 
 constexpr size_t kMaxSweepValues = 255;
 
-// Parses `--sweep`'s argument, "eps=V,V,..." or "min_area=V,V,..." (InputError otherwise).
-SweepValues ParseSweep(const std::string &text);
-
 // The run record of _scene_ at each value of _sweep_ (in the order given), from one
 // enumeration: what Count(scene, options with the parameter set to the value,
 // "enumerate") reports for each, with _seconds_ an equal share of the enumeration's

@@ -14,6 +14,22 @@ namespace hrbench {
 
 namespace {
 
+// `--sweep`'s argument, "eps=V,V,..." or "min_area=V,V,..." (InputError otherwise).
+SweepValues ParseSweep(const std::string &text) {
+    size_t equals = text.find('=');
+    SweepValues sweep{text.substr(0, equals), {}};
+    if (equals == std::string::npos || (sweep.param != "eps" && sweep.param != "min_area"))
+        throw InputError("--sweep needs eps=V,V,... or min_area=V,V,..., not '" + text + "'");
+    std::string list = text.substr(equals + 1);
+    std::istringstream words(list);
+    for (std::string word; std::getline(words, word, ',');)
+        sweep.values.push_back(ParseDouble(word, "--sweep " + sweep.param));
+    if (sweep.values.empty() || list.back() == ',')
+        throw InputError("--sweep needs numbers separated by commas after " + sweep.param +
+                         "=, not '" + list + "'");
+    return sweep;
+}
+
 int ClampedInt(const std::string &text, const std::string &flag) {
     return int(std::min<int64_t>(ParseInt(text, flag), 1 << 20));
 }
