@@ -1,7 +1,9 @@
 #include "hrbench/forest.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <tuple>
 
 #include "hrbench/util/error.h"
 
@@ -26,29 +28,44 @@ double SquaredSizeBound(double size) {
 
 template <typename Shape>
 Forest<Shape>::Forest(const Patches<Shape> &patches, size_t maxElements, Subdivision mode)
-    : numRoots_(patches.size()), maxElements_(maxElements), mode_(mode) {
+    : numRoots_(patches.size()), maxElements_(maxElements), mode_(mode),
+      arity_(SubdivisionArity(mode)) {
     if (numRoots_ >= (size_t(1) << 31))
         throw InputError("scene has too many patches");
+    if (maxElements < SIZE_MAX) {
+        size_t n = std::min<size_t>(maxElements, UINT32_MAX);
+        hot_.TryReserve(n), depth_.TryReserve(n);
+        splitElement_.TryReserve(n / arity_ + 1), splitShape_.TryReserve(n / arity_ + 1);
+    }
     for (const Patch<Shape> &patch : patches) {
         const Shape &s = patch.shape;
         hot_.push_back({s.Centroid(), s.SquaredMeasure(), kNoChildren, uint32_t(hot_.size())});
-        shapes_.push_back(s);
+        rootShapes_.push_back(s);
         depth_.push_back(0);
-        parent_.push_back(uint32_t(parent_.size()));
     }
+}
+
+template <typename Shape>
+Shape Forest<Shape>::ShapeOf(uint32_t i) const {
+    if (i < numRoots_)
+        return rootShapes_[i];
+    size_t group = (i - numRoots_) / arity_;
+    std::array<Shape, 4> children;
+    splitShape_[group].Subdivide(mode_, children);
+    return children[(i - numRoots_) % arity_];
 }
 
 template <typename Shape>
 uint32_t Forest<Shape>::Subdivide(uint32_t i) {
     // Refuse to grow past the budget or past 32-bit indices.
-    int arity = Arity();
-    if (hot_.size() + arity > maxElements_ || hot_.size() + arity > UINT32_MAX)
+    if (hot_.size() + arity_ > maxElements_ || hot_.size() + arity_ > UINT32_MAX)
         throw LimitError("element trees would exceed the memory budget (" +
                          std::to_string(hot_.size()) + " elements); raise --max-memory or eps");
 
     // Split element _i_ and check that double precision still resolves its children.
+    Shape shape = ShapeOf(i);
     std::array<Shape, 4> children;
-    int n = shapes_[i].Subdivide(mode_, children);  // == arity
+    int n = shape.Subdivide(mode_, children);  // == arity
     std::array<double, 4> squares{}, sizes{};
     for (int c = 0; c < n; ++c) {
         squares[c] = children[c].SquaredMeasure();
@@ -60,19 +77,39 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
                          " is too small for double precision at depth " +
                          std::to_string(depth_[i]) + "; use --min-area or --max-depth");
 
-    // Append the children, first child first.
+    // Append the children, first child first, and keep the shape they were split from.
     uint32_t first = uint32_t(hot_.size());
     uint32_t root = hot_[i].root;
     uint8_t depth = uint8_t(depth_[i] + 1);
     for (int c = 0; c < n; ++c) {
         hot_.push_back({children[c].Centroid(), squares[c], kNoChildren, root});
-        shapes_.push_back(children[c]);
         depth_.push_back(depth);
-        parent_.push_back(i);
     }
+    splitElement_.push_back(i);
+    splitShape_.push_back(shape);
     hot_[i].firstChild = first;
     return first;
 }
+
+namespace {
+
+// Moves entry k of each of _arrays_ (all of _n_ entries) to index to(k), where _to_ is
+// a permutation of [0, n), in place: cycle by cycle, with a bit per entry beside.
+template <typename To, typename... Arrays>
+void PermuteInPlace(size_t n, To to, Arrays &...arrays) {
+    std::vector<bool> placed(n);
+    for (size_t start = 0; start < n; ++start) {
+        if (placed[start] || to(start) == start)
+            continue;
+        auto carried = std::make_tuple(arrays[start]...);
+        for (size_t k = to(start); !placed[start]; k = to(k)) {
+            std::apply([&](auto &...value) { (std::swap(value, arrays[k]), ...); }, carried);
+            placed[k] = true;
+        }
+    }
+}
+
+}  // namespace
 
 template <typename Shape>
 std::vector<uint32_t> Forest<Shape>::Canonicalize() {
@@ -99,27 +136,19 @@ std::vector<uint32_t> Forest<Shape>::Canonicalize() {
             stack.push_back(first + c);
     }
 
-    // Point the links between elements at the new ids, then move every element to its
-    // new place, cycle by cycle.
-    for (uint32_t e = 0; e < Size(); ++e) {
+    // Point the links between elements at the new ids, then move every element, and
+    // every sibling group, to its new place.
+    for (uint32_t e = 0; e < Size(); ++e)
         if (hot_[e].firstChild != kNoChildren)
             hot_[e].firstChild = id[hot_[e].firstChild];
-        parent_[e] = id[parent_[e]];
-    }
-    std::vector<bool> placed(Size());
-    for (uint32_t start = 0; start < Size(); ++start) {
-        if (placed[start] || id[start] == start)
-            continue;
-        ElementType hot = hot_[start];
-        Shape shape = shapes_[start];
-        uint8_t depth = depth_[start];
-        uint32_t parent = parent_[start];
-        for (uint32_t to = id[start]; !placed[start]; to = id[to]) {
-            std::swap(hot, hot_[to]), std::swap(shape, shapes_[to]);
-            std::swap(depth, depth_[to]), std::swap(parent, parent_[to]);
-            placed[to] = true;
-        }
-    }
+    for (uint32_t &parent : splitElement_)
+        parent = id[parent];
+    PermuteInPlace(
+        Size(), [&](size_t e) { return id[e]; }, hot_, depth_);
+    PermuteInPlace(
+        splitElement_.size(),
+        [&](size_t g) { return (id[numRoots_ + g * arity_] - numRoots_) / arity_; }, splitElement_,
+        splitShape_);
     maxElements_ = SIZE_MAX;
     return id;
 }
@@ -127,8 +156,8 @@ std::vector<uint32_t> Forest<Shape>::Canonicalize() {
 template <typename Shape>
 uint64_t Forest<Shape>::Position(uint32_t i) const {
     uint64_t position = 0, weight = 1;
-    for (; parent_[i] != i; i = parent_[i], weight *= uint64_t(Arity()))
-        position += (i - hot_[parent_[i]].firstChild) * weight;
+    for (; i >= numRoots_; i = Parent(i), weight *= uint64_t(arity_))
+        position += (i - numRoots_) % arity_ * weight;
     return position;
 }
 

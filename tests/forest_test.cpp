@@ -134,6 +134,31 @@ TEST_CASE("Canonicalize renumbers in preorder of the sibling groups, moving ever
     CHECK(f.NumLeaves() == 7);
 }
 
+TEST_CASE("Canonicalize moves quadtree sibling groups and their shapes together", "[forest][3d]") {
+    // Out of order: the triangle's children, then the square's, then its last child's.
+    Forest<Polygon> f(SquareAndTriangle(), 1000, Subdivision::Quadtree);
+    REQUIRE(f.Children(1) == 2);   // 2..5
+    REQUIRE(f.Children(0) == 6);   // 6..9
+    REQUIRE(f.Children(9) == 10);  // 10..13
+    REQUIRE(f.Children(3) == 14);  // 14..17
+    std::vector<Polygon> before;
+    std::vector<uint32_t> parent;
+    for (uint32_t e = 0; e < f.Size(); ++e)
+        before.push_back(f.ShapeOf(e)), parent.push_back(f.Parent(e));
+    std::vector<uint32_t> id = f.Canonicalize();
+
+    // Roots; the square's children and its last child's; the triangle's and its second's.
+    CHECK(id ==
+          std::vector<uint32_t>{0, 1, 10, 11, 12, 13, 2, 3, 4, 5, 6, 7, 8, 9, 14, 15, 16, 17});
+    for (uint32_t e = 0; e < f.Size(); ++e) {
+        INFO("old element " << e);
+        CHECK(f.ShapeOf(id[e]).v == before[e].v);
+        CHECK(f.Parent(id[e]) == id[parent[e]]);
+    }
+    CHECK(f.Children(5) == 6);
+    CHECK(f.Position(9) == 15);
+}
+
 TEST_CASE("Polygon forests create children once, first child first", "[forest][3d]") {
     Patches<Polygon> patches = SquareAndTriangle();
     SECTION("binary") {
@@ -219,4 +244,52 @@ TEST_CASE("A forest refuses elements too small for double precision to split", "
         CHECK(depth < 300);
         CHECK_THAT(message, Catch::Contains("too small for double precision"));
     }
+}
+
+TEST_CASE("A reserved array grows in place and keeps its values when it must move",
+          "[forest][memory]") {
+    ReservedArray<Vec2> a;
+    REQUIRE(a.TryReserve(1000));
+    REQUIRE(a.capacity() >= 1000);
+    const Vec2 *start = a.begin();
+    for (int k = 0; k < 1000; ++k)
+        a.push_back(Vec2(k, -k));
+    CHECK(a.begin() == start);  // within the reservation nothing moved
+    CHECK(a.size() == 1000);
+
+    // Past the reservation it moves, as std::vector does, values intact.
+    size_t reserved = a.capacity();
+    while (a.size() <= reserved)
+        a.push_back(Vec2(double(a.size()), -double(a.size())));
+    CHECK(a.capacity() > reserved);
+    bool intact = true;
+    for (size_t k = 0; k < a.size(); ++k)
+        intact &= a[k] == Vec2(double(k), -double(k));
+    CHECK(intact);
+
+    // Copies are deep and keep the reservation; moves take the storage.
+    ReservedArray<Vec2> copy = a;
+    copy[0] = Vec2(7, 7);
+    CHECK(a[0] == Vec2(0, 0));
+    CHECK(copy.size() == a.size());
+    CHECK(copy.capacity() >= a.capacity());
+    const Vec2 *storage = copy.begin();
+    ReservedArray<Vec2> moved = std::move(copy);
+    CHECK(moved.begin() == storage);
+    CHECK(moved[0] == Vec2(7, 7));
+
+    // More than the address space holds is refused, and nothing is lost.
+    size_t size = a.size();
+    CHECK_THROWS_AS(a.Reserve(SIZE_MAX / 4), std::bad_alloc);
+    CHECK(a.size() == size);
+    CHECK(a[1] == Vec2(1, -1));
+}
+
+TEST_CASE("A forest with a budget grows without moving its elements", "[forest][memory]") {
+    Forest<Segment> f(TwoSegments(), 1 << 12, Subdivision::Binary);
+    const auto *first = &f[0];
+    for (uint32_t e = 0; f.Size() + 2 <= (1 << 12); ++e)
+        f.Children(e);
+    CHECK(f.Size() == (1 << 12));
+    CHECK(&f[0] == first);
 }

@@ -10,6 +10,7 @@
 
 #include "hrbench/geometry/subdivision.h"
 #include "hrbench/scene.h"
+#include "hrbench/util/reserved_array.h"
 
 namespace hrbench {
 
@@ -45,12 +46,15 @@ class Forest {
   public:
     using ElementType = Element<Shape::kDimension>;
 
-    // Bytes one element costs in the arena: hot record, shape, depth and parent.
+    // Bytes one element costs in the arena, at most: hot record and depth, and its share
+    // (half, or a quarter in a quadtree) of its sibling group's parent and of the shape
+    // that parent was split from.
     static constexpr size_t kBytesPerElement =
-        sizeof(ElementType) + sizeof(Shape) + sizeof(uint8_t) + sizeof(uint32_t);
+        sizeof(ElementType) + sizeof(uint8_t) + (sizeof(Shape) + sizeof(uint32_t)) / 2;
 
     // Creates one root element per patch; elements 0..n-1 are the roots. _maxElements_
-    // bounds the arena (a memory budget): growing past it throws LimitError.
+    // bounds the arena (a memory budget): growing past it throws LimitError. A finite
+    // bound is reserved as address space, so that growing to it moves nothing.
     Forest(const Patches<Shape> &patches, size_t maxElements, Subdivision mode);
 
     // The hot data of element _i_.
@@ -58,11 +62,12 @@ class Forest {
     size_t Size() const { return hot_.size(); }
     size_t NumRoots() const { return numRoots_; }
     Subdivision Mode() const { return mode_; }
-    int Arity() const { return SubdivisionArity(mode_); }
+    int Arity() const { return arity_; }
 
     // Makes room for _n_ elements in all, so that growing to that many moves nothing.
     void Reserve(size_t n) {
-        hot_.reserve(n), shapes_.reserve(n), depth_.reserve(n), parent_.reserve(n);
+        hot_.Reserve(n), depth_.Reserve(n);
+        splitElement_.Reserve(n / arity_ + 1), splitShape_.Reserve(n / arity_ + 1);
     }
 
     // Returns the index of the first child of _i_, subdividing _i_ the first time it is
@@ -88,11 +93,15 @@ class Forest {
         return children;
     }
 
-    // Cold data, for visibility sampling, output and tests.
-    const Shape &ShapeOf(uint32_t i) const { return shapes_[i]; }
+    // Cold data, for visibility sampling, output and tests. The shape of an element
+    // that is not split is made again from its parent's (the subdivision is
+    // deterministic, so it is the same shape, bit for bit, every time).
+    Shape ShapeOf(uint32_t i) const;
     int Depth(uint32_t i) const { return depth_[i]; }
     // Parent element, or the element itself for a root.
-    uint32_t Parent(uint32_t i) const { return parent_[i]; }
+    uint32_t Parent(uint32_t i) const {
+        return i < numRoots_ ? i : splitElement_[(i - numRoots_) / arity_];
+    }
     // Index of _i_ among the Arity()^Depth(i) elements of its depth in its tree, in
     // subdivision order (a segment's position along its root, from its start).
     uint64_t Position(uint32_t i) const;
@@ -107,10 +116,15 @@ class Forest {
     size_t numRoots_;
     size_t maxElements_;
     Subdivision mode_;
-    std::vector<ElementType> hot_;
-    std::vector<Shape> shapes_;
-    std::vector<uint8_t> depth_;
-    std::vector<uint32_t> parent_;
+    int arity_;
+    std::vector<Shape> rootShapes_;
+    ReservedArray<ElementType> hot_;
+    ReservedArray<uint8_t> depth_;
+    // Per sibling group g (elements numRoots + g * arity onwards, in the order they were
+    // made): the element split into it, and that element's shape. Only split elements
+    // keep their shape, which halves (quarters in a quadtree) what shapes cost.
+    ReservedArray<uint32_t> splitElement_;
+    ReservedArray<Shape> splitShape_;
 };
 
 extern template class Forest<Segment>;

@@ -95,12 +95,21 @@ class SampledVisibility {
 
     // Fraction in [0, 1] of the sample segments between elements _i_ and _j_ (the
     // shapes' SamplePoints, k per side) that no third patch blocks; counts the query
-    // and its rays in _tally_.
+    // and its rays in _tally_. Keeps the samples of the last query's elements, for as
+    // long as _forest_ keeps its ids (it grows, but is not renumbered or replaced).
     template <typename Forest>
     double Fraction(const Forest &forest, uint32_t i, uint32_t j, VisibilityTally &tally) {
-        samplesI_.clear(), samplesJ_.clear();
-        forest.ShapeOf(i).SamplePoints(k_, samplesI_);
-        forest.ShapeOf(j).SamplePoints(k_, samplesJ_);
+        // One side of consecutive queries is mostly the same element (the kernel splits
+        // the other): its samples are kept from the last query.
+        if (&forest != forest_ || i != sampledI_) {
+            samplesI_.clear();
+            forest.ShapeOf(i).SamplePoints(k_, samplesI_);
+        }
+        if (&forest != forest_ || j != sampledJ_) {
+            samplesJ_.clear();
+            forest.ShapeOf(j).SamplePoints(k_, samplesJ_);
+        }
+        forest_ = &forest, sampledI_ = i, sampledJ_ = j;
         uint64_t visible =
             occluders_->CountVisible(samplesI_, samplesJ_, forest[i].root, forest[j].root);
         uint64_t rays = uint64_t(samplesI_.size()) * samplesJ_.size();
@@ -114,6 +123,8 @@ class SampledVisibility {
     int k_;
     VisibilityMode mode_;
     std::vector<typename Shape::Vec> samplesI_, samplesJ_;
+    const void *forest_ = nullptr;  // whose elements sampledI_ and sampledJ_ are
+    uint32_t sampledI_ = 0, sampledJ_ = 0;
 };
 
 // Calls _f_ with the visibility policy of _options_, the one way a refinement picks
