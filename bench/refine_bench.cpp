@@ -41,9 +41,10 @@ void RunRefine(benchmark::State &state, const Scene &scene, const RefineOptions 
         size_t before = measured ? 0 : HeapBytes();
         Refinement<Segment> r = Refine<Segment>(scene, options);
         if (!measured) {
-            // Count what the result keeps: the link array, then the trees and the rest.
+            // Count what the result keeps: the link array, then the trees (mapped
+            // outside the heap) and the rest.
             linkBytes = r.links.capacity() * sizeof(Link);
-            otherBytes = HeapBytes() - before - linkBytes;
+            otherBytes = r.forest.Bytes() + (HeapBytes() - before - linkBytes);
             measured = true;
         }
         benchmark::DoNotOptimize(r.record.counters.links);

@@ -106,6 +106,13 @@ class Forest {
     // subdivision order (a segment's position along its root, from its start).
     uint64_t Position(uint32_t i) const;
 
+    // Bytes the trees hold (their arrays' elements, not the address space reserved
+    // beyond them).
+    size_t Bytes() const {
+        return rootShapes_.size() * sizeof(Shape) + hot_.size() * sizeof(ElementType) +
+               depth_.size() + splitElement_.size() * (sizeof(uint32_t) + sizeof(Shape));
+    }
+
     // Counters of the trees: elements per depth, elements without children.
     std::vector<uint64_t> NodesPerDepth() const;
     uint64_t NumLeaves() const;
