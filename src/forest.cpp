@@ -34,8 +34,8 @@ Forest<Shape>::Forest(const Patches<Shape> &patches, size_t maxElements, Subdivi
         throw InputError("scene has too many patches");
     if (maxElements < SIZE_MAX) {
         size_t n = std::min<size_t>(maxElements, UINT32_MAX);
-        hot_.TryReserve(n), depth_.TryReserve(n);
-        splitElement_.TryReserve(n / arity_ + 1), splitShape_.TryReserve(n / arity_ + 1);
+        hot_.ReserveUpFront(n), depth_.ReserveUpFront(n);
+        splitElement_.ReserveUpFront(n / arity_ + 1), splitShape_.ReserveUpFront(n / arity_ + 1);
     }
     for (const Patch<Shape> &patch : patches) {
         const Shape &s = patch.shape;

@@ -54,7 +54,8 @@ class Forest {
 
     // Creates one root element per patch; elements 0..n-1 are the roots. _maxElements_
     // bounds the arena (a memory budget): growing past it throws LimitError. A finite
-    // bound is reserved as address space, so that growing to it moves nothing.
+    // bound is reserved as address space where that is free (ReservationsAreFree()),
+    // so that growing to it moves nothing.
     Forest(const Patches<Shape> &patches, size_t maxElements, Subdivision mode);
 
     // The hot data of element _i_.

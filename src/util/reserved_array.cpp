@@ -1,9 +1,11 @@
 #include "hrbench/util/reserved_array.h"
 
 #include <cstdlib>
+#include <fstream>
 
 #if defined(__unix__)
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <unistd.h>
 #endif
 
@@ -18,12 +20,27 @@ size_t PageRoundUp(size_t bytes) {
     return (bytes + page - 1) / page * page;
 }
 
+bool ReservationsAreFree() {
+#if defined(__linux__)
+    static const bool free = [] {
+        struct rlimit limit;
+        if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur != RLIM_INFINITY)
+            return false;
+        std::ifstream policy("/proc/sys/vm/overcommit_memory");
+        int mode = 2;
+        return bool(policy >> mode) && mode != 2;
+    }();
+    return free;
+#else
+    return false;
+#endif
+}
+
 void *MapAddressSpace(size_t bytes) {
     bytes = PageRoundUp(bytes);
 #if defined(__unix__)
     // MAP_NORESERVE: a reservation far beyond what is used is not charged against the
-    // commit limit (under strict overcommit it is, and a refusal makes the caller
-    // reserve less).
+    // commit limit (except under strict overcommit, where none is made up front).
     void *address = mmap(nullptr, bytes, PROT_READ | PROT_WRITE,
                          MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
     return address == MAP_FAILED ? nullptr : address;

@@ -1,8 +1,9 @@
-// An array that grows in place: its address space is reserved up front for the most
-// elements it may hold, and the system backs it with memory page by page as it fills.
-// A std::vector grown by doubling holds the old and the new block at once, and copies
-// the one into the other; a forest growing to its memory budget then peaks at twice its
-// size. Here growth within the reservation moves nothing, and only touched pages count.
+// An array that grows in place: where that costs nothing, its address space is reserved
+// up front for the most elements it may hold, and the system backs it with memory page
+// by page as it fills. A std::vector grown by doubling holds the old and the new block
+// at once, and copies the one into the other; a forest growing to its memory budget then
+// peaks at twice its size. Here growth within the reservation moves nothing, and only
+// touched pages count.
 #pragma once
 
 #include <algorithm>
@@ -21,12 +22,19 @@ void *MapAddressSpace(size_t bytes);
 void UnmapAddressSpace(void *address, size_t bytes);
 size_t PageRoundUp(size_t bytes);
 
+// Whether address space reserved beyond what is used costs nothing here: the process's
+// address space is not limited (RLIMIT_AS) and the system does not charge reservations
+// against a commit limit (Linux, vm.overcommit_memory other than 2). Elsewhere a
+// reservation for a whole memory budget would take what other arrays, and threads'
+// stacks, need.
+bool ReservationsAreFree();
+
 template <typename T>
 class ReservedArray {
   public:
     ReservedArray() = default;
     ReservedArray(const ReservedArray &other) {
-        TryReserve(other.capacity_);
+        ReserveUpFront(other.capacity_);
         Reserve(other.size_);
         std::uninitialized_copy(other.begin(), other.end(), data_);
         size_ = other.size_;
@@ -45,14 +53,13 @@ class ReservedArray {
             throw std::bad_alloc();
     }
 
-    // Reserves room for up to _n_ elements if the system grants it, else for fewer, by
-    // halving, but never fewer than now; returns whether room for _n_ was reserved. For
-    // a caller that knows the most it may need, which is often far more than it uses.
-    bool TryReserve(size_t n) {
-        for (size_t want = n; want > capacity_; want = std::max(want / 2, capacity_))
-            if (Relocate(want))
-                break;
-        return capacity_ >= n;
+    // Reserves room for _n_ elements where reservations are free (ReservationsAreFree())
+    // and the system grants it; otherwise changes nothing, and the array grows by
+    // doubling, as std::vector does. For a caller that knows the most it may need,
+    // which is often far more than it uses.
+    void ReserveUpFront(size_t n) {
+        if (n > capacity_ && ReservationsAreFree())
+            Relocate(n);
     }
 
     void push_back(const T &value) {
