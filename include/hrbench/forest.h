@@ -82,7 +82,8 @@ class Forest {
     // (roots first; then, in preorder, each subdivided element's children,
     // consecutively), which the union of several forests also has, and lifts the
     // memory budget. Returns the map from old to new ids. Costs 4 bytes and a bit per
-    // element beside the forest, where building a canonical copy would double it.
+    // element, and a bit per sibling group, beside the forest, where building a
+    // canonical copy would double it.
     std::vector<uint32_t> Canonicalize();
 
     // The first child of every element, in id order (kNoChildren for a leaf): the
