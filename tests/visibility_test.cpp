@@ -2,6 +2,8 @@
 // configurations whose answer is known (a blocker that hides everything, nothing, half).
 #include <catch2/catch.hpp>
 
+#include <set>
+
 #include "hrbench/generators/generators.h"
 #include "hrbench/hrbench.h"
 #include "hrbench/visibility.h"
@@ -150,4 +152,39 @@ TEST_CASE("Visibility counts do not depend on the thread count", "[visibility][e
     CHECK(one.occludedPairs == two.occludedPairs);
     CHECK(one.links == two.links);
     CHECK(one.nodes == two.nodes);
+}
+
+TEST_CASE("Samples kept from the last query are those a fresh query takes", "[visibility][3d]") {
+    // The occluded plates, split two levels deep: pairs of elements that the blocker
+    // hides to different degrees, queried in an order where i repeats, j repeats, both
+    // change and the two swap, against a fresh policy for every query.
+    Scene scene = MakeScene("occluded3d", {});
+    Occluders occluders(scene.Get<Polygon>());
+    Forest<Polygon> forest(scene.Get<Polygon>(), 1000, Subdivision::Binary);
+    uint32_t p = forest.Children(0), q = forest.Children(1);
+    uint32_t pp = forest.Children(p), qq = forest.Children(q + 1);
+    std::vector<std::pair<uint32_t, uint32_t>> pairs = {
+        {p, q},       {p, q + 1},       {p + 1, q + 1},   {pp, q + 1},      {pp + 1, q + 1},
+        {pp + 1, qq}, {pp + 1, qq + 1}, {qq + 1, pp + 1}, {pp + 1, qq + 1}, {p, q},
+        {0, 1}};
+    SampledVisibility<Polygon> kept(occluders, 3, VisibilityMode::Fraction);
+    VisibilityTally keptTally, freshTally;
+    std::set<double> seen;
+    for (auto [i, j] : pairs) {
+        INFO("pair " << i << ", " << j);
+        SampledVisibility<Polygon> fresh(occluders, 3, VisibilityMode::Fraction);
+        double v = kept.Fraction(forest, i, j, keptTally);
+        CHECK(v == fresh.Fraction(forest, i, j, freshTally));
+        seen.insert(v);
+    }
+    CHECK(keptTally.rays == freshTally.rays);
+    CHECK(seen.size() >= 3);  // the pairs differ, so stale samples would show
+
+    // Another forest, whose elements 0 and 1 lie elsewhere, is not served from the first.
+    Forest<Polygon> other(MakeScene("parallel3d", {{"ox", 1.5}}).Get<Polygon>(), 1000,
+                          Subdivision::Binary);
+    SampledVisibility<Polygon> fresh(occluders, 3, VisibilityMode::Fraction);
+    double elsewhere = fresh.Fraction(other, 0, 1, freshTally);
+    REQUIRE(elsewhere != kept.Fraction(forest, 0, 1, keptTally));
+    CHECK(kept.Fraction(other, 0, 1, keptTally) == elsewhere);
 }
