@@ -10,6 +10,11 @@
 #include <tuple>
 #include <variant>
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
+
 #include "hrbench/generators/generators.h"
 #include "hrbench/hrbench.h"
 #include "refinement_helpers.h"
@@ -467,6 +472,34 @@ TEST_CASE("LinkBuffer::Discard loses only whole pages inside the range it is giv
     CHECK(links.size() == n);
     links[150000] = {7, 8};
     CHECK(links[150000].j == 8);
+}
+
+TEST_CASE("LinkBuffer::Populate backs the pages of a range and changes no link",
+          "[refine][links]") {
+    LinkBuffer links;
+    const size_t n = 1 << 20;  // 8 MiB: fresh pages, none backed before they are touched
+    links.Reserve(n);
+    for (uint32_t k = 0; k < 1000; ++k)
+        links.Append({k, ~k});
+    bool backed = links.Populate(500, 300001);  // from inside a page to inside another
+    for (uint32_t k = 0; k < 1000; ++k)
+        if (links[k].i != k || links[k].j != ~k)
+            FAIL("link " << k << " changed");
+#if defined(__linux__)
+    if (backed) {  // every page that holds one of links [500, 300001) is in memory
+        const uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
+        uintptr_t first = reinterpret_cast<uintptr_t>(&links[500]) / page * page;
+        uintptr_t last = reinterpret_cast<uintptr_t>(&links[300000]) / page * page + page;
+        std::vector<unsigned char> resident((last - first) / page);
+        REQUIRE(mincore(reinterpret_cast<void *>(first), last - first, resident.data()) == 0);
+        for (size_t p = 0; p < resident.size(); ++p)
+            if (!(resident[p] & 1))
+                FAIL("page " << p << " of the range is not in memory");
+    }
+#endif
+    (void)backed;
+    links.Append({7, 8});
+    CHECK(links[1000].j == 8);
 }
 
 // ---------------------------------------------------------------------------------------

@@ -8,6 +8,8 @@
 #include <type_traits>
 #include <utility>
 
+#include "hrbench/util/reserved_array.h"
+
 #if defined(__unix__)
 #include <sys/mman.h>
 #include <unistd.h>
@@ -78,6 +80,13 @@ class LinkBuffer {
 #else
         (void)begin, (void)end;
 #endif
+    }
+
+    // Backs links [begin, end) (within the capacity) with memory now, in one system
+    // call, where appending them would fault a page at a time; false where the system
+    // cannot (PopulateAddressSpace()).
+    bool Populate(size_t begin, size_t end) {
+        return PopulateAddressSpace(data_ + begin, data_ + end);
     }
 
     // Sets the size to _n_ <= capacity(), leaving any new links unwritten: for a caller

@@ -49,6 +49,19 @@ void *MapAddressSpace(size_t bytes) {
 #endif
 }
 
+bool PopulateAddressSpace(const void *begin, const void *end) {
+#if defined(MADV_POPULATE_WRITE)
+    static const uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
+    uintptr_t first = reinterpret_cast<uintptr_t>(begin) / page * page;
+    uintptr_t last = (reinterpret_cast<uintptr_t>(end) + page - 1) / page * page;
+    return last <= first ||
+           madvise(reinterpret_cast<void *>(first), last - first, MADV_POPULATE_WRITE) == 0;
+#else
+    (void)begin, (void)end;
+    return false;
+#endif
+}
+
 void UnmapAddressSpace(void *address, size_t bytes) {
 #if defined(__unix__)
     munmap(address, PageRoundUp(bytes));

@@ -21,6 +21,10 @@ namespace hrbench {
 void *MapAddressSpace(size_t bytes);
 void UnmapAddressSpace(void *address, size_t bytes);
 size_t PageRoundUp(size_t bytes);
+// Backs the pages that hold [begin, end), all of it mapped, with memory now: one system
+// call, where touching them one by one takes a fault each. What they hold is unchanged.
+// Returns false, doing nothing, where the system cannot (before Linux 5.14; elsewhere).
+bool PopulateAddressSpace(const void *begin, const void *end);
 
 // Whether address space reserved beyond what is used costs nothing here: the process's
 // address space is not limited (RLIMIT_AS) and the system does not charge reservations
