@@ -36,11 +36,10 @@ class ForestUnion {
   public:
     using Children = std::vector<uint32_t>;  // first child of each element, or kNoChildren
 
-    ForestUnion(const std::vector<Children> &workers, Forest &canonical, bool buildMaps)
+    ForestUnion(const std::vector<Children> &workers, Forest &canonical)
         : workers_(workers), canonical_(canonical), scratch_(kSafetyDepth + 2) {
-        if (buildMaps)
-            for (const Children &w : workers)
-                maps_.emplace_back(w.size(), UINT32_MAX);
+        for (const Children &w : workers)
+            maps_.emplace_back(w.size(), UINT32_MAX);
         for (auto &level : scratch_)
             level.resize(workers.size());
         // The union has at most as many elements as the workers' forests together:
@@ -68,8 +67,7 @@ class ForestUnion {
         for (size_t w = 0; w < workers_.size(); ++w) {
             if (local[w] == kAbsent)
                 continue;
-            if (!maps_.empty())
-                maps_[w][local[w]] = id;
+            maps_[w][local[w]] = id;
             subdivided |= workers_[w][local[w]] != kNoChildren;
         }
         if (!subdivided)
@@ -89,6 +87,80 @@ class ForestUnion {
     std::vector<std::vector<uint32_t>> scratch_;
     std::vector<std::vector<uint32_t>> maps_;
 };
+
+// The tree counters of a forest: elements, leaves, elements per depth.
+template <typename Forest>
+void CountTrees(const Forest &forest, Counters &c) {
+    c.nodes = forest.Size();
+    c.leaves = forest.NumLeaves();
+    c.nodesPerDepth = forest.NodesPerDepth();
+}
+
+// The tree counters of the union of the workers' forests, counted without building it
+// (for count-only runs, where no link refers to an element): each tree is walked in all
+// forests at once, the trees on up to _threads_ threads. The walk takes the elements it
+// has yet to visit kBatch at a time, so that their children, which lie anywhere in the
+// forests, are looked up together rather than each after the last.
+template <typename Forest>
+void CountUnion(const std::vector<Forest> &forests, int threads, Counters &c) {
+    constexpr uint32_t kAbsent = UINT32_MAX;
+    constexpr size_t kBatch = 64;
+    const size_t numWorkers = forests.size(), frame = numWorkers + 1;
+    const uint32_t arity = uint32_t(forests[0].Arity());
+    struct Walk {
+        uint64_t leaves = 0;
+        std::vector<uint64_t> perDepth;
+        std::vector<uint32_t> pending;  // per element to visit: its depth, its id per forest
+        std::vector<uint32_t> batch;    // the next elements to visit, as pending holds them
+        std::vector<uint32_t> first;    // their first child per forest
+    };
+    std::vector<Walk> walks(static_cast<size_t>(threads));
+    std::atomic<size_t> nextWalk{0};
+    ParallelFor(
+        forests[0].NumRoots(), 1, threads, [&] { return &walks[nextWalk++]; },
+        [&](Walk *walk, size_t root) {
+            std::vector<uint32_t> &pending = walk->pending, &batch = walk->batch,
+                                  &first = walk->first;
+            pending.push_back(0);
+            pending.insert(pending.end(), numWorkers, uint32_t(root));
+            while (!pending.empty()) {
+                size_t n = std::min(pending.size() / frame, kBatch);
+                batch.assign(pending.end() - n * frame, pending.end());
+                pending.resize(pending.size() - n * frame);
+                first.resize(n * numWorkers);
+                for (size_t e = 0; e < n; ++e)
+                    for (size_t w = 0; w < numWorkers; ++w) {
+                        uint32_t local = batch[e * frame + 1 + w];
+                        first[e * numWorkers + w] =
+                            local == kAbsent ? kNoChildren : forests[w][local].firstChild;
+                    }
+                for (size_t e = 0; e < n; ++e) {
+                    uint32_t depth = batch[e * frame];
+                    const uint32_t *f = &first[e * numWorkers];
+                    bool split =
+                        std::any_of(f, f + numWorkers, [](uint32_t x) { return x != kNoChildren; });
+                    if (depth >= walk->perDepth.size())
+                        walk->perDepth.resize(depth + 1);
+                    ++walk->perDepth[depth];
+                    walk->leaves += !split;
+                    for (uint32_t k = 0; split && k < arity; ++k) {
+                        pending.push_back(depth + 1);
+                        for (size_t w = 0; w < numWorkers; ++w)
+                            pending.push_back(f[w] == kNoChildren ? kAbsent : f[w] + k);
+                    }
+                }
+            }
+        });
+    c.nodes = c.leaves = 0;
+    c.nodesPerDepth.clear();
+    for (const Walk &walk : walks) {
+        c.leaves += walk.leaves;
+        if (walk.perDepth.size() > c.nodesPerDepth.size())
+            c.nodesPerDepth.resize(walk.perDepth.size());
+        for (size_t d = 0; d < walk.perDepth.size(); ++d)
+            c.nodes += walk.perDepth[d], c.nodesPerDepth[d] += walk.perDepth[d];
+    }
+}
 
 // Runs the kernel over all root pairs in scene order: a sequential pass down to the
 // task depth, then the tasks on worker threads, each with its own copy of the trees.
@@ -215,16 +287,22 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
             result.links.ShrinkToFit();
         }
         result.forest = std::move(forests[0]);
-        return;
+        return CountTrees(result.forest, counters);
     }
 
-    // Merge the trees into canonical ids and translate the links to them.
-    std::vector<std::vector<uint32_t>> children;
-    for (const F &forest : forests)
-        children.push_back(forest.FirstChildren());
-    std::vector<F>().swap(forests);
-    ForestUnion<F> merged(children, result.forest, kStoreLinks);
-    if constexpr (kStoreLinks) {
+    // Several workers, without links: no element id is seen, so their trees are
+    // counted as one instead of merged, and the result keeps only the roots.
+    if constexpr (!kStoreLinks) {
+        CountUnion(forests, options.threads, counters);
+    } else {
+        // Merge the trees into canonical ids and translate the links to them.
+        std::vector<std::vector<uint32_t>> children;
+        for (const F &forest : forests)
+            children.push_back(forest.FirstChildren());
+        std::vector<F>().swap(forests);
+        ForestUnion<F> merged(children, result.forest);
+        CountTrees(result.forest, counters);
+
         // Concatenate the tasks' ranges in task order, translating each worker's ids:
         // every task's range has its place known in advance, so the tasks are copied
         // on the run's threads, each giving its source range back to the system.
@@ -328,11 +406,7 @@ Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options) {
     result.record.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    // Summarise the trees.
     Counters &c = result.record.counters;
-    c.nodes = result.forest.Size();
-    c.leaves = result.forest.NumLeaves();
-    c.nodesPerDepth = result.forest.NodesPerDepth();
     c.maxDepth = c.nodesPerDepth.size() - 1;
     return result;
 }

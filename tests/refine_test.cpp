@@ -529,6 +529,40 @@ TEST_CASE("Counts, element ids and links do not depend on the number of threads"
     }
 }
 
+TEST_CASE("Count-only counters do not depend on the number of threads, nor the tasks' order",
+          "[refine][threads]") {
+    // Several workers' trees are counted as one, not merged: the counters must be those
+    // of the merged trees that store mode builds, for every scene, arity and visibility.
+    auto check = [](const Scene &scene, RefineOptions o) {
+        AnyRefinement reference = Refine(scene, o);  // links stored, trees merged
+        const Counters &want = std::visit(
+            [](const auto &r) -> const Counters & { return r.record.counters; }, reference);
+        REQUIRE(want.links > 2000);  // deep enough to hand tasks to the workers
+        o.storeLinks = false;
+        for (int threads : {1, 2, 3, 5}) {
+            INFO(scene.family << " threads=" << threads);
+            o.threads = threads;
+            std::visit(
+                [&](const auto &r) {
+                    CHECK(CounterDifferences(want, r.record.counters) == "");
+                    // On several threads the result keeps only the roots.
+                    CHECK(r.forest.Size() == (threads == 1 ? want.nodes : r.forest.NumRoots()));
+                },
+                Refine(scene, o));
+        }
+    };
+    check(MakeScene("parallel", {{"l", 128}, {"d", 1}}), Options(0.05));
+    check(MakeScene("random", {{"n", 15}, {"seed", 4}, {"size", 6}}), Options(0.03));
+    check(MakeScene("array", {{"k", 4}}), Options(0.02, "hanrahan"));
+    check(MakeScene("parallel3d", {{"l", 4}, {"w", 4}}), Options3D(0.05));
+    check(MakeScene("parallel3d", {{"l", 4}, {"w", 4}}),
+          Options3D(0.05, "garmann", Subdivision::Quadtree));
+    RefineOptions visible = Options3D(0.02, "hanrahan");
+    visible.minArea = 1e-2;
+    visible.visibility = VisibilityMode::Fraction;
+    check(MakeScene("cornell", {}), visible);
+}
+
 TEST_CASE("3D counts and links do not depend on the number of threads", "[3d][refine][threads]") {
     Scene scene = MakeScene("parallel3d", {{"l", 4}, {"w", 4}});
     for (VisibilityMode mode : {VisibilityMode::None, VisibilityMode::Fraction}) {

@@ -48,8 +48,10 @@ struct PairTally {
 // trees in preorder, children allocated when their parent is first reached. So ids,
 // like counts, do not depend on the number of threads. Links are ordered by the
 // refinement's task order, which does not depend on it either. In count-only mode,
-// where no link refers to an id, the forest holds the same elements (the same counts
-// per depth), but on one thread in the order the refinement made them.
+// where no link refers to an id, the trees are counted but not renumbered: on one
+// thread the forest holds the same elements in the order the refinement made them; on
+// several it holds only the roots, as the workers' trees are counted as one rather
+// than merged (the counters are the same).
 template <typename Shape>
 struct Refinement {
     Forest<Shape> forest;
