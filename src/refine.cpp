@@ -97,12 +97,14 @@ void CountTrees(const Forest &forest, Counters &c) {
 }
 
 // The tree counters of the union of the workers' forests, counted without building it
-// (for count-only runs, where no link refers to an element): each tree is walked in all
-// forests at once, the trees on up to _threads_ threads. The walk takes the elements it
-// has yet to visit kBatch at a time, so that their children, which lie anywhere in the
+// (for count-only runs, where no link refers to an element). Every worker's forest
+// began as a copy of _top_, so an element of _top_ has its id in all of them: _top_'s
+// split elements are counted directly, and the subtrees below its leaves are walked in
+// all forests at once, on up to _threads_ threads. The walk takes the elements it has
+// yet to visit kBatch at a time, so that their children, which lie anywhere in the
 // forests, are looked up together rather than each after the last.
 template <typename Forest>
-void CountUnion(const std::vector<Forest> &forests, int threads, Counters &c) {
+void CountUnion(const Forest &top, const std::vector<Forest> &forests, int threads, Counters &c) {
     constexpr uint32_t kAbsent = UINT32_MAX;
     constexpr size_t kBatch = 64;
     const size_t numWorkers = forests.size(), frame = numWorkers + 1;
@@ -114,15 +116,26 @@ void CountUnion(const std::vector<Forest> &forests, int threads, Counters &c) {
         std::vector<uint32_t> batch;    // the next elements to visit, as pending holds them
         std::vector<uint32_t> first;    // their first child per forest
     };
-    std::vector<Walk> walks(static_cast<size_t>(threads));
+    std::vector<Walk> walks(static_cast<size_t>(threads) + 1);
+    std::vector<uint32_t> leaves;
+    for (uint32_t e = 0; e < top.Size(); ++e) {
+        if (top[e].firstChild == kNoChildren) {
+            leaves.push_back(e);
+            continue;
+        }
+        std::vector<uint64_t> &perDepth = walks.back().perDepth;
+        if (size_t(top.Depth(e)) >= perDepth.size())
+            perDepth.resize(top.Depth(e) + 1);
+        ++perDepth[top.Depth(e)];
+    }
     std::atomic<size_t> nextWalk{0};
     ParallelFor(
-        forests[0].NumRoots(), 1, threads, [&] { return &walks[nextWalk++]; },
-        [&](Walk *walk, size_t root) {
+        leaves.size(), 1, threads, [&] { return &walks[nextWalk++]; },
+        [&](Walk *walk, size_t leaf) {
             std::vector<uint32_t> &pending = walk->pending, &batch = walk->batch,
                                   &first = walk->first;
-            pending.push_back(0);
-            pending.insert(pending.end(), numWorkers, uint32_t(root));
+            pending.push_back(uint32_t(top.Depth(leaves[leaf])));
+            pending.insert(pending.end(), numWorkers, leaves[leaf]);
             while (!pending.empty()) {
                 size_t n = std::min(pending.size() / frame, kBatch);
                 batch.assign(pending.end() - n * frame, pending.end());
@@ -293,7 +306,7 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     // Several workers, without links: no element id is seen, so their trees are
     // counted as one instead of merged, and the result keeps only the roots.
     if constexpr (!kStoreLinks) {
-        CountUnion(forests, options.threads, counters);
+        CountUnion(top, forests, options.threads, counters);
     } else {
         // Merge the trees into canonical ids and translate the links to them.
         std::vector<std::vector<uint32_t>> children;
