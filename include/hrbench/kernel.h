@@ -67,8 +67,8 @@ class ProjectKernel {
     // Refines _start_ completely (below the frontier), appending links to _links_
     // and frontier pairs to _tasks_.
     void Project(Call start, uint32_t pair, LinkBuffer &links, std::vector<Task> *tasks) {
-        links_ = &links;
-        populated_ = links.size();
+        if (links_ != &links)  // a buffer this kernel has not backed yet (tasks share one)
+            links_ = &links, populated_ = links.size();
         tasks_ = tasks;
         pair_ = pair;
         if constexpr (kLookahead) {
@@ -199,7 +199,9 @@ class ProjectKernel {
     // Makes room for the next links: doubles the buffer when it is full (within the
     // budget), and backs the next kPopulate links with memory in one system call,
     // where a fault per page cost store mode about a tenth of its time
-    // (docs/benchmarks.md). Out of line: it runs once per kPopulate links.
+    // (docs/benchmarks.md). The first kPopulate links fault page by page, so that a
+    // small run touches no more than it writes. Out of line: it runs once per
+    // kPopulate links.
     [[gnu::noinline]] void GrowLinks() {
         if (links_->size() == links_->capacity()) {
             size_t capacity = std::max<size_t>(2 * links_->capacity(), 1 << 16);
@@ -210,7 +212,8 @@ class ProjectKernel {
             links_->Reserve(capacity);
         }
         populated_ = std::min(links_->capacity(), links_->size() + kPopulate);
-        links_->Populate(links_->size(), populated_);
+        if (links_->size() >= kPopulate)
+            links_->Populate(links_->size(), populated_);
     }
     static constexpr size_t kPopulate = size_t(1) << 16;  // 512 KiB: still in cache when written
 
