@@ -112,21 +112,23 @@ void CountUnion(const Forest &top, const std::vector<Forest> &forests, int threa
     struct Walk {
         uint64_t leaves = 0;
         std::vector<uint64_t> perDepth;
+        void Count(uint32_t depth, bool split) {
+            if (depth >= perDepth.size())
+                perDepth.resize(depth + 1);
+            ++perDepth[depth];
+            leaves += !split;
+        }
         std::vector<uint32_t> pending;  // per element to visit: its depth, its id per forest
         std::vector<uint32_t> batch;    // the next elements to visit, as pending holds them
         std::vector<uint32_t> first;    // their first child per forest
     };
-    std::vector<Walk> walks(static_cast<size_t>(threads) + 1);
+    std::vector<Walk> walks(static_cast<size_t>(threads) + 1);  // the last: _top_'s own
     std::vector<uint32_t> leaves;
     for (uint32_t e = 0; e < top.Size(); ++e) {
-        if (top[e].firstChild == kNoChildren) {
+        if (top[e].firstChild == kNoChildren)
             leaves.push_back(e);
-            continue;
-        }
-        std::vector<uint64_t> &perDepth = walks.back().perDepth;
-        if (size_t(top.Depth(e)) >= perDepth.size())
-            perDepth.resize(top.Depth(e) + 1);
-        ++perDepth[top.Depth(e)];
+        else
+            walks.back().Count(top.Depth(e), true);
     }
     std::atomic<size_t> nextWalk{0};
     ParallelFor(
@@ -152,10 +154,7 @@ void CountUnion(const Forest &top, const std::vector<Forest> &forests, int threa
                     const uint32_t *f = &first[e * numWorkers];
                     bool split =
                         std::any_of(f, f + numWorkers, [](uint32_t x) { return x != kNoChildren; });
-                    if (depth >= walk->perDepth.size())
-                        walk->perDepth.resize(depth + 1);
-                    ++walk->perDepth[depth];
-                    walk->leaves += !split;
+                    walk->Count(depth, split);
                     for (uint32_t k = 0; split && k < arity; ++k) {
                         pending.push_back(depth + 1);
                         for (size_t w = 0; w < numWorkers; ++w)

@@ -529,7 +529,8 @@ TEST_CASE("Counts, element ids and links do not depend on the number of threads"
     }
 }
 
-TEST_CASE("Count-only counters do not depend on the number of threads, nor the tasks' order",
+TEST_CASE("Count-only counters do not depend on the number of threads, nor on which worker "
+          "refines which task",
           "[refine][threads]") {
     // Several workers' trees are counted as one, not merged: the counters must be those
     // of the merged trees that store mode builds, for every scene, arity and visibility.
