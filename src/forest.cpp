@@ -35,7 +35,7 @@ Forest<Shape>::Forest(const Patches<Shape> &patches, size_t maxElements, Subdivi
     if (maxElements < SIZE_MAX) {
         size_t n = std::min<size_t>(maxElements, UINT32_MAX);
         hot_.ReserveUpFront(n), depth_.ReserveUpFront(n);
-        splitElement_.ReserveUpFront(n / arity_ + 1), splitShape_.ReserveUpFront(n / arity_ + 1);
+        splitElement_.ReserveUpFront(n / arity_ + 1);
     }
     for (const Patch<Shape> &patch : patches) {
         const Shape &s = patch.shape;
@@ -46,13 +46,56 @@ Forest<Shape>::Forest(const Patches<Shape> &patches, size_t maxElements, Subdivi
 }
 
 template <typename Shape>
+const Shape &ShapeCursor<Shape>::ShapeOf(const Forest<Shape> &forest, uint32_t e) {
+    if (&forest != forest_)
+        forest_ = &forest, Clear();
+    // The path in _e_'s tree, else the one used less recently.
+    uint32_t root = forest[e].root;
+    int p = !paths_[last_].ids.empty() && paths_[last_].ids[0] == root ? last_ : 1 - last_;
+    Path &path = paths_[p];
+    last_ = p;
+    // Up from _e_ to the deepest element the path holds, or to the root.
+    below_.clear();
+    for (uint32_t a = e;; a = forest.Parent(a)) {
+        size_t depth = size_t(forest.Depth(a));
+        if (depth < path.ids.size() && path.ids[depth] == a) {
+            path.ids.resize(depth + 1), path.shapes.resize(depth + 1);
+            break;
+        }
+        if (depth == 0) {
+            path.ids.assign(1, a), path.shapes.assign(1, forest.RootShape(a));
+            break;
+        }
+        below_.push_back(a);
+    }
+    // Down to _e_ again, one subdivision per level.
+    std::array<Shape, 4> children;
+    for (; !below_.empty(); below_.pop_back()) {
+        uint32_t child = below_.back();
+        path.shapes.back().Subdivide(forest.Mode(), children);
+        path.ids.push_back(child);
+        path.shapes.push_back(children[(child - forest.NumRoots()) % size_t(forest.Arity())]);
+    }
+    return path.shapes.back();
+}
+
+template <typename Shape>
 Shape Forest<Shape>::ShapeOf(uint32_t i) const {
     if (i < numRoots_)
         return rootShapes_[i];
-    size_t group = (i - numRoots_) / arity_;
+    return ShapeCursor<Shape>().ShapeOf(*this, i);
+}
+
+template <typename Shape>
+std::vector<Shape> Forest<Shape>::AllShapes() const {
+    std::vector<Shape> shapes(Size());
+    std::copy(rootShapes_.begin(), rootShapes_.end(), shapes.begin());
     std::array<Shape, 4> children;
-    splitShape_[group].Subdivide(mode_, children);
-    return children[(i - numRoots_) % arity_];
+    for (size_t g = 0; g < splitElement_.size(); ++g) {
+        shapes[splitElement_[g]].Subdivide(mode_, children);
+        std::copy_n(children.begin(), arity_, shapes.begin() + ptrdiff_t(numRoots_ + g * arity_));
+    }
+    return shapes;
 }
 
 template <typename Shape>
@@ -63,7 +106,7 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
                          std::to_string(hot_.size()) + " elements); raise --max-memory or eps");
 
     // Split element _i_ and check that double precision still resolves its children.
-    Shape shape = ShapeOf(i);
+    const Shape &shape = cursor_.ShapeOf(*this, i);
     std::array<Shape, 4> children;
     int n = shape.Subdivide(mode_, children);  // == arity
     std::array<double, 4> squares{}, sizes{};
@@ -77,7 +120,7 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
                          " is too small for double precision at depth " +
                          std::to_string(depth_[i]) + "; use --min-area or --max-depth");
 
-    // Append the children, first child first, and keep the shape they were split from.
+    // Append the children, first child first, and their parent.
     uint32_t first = uint32_t(hot_.size());
     uint32_t root = hot_[i].root;
     uint8_t depth = uint8_t(depth_[i] + 1);
@@ -86,7 +129,6 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
         depth_.push_back(depth);
     }
     splitElement_.push_back(i);
-    splitShape_.push_back(shape);
     hot_[i].firstChild = first;
     return first;
 }
@@ -147,8 +189,8 @@ std::vector<uint32_t> Forest<Shape>::Canonicalize() {
         Size(), [&](size_t e) { return id[e]; }, hot_, depth_);
     PermuteInPlace(
         splitElement_.size(),
-        [&](size_t g) { return (id[numRoots_ + g * arity_] - numRoots_) / arity_; }, splitElement_,
-        splitShape_);
+        [&](size_t g) { return (id[numRoots_ + g * arity_] - numRoots_) / arity_; }, splitElement_);
+    cursor_.Clear();
     maxElements_ = SIZE_MAX;
     return id;
 }
@@ -180,6 +222,8 @@ uint64_t Forest<Shape>::NumLeaves() const {
     return leaves;
 }
 
+template class ShapeCursor<Segment>;
+template class ShapeCursor<Polygon>;
 template class Forest<Segment>;
 template class Forest<Polygon>;
 

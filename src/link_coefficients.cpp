@@ -12,12 +12,13 @@ ComputeCoefficients(const Patches<Shape> &patches, const Forest<Shape> &forest,
                     const LinkBuffer &links, const RefineOptions &options) {
     std::vector<LinkCoefficients> coefficients(links.size());
     std::unique_ptr<Occluders> occluders = OccludersFor(patches, options);
+    std::vector<Shape> shapes = forest.AllShapes();
     ParallelFor(
         links.size(), 256, options.threads,
-        [&] { return PairFraction<Shape>(occluders.get(), options); },
-        [&](PairFraction<Shape> &fraction, size_t k) {
+        [&] { return PairCoefficients<Shape>(shapes, occluders.get(), options); },
+        [&](PairCoefficients<Shape> &pair, size_t k) {
             uint32_t i = links[k].i, j = links[k].j;
-            coefficients[k] = PairCoefficients(forest, i, j, fraction(forest, i, j));
+            coefficients[k] = pair(forest, i, j, pair.Visible(forest, i, j));
         });
     return coefficients;
 }

@@ -21,31 +21,36 @@ std::unique_ptr<Occluders> OccludersFor(const Patches<Shape> &patches, const Ref
     return o.visibility == VisibilityMode::None ? nullptr : std::make_unique<Occluders>(patches);
 }
 
-// The visible fraction of an element pair, as refinement estimates it (1 with
-// --visibility none); one per worker, for the scratch space of the sampling.
+// The coefficients of element pairs, one instance per worker: the visible fraction as
+// refinement estimates it (1 with --visibility none), with the scratch space of its
+// sampling, and the form factors of the elements' shapes (Forest::AllShapes()).
 template <typename Shape>
-class PairFraction {
+class PairCoefficients {
   public:
-    PairFraction(const Occluders *occluders, const RefineOptions &options) {
+    PairCoefficients(const std::vector<Shape> &shapes, const Occluders *occluders,
+                     const RefineOptions &options)
+        : shapes_(&shapes) {
         if (occluders)
             sampled_.emplace(*occluders, options.raysPerSide, options.visibility);
     }
-    double operator()(const Forest<Shape> &forest, uint32_t i, uint32_t j) {
+
+    // The visible fraction of elements _i_ and _j_.
+    double Visible(const Forest<Shape> &forest, uint32_t i, uint32_t j) {
         return sampled_ ? sampled_->Fraction(forest, i, j, tally_) : 1.0;
     }
 
+    // Elements _i_ and _j_'s coefficients given their _visible_ fraction: F_ij times it,
+    // and F_ji by reciprocity A_i F_ij / A_j.
+    LinkCoefficients operator()(const Forest<Shape> &forest, uint32_t i, uint32_t j,
+                                double visible) const {
+        double ij = FormFactor((*shapes_)[i], (*shapes_)[j]) * visible;
+        return {ij, forest[i].Size() * ij / forest[j].Size()};
+    }
+
   private:
+    const std::vector<Shape> *shapes_;
     std::optional<SampledVisibility<Shape>> sampled_;
     VisibilityTally tally_;
 };
-
-// Elements _i_ and _j_'s coefficients given their _visible_ fraction: F_ij times it, and
-// F_ji by reciprocity A_i F_ij / A_j.
-template <typename Shape>
-LinkCoefficients PairCoefficients(const Forest<Shape> &forest, uint32_t i, uint32_t j,
-                                  double visible) {
-    double ij = FormFactor(forest.ShapeOf(i), forest.ShapeOf(j)) * visible;
-    return {ij, forest[i].Size() * ij / forest[j].Size()};
-}
 
 }  // namespace hrbench

@@ -80,19 +80,21 @@ UniformSolution SolveUniformOf(const Patches<Shape> &patches, int depth,
     // Form factors of every pair of elements of different, not culled, root patches.
     Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n, n);
     std::unique_ptr<Occluders> occluders = OccludersFor(patches, refine);
+    std::vector<Shape> shapes = forest.AllShapes();
     ParallelFor(
-        n, 4, refine.threads, [&] { return PairFraction<Shape>(occluders.get(), refine); },
-        [&](PairFraction<Shape> &fraction, size_t a) {
+        n, 4, refine.threads,
+        [&] { return PairCoefficients<Shape>(shapes, occluders.get(), refine); },
+        [&](PairCoefficients<Shape> &pair, size_t a) {
             uint32_t e = elements[a];
             for (size_t b = a + 1; b < n; ++b) {
                 uint32_t f = elements[b];
                 uint32_t p = forest[e].root, q = forest[f].root;
                 if (p == q || relation[p * patches.size() + q] == PairRelation::Culled)
                     continue;
-                double visible = fraction(forest, e, f);
+                double visible = pair.Visible(forest, e, f);
                 if (visible == 0)
                     continue;
-                LinkCoefficients c = PairCoefficients(forest, e, f, visible);
+                LinkCoefficients c = pair(forest, e, f, visible);
                 F(a, b) = c.ij;
                 F(b, a) = c.ji;
             }

@@ -303,3 +303,79 @@ TEST_CASE("A forest with a budget grows without moving its elements", "[forest][
     if (ReservationsAreFree())  // else it grows as std::vector does
         CHECK(&f[0] == first);
 }
+
+namespace {
+
+template <typename Shape>
+bool SameShape(const Shape &a, const Shape &b) {
+    if constexpr (Shape::kDimension == 2)
+        return a.a == b.a && a.b == b.b;
+    else
+        return a.n == b.n && a.v == b.v;
+}
+
+// Splits pseudo-random elements of _f_ (children of an element are made once), keeping
+// in _shapes_ every element's shape as Shape::Subdivide() makes it, element by element.
+template <typename Shape>
+void GrowAtRandom(Forest<Shape> &f, std::vector<Shape> &shapes, int splits, uint64_t state) {
+    for (int k = 0; k < splits; ++k) {
+        state = state * 6364136223846793005u + 1442695040888963407u;
+        uint32_t e = uint32_t((state >> 33) % f.Size());
+        if (f[e].firstChild != kNoChildren || f.Depth(e) >= 20)
+            continue;
+        uint32_t first = f.Children(e);
+        std::array<Shape, 4> children;
+        shapes[e].Subdivide(f.Mode(), children);
+        REQUIRE(first == shapes.size());
+        for (int c = 0; c < f.Arity(); ++c)
+            shapes.push_back(children[size_t(c)]);
+    }
+}
+
+template <typename Shape>
+void CheckShapesMadeAgain(const Patches<Shape> &patches, Subdivision mode) {
+    Forest<Shape> f(patches, 1 << 20, mode);
+    std::vector<Shape> expected;
+    for (const Patch<Shape> &p : patches)
+        expected.push_back(p.shape);
+    GrowAtRandom(f, expected, 3000, 12345);
+    REQUIRE(f.Size() > 1000);
+    std::vector<Shape> all = f.AllShapes();
+    REQUIRE(all.size() == f.Size());
+    ShapeCursor<Shape> cursor;
+    uint64_t state = 7;
+    for (uint32_t k = 0; k < 3 * f.Size(); ++k) {
+        // In id order, then at random: near and far from the cursor's last elements.
+        state = state * 6364136223846793005u + 1442695040888963407u;
+        uint32_t e = k < f.Size() ? k : uint32_t((state >> 33) % f.Size());
+        INFO("element " << e << " at depth " << f.Depth(e));
+        CHECK(SameShape(cursor.ShapeOf(f, e), expected[e]));
+        if (k < f.Size()) {
+            CHECK(SameShape(f.ShapeOf(e), expected[e]));
+            CHECK(SameShape(all[e], expected[e]));
+        }
+    }
+    // The forest grows: the cursor's paths stay valid; a copy of the forest is another.
+    GrowAtRandom(f, expected, 6000, 678);
+    Forest<Shape> copy = f;
+    for (uint32_t e = f.Size(); e-- > 0;) {
+        CHECK(SameShape(cursor.ShapeOf(f, e), expected[e]));
+        CHECK(SameShape(cursor.ShapeOf(copy, e), expected[e]));
+    }
+}
+
+}  // namespace
+
+TEST_CASE("Shapes are made again from the root's, bit for bit those of the subdivisions",
+          "[forest]") {
+    SECTION("segments, off the axes so that midpoints round") {
+        CheckShapesMadeAgain<Segment>(
+            {{{Vec2(0.1, 0.3), Vec2(7.7, 1.9)}, {}}, {{Vec2(8.3, 2.1), Vec2(-0.7, 1.3)}, {}}},
+            Subdivision::Binary);
+    }
+    Patches<Polygon> polygons = {
+        {Polygon::Quad({0.1, 0, 0}, {1.3, 0.2, 0}, {1.1, 1.7, 0}, {0, 0.9, 0}), {}},
+        {Polygon::Triangle({0, 0, 1}, {0.3, 1.1, 1}, {1.7, 0.1, 1}), {}}};
+    SECTION("polygons, binary") { CheckShapesMadeAgain(polygons, Subdivision::Binary); }
+    SECTION("polygons, quadtree") { CheckShapesMadeAgain(polygons, Subdivision::Quadtree); }
+}

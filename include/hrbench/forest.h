@@ -42,15 +42,43 @@ double SquaredSizeBound(double size);
 constexpr uint32_t kNoChildren = 0;
 
 template <typename Shape>
+class Forest;
+
+// The shapes of the elements on two paths down the trees of one forest (one per root,
+// the two roots used last), kept between calls: the shape of an element near the last
+// one asked for in its tree is made from their deepest common ancestor's, in a few
+// subdivisions, where Forest::ShapeOf() makes it from the root's. Two paths, since the
+// refinement splits the elements of a pair by turns. Valid for as long as the forest
+// keeps its ids (it may grow); a cursor asked about another forest starts again.
+template <typename Shape>
+class ShapeCursor {
+  public:
+    const Shape &ShapeOf(const Forest<Shape> &forest, uint32_t e);
+    // Forgets the paths, for a forest whose ids changed.
+    void Clear() { paths_[0].Clear(), paths_[1].Clear(); }
+
+  private:
+    struct Path {
+        std::vector<uint32_t> ids;  // ids[d]: the path's element at depth d (ids[0] its root)
+        std::vector<Shape> shapes;  // and its shape
+        void Clear() { ids.clear(), shapes.clear(); }
+    };
+    const Forest<Shape> *forest_ = nullptr;
+    Path paths_[2];
+    int last_ = 0;                 // the path used last
+    std::vector<uint32_t> below_;  // scratch: from the element asked for up to its path
+};
+
+template <typename Shape>
 class Forest {
   public:
     using ElementType = Element<Shape::kDimension>;
 
     // Bytes one element costs in the arena, at most: hot record and depth, and its share
-    // (half, or a quarter in a quadtree) of its sibling group's parent and of the shape
-    // that parent was split from.
+    // (half, or a quarter in a quadtree) of its sibling group's parent. Shapes are not
+    // kept: ShapeOf() makes them again from the root's.
     static constexpr size_t kBytesPerElement =
-        sizeof(ElementType) + sizeof(uint8_t) + (sizeof(Shape) + sizeof(uint32_t)) / 2;
+        sizeof(ElementType) + sizeof(uint8_t) + sizeof(uint32_t) / 2;
 
     // Creates one root element per patch; elements 0..n-1 are the roots. _maxElements_
     // bounds the arena (a memory budget): growing past it throws LimitError. A finite
@@ -68,7 +96,7 @@ class Forest {
     // Makes room for _n_ elements in all, so that growing to that many moves nothing.
     void Reserve(size_t n) {
         hot_.Reserve(n), depth_.Reserve(n);
-        splitElement_.Reserve(n / arity_ + 1), splitShape_.Reserve(n / arity_ + 1);
+        splitElement_.Reserve(n / arity_ + 1);
     }
 
     // Returns the index of the first child of _i_, subdividing _i_ the first time it is
@@ -95,10 +123,15 @@ class Forest {
         return children;
     }
 
-    // Cold data, for visibility sampling, output and tests. The shape of an element
-    // that is not split is made again from its parent's (the subdivision is
-    // deterministic, so it is the same shape, bit for bit, every time).
+    // Cold data, for output and tests. The shape of element _i_, made again from its
+    // root's by subdividing down the path to _i_: the subdivision is deterministic, so
+    // it is the same shape, bit for bit, every time. Costs Depth(i) subdivisions;
+    // ShapeCursor (below) makes the shapes of nearby elements in a few.
     Shape ShapeOf(uint32_t i) const;
+    const Shape &RootShape(uint32_t root) const { return rootShapes_[root]; }
+    // The shape of every element, in id order, made in one pass over the sibling groups
+    // in the order they were made: for work that needs the shapes of many elements.
+    std::vector<Shape> AllShapes() const;
     int Depth(uint32_t i) const { return depth_[i]; }
     // Parent element, or the element itself for a root.
     uint32_t Parent(uint32_t i) const {
@@ -112,7 +145,7 @@ class Forest {
     // beyond them).
     size_t Bytes() const {
         return rootShapes_.size() * sizeof(Shape) + hot_.size() * sizeof(ElementType) +
-               depth_.size() + splitElement_.size() * (sizeof(uint32_t) + sizeof(Shape));
+               depth_.size() + splitElement_.size() * sizeof(uint32_t);
     }
 
     // Counters of the trees: elements per depth, elements without children.
@@ -130,12 +163,14 @@ class Forest {
     ReservedArray<ElementType> hot_;
     ReservedArray<uint8_t> depth_;
     // Per sibling group g (elements numRoots + g * arity onwards, in the order they were
-    // made): the element split into it, and that element's shape. Only split elements
-    // keep their shape, which halves (quarters in a quadtree) what shapes cost.
+    // made): the element split into it.
     ReservedArray<uint32_t> splitElement_;
-    ReservedArray<Shape> splitShape_;
+    // The shapes down to the element split last: the next split is mostly near it.
+    ShapeCursor<Shape> cursor_;
 };
 
+extern template class ShapeCursor<Segment>;
+extern template class ShapeCursor<Polygon>;
 extern template class Forest<Segment>;
 extern template class Forest<Polygon>;
 

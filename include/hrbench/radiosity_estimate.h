@@ -76,11 +76,12 @@ class RadiosityEstimate {
         uint32_t e = query.root;
         if (!forest_)
             return values_[e];
+        Shape shape = forest_->RootShape(e);  // the shape of _e_, made on the way down
         for (;;) {
             const ElementType &hot = (*forest_)[e];
             if (hot.firstChild == kNoChildren || hot.sizeSquared <= query.sizeSquared)
                 return values_[e];
-            e = Child(hot.firstChild, query.center, query.root);
+            e = Child(hot.firstChild, shape, query.center, query.root);
         }
     }
 
@@ -92,22 +93,26 @@ class RadiosityEstimate {
                                             "negative or not finite");
     }
 
-    // The child of the children first .. first + arity - 1 that holds _point_: among
-    // those that contain it (Contains()), the one with the nearest centroid, else the
-    // nearest of all (a point that rounding put outside every child); equal squared
-    // distances go to the first child. A query's centroid lies inside one child, off its
+    // The child of _parent_ (a shape; its children are first .. first + arity - 1) that
+    // holds _point_, whose shape then replaces _parent_'s: among those that contain it
+    // (Contains()), the one with the nearest centroid, else the nearest of all (a point
+    // that rounding put outside every child); equal squared distances go to the first
+    // child. A query's centroid lies inside one child, off its
     // sides by a fraction of the query's size, so the rounding of the sides cannot move it.
-    uint32_t Child(uint32_t first, const Vec &point, uint32_t root) const {
+    uint32_t Child(uint32_t first, Shape &parent, const Vec &point, uint32_t root) const {
+        std::array<Shape, 4> children;
+        parent.Subdivide(forest_->Mode(), children);
         uint32_t best = first;
         bool bestContains = false;
         double bestDistance = 0;
         for (uint32_t c = first; c < first + uint32_t(forest_->Arity()); ++c) {
-            bool contains = Contains(forest_->ShapeOf(c), point, root);
+            bool contains = Contains(children[c - first], point, root);
             double distance = ((*forest_)[c].center - point).squaredNorm();
             if (c == first || (contains && !bestContains) ||
                 (contains == bestContains && distance < bestDistance))
                 best = c, bestContains = contains, bestDistance = distance;
         }
+        parent = children[best - first];
         return best;
     }
 

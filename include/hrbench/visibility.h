@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "hrbench/forest.h"
 #include "hrbench/refine_options.h"
 #include "hrbench/scene.h"
 
@@ -103,11 +104,11 @@ class SampledVisibility {
         // the other): its samples are kept from the last query.
         if (&forest != forest_ || i != sampledI_) {
             samplesI_.clear();
-            forest.ShapeOf(i).SamplePoints(k_, samplesI_);
+            shapesI_.ShapeOf(forest, i).SamplePoints(k_, samplesI_);
         }
         if (&forest != forest_ || j != sampledJ_) {
             samplesJ_.clear();
-            forest.ShapeOf(j).SamplePoints(k_, samplesJ_);
+            shapesJ_.ShapeOf(forest, j).SamplePoints(k_, samplesJ_);
         }
         forest_ = &forest, sampledI_ = i, sampledJ_ = j;
         uint64_t visible =
@@ -123,7 +124,8 @@ class SampledVisibility {
     int k_;
     VisibilityMode mode_;
     std::vector<typename Shape::Vec> samplesI_, samplesJ_;
-    const void *forest_ = nullptr;  // whose elements sampledI_ and sampledJ_ are
+    ShapeCursor<Shape> shapesI_, shapesJ_;  // the shapes near the last query's elements
+    const void *forest_ = nullptr;          // whose elements sampledI_ and sampledJ_ are
     uint32_t sampledI_ = 0, sampledJ_ = 0;
 };
 
