@@ -85,10 +85,11 @@ class HierarchySolver {
         }
     }
 
-    // Bytes of the solver's arrays for _links_ links and _elements_ elements.
+    // Bytes of the solver's arrays for _links_ links and _elements_ elements, and of the
+    // elements' shapes that the form factors are computed from (Forest::AllShapes()).
     static size_t Bytes(size_t links, size_t elements) {
         return links * (sizeof(LinkCoefficients) + 2 * sizeof(HalfLink)) +
-               elements * (8 * sizeof(double) + sizeof(uint32_t));
+               elements * (8 * sizeof(double) + sizeof(uint32_t) + sizeof(Shape));
     }
 
     // Every element's radiosity by id, inner elements the pulled means of their leaves.

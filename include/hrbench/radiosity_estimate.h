@@ -97,8 +97,8 @@ class RadiosityEstimate {
     // holds _point_, whose shape then replaces _parent_'s: among those that contain it
     // (Contains()), the one with the nearest centroid, else the nearest of all (a point
     // that rounding put outside every child); equal squared distances go to the first
-    // child. A query's centroid lies inside one child, off its
-    // sides by a fraction of the query's size, so the rounding of the sides cannot move it.
+    // child. A query's centroid lies inside one child, off its sides by a fraction of
+    // the query's size, so the rounding of the sides cannot move it.
     uint32_t Child(uint32_t first, Shape &parent, const Vec &point, uint32_t root) const {
         std::array<Shape, 4> children;
         parent.Subdivide(forest_->Mode(), children);
