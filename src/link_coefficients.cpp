@@ -46,10 +46,11 @@ std::vector<double> ConsistencyScales(const Patches<Shape> &patches, const Fores
             uint32_t e = uint32_t(k);
             if (forest[e].firstChild != kNoChildren || !(chain[e] > 0))
                 return;
+            Shape shape = forest.ShapeOf(e);  // made down from the root: once, not per patch
             double exact = 0;
             for (size_t r = 0; r < patches.size(); ++r)
                 if (r != forest[e].root)
-                    exact += FormFactor(forest.ShapeOf(e), patches[r].shape);
+                    exact += FormFactor(shape, patches[r].shape);
             scale[e] = exact / chain[e];
         });
     return scale;
