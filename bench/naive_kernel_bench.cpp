@@ -1,16 +1,18 @@
-// The naive baseline of docs/benchmarks.md ("The naive baseline and where the limit
+// The naive baselines of docs/benchmarks.md ("The naive baseline and where the limit
 // is"): a recursive ProjectKernel over two parallel plates as a naive programmer would
-// write it (flat arrays of elements: centre, length, first-child index; children built
-// lazily; the garmann oracle with one square root per call; the larger element split),
-// next to hrbench's own Refine() on the same configuration, single-threaded and
+// write it (flat arrays of elements: centre, size, first-child index; children built
+// lazily; the garmann oracle, in 2D with one square root per call; the larger element
+// split), next to hrbench's own Refine() on the same configuration, single-threaded and
 // count-only, in one binary so that bench/compare_naive.sh can interleave them.
 //
 // Headline configuration: parallel l=1024 d=1, eps = 0.01, garmann, count-only:
-// 67,783,288 links and 135,566,575 oracle calls. The naive rows check these counts and
-// fail the run (SkipWithError) if they differ.
+// 67,783,288 links and 135,566,575 oracle calls. In 3D: parallel3d l=32 d=1, eps 0.01,
+// binary subdivision: 64,156,080 links and 128,312,159 oracle calls, over the same
+// 524,286 elements. The naive rows check these counts and fail the run
+// (SkipWithError) if they differ.
 //
 //   build-perf/naive_kernel_bench                                  # all rows
-//   bench/compare_naive.sh build-perf 7                            # paired ratio
+//   bench/compare_naive.sh build-perf 7                            # paired ratios
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -26,6 +28,8 @@ namespace {
 
 constexpr double kL = 1024, kD = 1, kEps = 0.01;
 constexpr uint64_t kExpectedLinks = 67783288, kExpectedCalls = 135566575;
+constexpr double kL3 = 32;
+constexpr uint64_t kExpectedLinks3 = 64156080, kExpectedCalls3 = 128312159;
 
 // How the naive kernel decides a pair.
 enum class Form {
@@ -112,6 +116,77 @@ class NaiveKernel {
     std::vector<Elem> elems_;
     size_t record_ = 0;
     std::vector<std::pair<uint32_t, uint32_t>> trace_;
+};
+
+// The same in 3D, for `parallel3d` with square plates: P = [0,l]^2 at z = 0, Q the same
+// at z = d. An element is an axis-aligned rectangle: centre, the sides along x and y,
+// first-child index (48 bytes). Its area sx * sy is made again for each call, and
+// compared as the 3D garmann oracle does: max(A_i, A_j) <= eps r^2, no square root.
+// Splits halve the longer side (ties: x); the first child is the one at the plate's
+// first corner: the low half, except along y on Q, whose corners run from high y.
+// Every coordinate is a dyadic number, so the arithmetic is exact and the order of the
+// operations cannot change a decision.
+struct Elem3 {
+    double cx, cy, cz, sx, sy;
+    uint32_t child;  // first of two consecutive children; 0 = not split yet
+};
+
+class NaiveKernel3d {
+  public:
+    NaiveKernel3d(double l, double d, double eps) : eps_(eps) {
+        elems_.reserve(1 << 20);
+        elems_.push_back({0.5 * l, 0.5 * l, 0.0, l, l, 0});
+        elems_.push_back({0.5 * l, 0.5 * l, d, l, l, 0});
+        firstY_[0] = -1, firstY_[1] = 1;  // which way along y the first child lies
+    }
+
+    void Run() { Recurse(0, 1); }
+
+    uint64_t links = 0, calls = 0;
+    size_t Nodes() const { return elems_.size(); }
+
+  private:
+    uint32_t Children(uint32_t e, int side) {
+        if (elems_[e].child)
+            return elems_[e].child;
+        Elem3 p = elems_[e];
+        uint32_t c = uint32_t(elems_.size());
+        if (p.sx >= p.sy) {
+            double q = 0.25 * p.sx;
+            elems_.push_back({p.cx - q, p.cy, p.cz, 0.5 * p.sx, p.sy, 0});
+            elems_.push_back({p.cx + q, p.cy, p.cz, 0.5 * p.sx, p.sy, 0});
+        } else {
+            double q = 0.25 * p.sy * firstY_[side];
+            elems_.push_back({p.cx, p.cy + q, p.cz, p.sx, 0.5 * p.sy, 0});
+            elems_.push_back({p.cx, p.cy - q, p.cz, p.sx, 0.5 * p.sy, 0});
+        }
+        elems_[e].child = c;
+        return c;
+    }
+
+    void Recurse(uint32_t i, uint32_t j) {
+        ++calls;
+        const Elem3 &a = elems_[i], &b = elems_[j];
+        double dx = a.cx - b.cx, dy = a.cy - b.cy, dz = a.cz - b.cz;
+        double areaI = a.sx * a.sy, areaJ = b.sx * b.sy;
+        if ((areaI >= areaJ ? areaI : areaJ) <= eps_ * (dx * dx + dy * dy + dz * dz)) {
+            ++links;
+            return;
+        }
+        if (areaI >= areaJ) {
+            uint32_t c = Children(i, 0);
+            Recurse(c, j);
+            Recurse(c + 1, j);
+        } else {
+            uint32_t c = Children(j, 1);
+            Recurse(i, c);
+            Recurse(i, c + 1);
+        }
+    }
+
+    double eps_;
+    double firstY_[2];
+    std::vector<Elem3> elems_;
 };
 
 void Attach(benchmark::State &state, uint64_t links, uint64_t calls, uint64_t nodes) {
@@ -217,11 +292,50 @@ void BM_Hrbench(benchmark::State &state) {
     state.SetLabel("hrbench Refine 1 thread count-only");
 }
 
+void BM_Naive3d(benchmark::State &state) {
+    uint64_t links = 0, calls = 0, nodes = 0;
+    for (auto _ : state) {
+        NaiveKernel3d k(kL3, kD, kEps);
+        k.Run();
+        benchmark::DoNotOptimize(k.links);
+        links = k.links, calls = k.calls, nodes = k.Nodes();
+    }
+    Attach(state, links, calls, nodes);
+    if (links != kExpectedLinks3 || calls != kExpectedCalls3)
+        state.SkipWithError(("naive 3D counts differ from hrbench's: links " +
+                             std::to_string(links) + ", oracle calls " + std::to_string(calls))
+                                .c_str());
+    state.SetLabel("naive 3D count-only");
+}
+
+// hrbench's Refine() on parallel3d l=32 d=1, eps 0.01, binary: 1 thread, count-only.
+void BM_Hrbench3d(benchmark::State &state) {
+    hrbench::Scene scene = hrbench::MakeScene("parallel3d", {{"l", kL3}, {"d", kD}});
+    hrbench::RefineOptions o;
+    o.oracle = "garmann";
+    o.storeLinks = false;
+    o.eps = kEps;
+    o.threads = 1;
+    o.subdivision = hrbench::Subdivision::Binary;
+    hrbench::Counters c;
+    for (auto _ : state) {
+        hrbench::Refinement<hrbench::Polygon> r = hrbench::Refine<hrbench::Polygon>(scene, o);
+        benchmark::DoNotOptimize(r.record.counters.links);
+        c = r.record.counters;
+    }
+    Attach(state, c.links, c.oracleCalls, c.nodes);
+    if (c.links != kExpectedLinks3 || c.oracleCalls != kExpectedCalls3)
+        state.SkipWithError("hrbench counts differ from the 3D headline's");
+    state.SetLabel("hrbench Refine 3D 1 thread count-only");
+}
+
 // A naive-kernel run of the whole tree (for /usr/bin/time -v: peak RSS per element):
 // `naive_kernel_bench --benchmark_filter=BM_NaiveSqrt$ --benchmark_min_time=0.001`.
 BENCHMARK(BM_Naive<Form::Sqrt>)->Name("BM_NaiveSqrt")->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Naive<Form::Squares>)->Name("BM_NaiveSquares")->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Hrbench)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Naive3d)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Hrbench3d)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OracleStream<true, false>)->Name("BM_OracleStream/sqrt");
 BENCHMARK(BM_OracleStream<false, false>)->Name("BM_OracleStream/squares");
 BENCHMARK(BM_OracleStream<true, true>)->Name("BM_OracleStream/sqrt_avx2");

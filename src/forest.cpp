@@ -29,7 +29,7 @@ double SquaredSizeBound(double size) {
 template <typename Shape>
 Forest<Shape>::Forest(const Patches<Shape> &patches, size_t maxElements, Subdivision mode)
     : numRoots_(patches.size()), maxElements_(maxElements), mode_(mode),
-      arity_(SubdivisionArity(mode)) {
+      arity_(SubdivisionArity(mode)), recentFrom_(uint32_t(patches.size())) {
     if (numRoots_ >= (size_t(1) << 31))
         throw InputError("scene has too many patches");
     if (maxElements < SIZE_MAX) {
@@ -106,7 +106,11 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
                          std::to_string(hot_.size()) + " elements); raise --max-memory or eps");
 
     // Split element _i_ and check that double precision still resolves its children.
-    const Shape &shape = cursor_.ShapeOf(*this, i);
+    uint32_t first = uint32_t(hot_.size());
+    bool recent = i >= recentFrom_ && first - i <= kRecent;
+    const Shape &shape = i < numRoots_ ? rootShapes_[i]
+                         : recent      ? recentShapes_[i % kRecent]
+                                       : cursor_.ShapeOf(*this, i);
     std::array<Shape, 4> children;
     int n = shape.Subdivide(mode_, children);  // == arity
     std::array<double, 4> squares{}, sizes{};
@@ -121,12 +125,13 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
                          std::to_string(depth_[i]) + "; use --min-area or --max-depth");
 
     // Append the children, first child first, and their parent.
-    uint32_t first = uint32_t(hot_.size());
     uint32_t root = hot_[i].root;
     uint8_t depth = uint8_t(depth_[i] + 1);
+    recentShapes_.resize(kRecent);
     for (int c = 0; c < n; ++c) {
         hot_.push_back({children[c].Centroid(), squares[c], kNoChildren, root});
         depth_.push_back(depth);
+        recentShapes_[(first + c) % kRecent] = children[c];
     }
     splitElement_.push_back(i);
     hot_[i].firstChild = first;
@@ -191,6 +196,7 @@ std::vector<uint32_t> Forest<Shape>::Canonicalize() {
         splitElement_.size(),
         [&](size_t g) { return (id[numRoots_ + g * arity_] - numRoots_) / arity_; }, splitElement_);
     cursor_.Clear();
+    recentFrom_ = uint32_t(Size());
     maxElements_ = SIZE_MAX;
     return id;
 }

@@ -336,6 +336,7 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
             constexpr size_t kBlock = size_t(1) << 17;  // 1 MiB of links
             for (size_t block = begin; block < end; block += kBlock) {
                 size_t blockEnd = std::min(end, block + kBlock);
+                result.links.Populate(to, to + (blockEnd - block));  // one call, not a fault a page
                 for (size_t k = block; k < blockEnd; ++k, ++to) {
                     const Link &link = workerLinks[w][k];
                     result.links[to] = {merged.Canonical(w, link.i), merged.Canonical(w, link.j)};

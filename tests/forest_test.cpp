@@ -132,6 +132,19 @@ TEST_CASE("Canonicalize renumbers in preorder of the sibling groups, moving ever
     CHECK(f.Position(7) == 3);
     CHECK(f.Depth(11) == 2);
     CHECK(f.NumLeaves() == 7);
+
+    // Leaves split after the renumbering get the children of their own shapes, not of
+    // the shapes kept under their old ids.
+    for (uint32_t leaf : {4u, 5u, 7u, 11u}) {
+        INFO("leaf " << leaf);
+        std::array<Segment, 4> halves;
+        f.ShapeOf(leaf).Subdivide(Subdivision::Binary, halves);
+        uint32_t first = f.Children(leaf);
+        for (int c = 0; c < 2; ++c) {
+            CHECK(f[first + c].center == halves[size_t(c)].Centroid());
+            CHECK(f[first + c].sizeSquared == halves[size_t(c)].SquaredMeasure());
+        }
+    }
 }
 
 TEST_CASE("Canonicalize moves quadtree sibling groups and their shapes together", "[forest][3d]") {
@@ -315,20 +328,29 @@ bool SameShape(const Shape &a, const Shape &b) {
 }
 
 // Splits pseudo-random elements of _f_ (children of an element are made once), keeping
-// in _shapes_ every element's shape as Shape::Subdivide() makes it, element by element.
+// in _shapes_ every element's shape as Shape::Subdivide() makes it, element by element,
+// and checks the children's records against those shapes: made from the shapes the
+// forest keeps of its last elements, from its cursor's paths, or from a root's.
 template <typename Shape>
 void GrowAtRandom(Forest<Shape> &f, std::vector<Shape> &shapes, int splits, uint64_t state) {
     for (int k = 0; k < splits; ++k) {
         state = state * 6364136223846793005u + 1442695040888963407u;
+        // Mostly among the last elements made, as the refinement splits them.
         uint32_t e = uint32_t((state >> 33) % f.Size());
+        if (k % 2 == 0 && f.Size() > 5000)
+            e = uint32_t(f.Size() - 1 - (state >> 33) % 5000);
         if (f[e].firstChild != kNoChildren || f.Depth(e) >= 20)
             continue;
         uint32_t first = f.Children(e);
         std::array<Shape, 4> children;
         shapes[e].Subdivide(f.Mode(), children);
         REQUIRE(first == shapes.size());
-        for (int c = 0; c < f.Arity(); ++c)
-            shapes.push_back(children[size_t(c)]);
+        for (int c = 0; c < f.Arity(); ++c) {
+            const Shape &child = children[size_t(c)];
+            CHECK(f[first + c].center == child.Centroid());
+            CHECK(f[first + c].sizeSquared == child.SquaredMeasure());
+            shapes.push_back(child);
+        }
     }
 }
 

@@ -144,8 +144,9 @@ class Forest {
     // Bytes the trees hold (their arrays' elements, not the address space reserved
     // beyond them).
     size_t Bytes() const {
-        return rootShapes_.size() * sizeof(Shape) + hot_.size() * sizeof(ElementType) +
-               depth_.size() + splitElement_.size() * sizeof(uint32_t);
+        return (rootShapes_.size() + recentShapes_.size()) * sizeof(Shape) +
+               hot_.size() * sizeof(ElementType) + depth_.size() +
+               splitElement_.size() * sizeof(uint32_t);
     }
 
     // Counters of the trees: elements per depth, elements without children.
@@ -165,7 +166,15 @@ class Forest {
     // Per sibling group g (elements numRoots + g * arity onwards, in the order they were
     // made): the element split into it.
     ReservedArray<uint32_t> splitElement_;
-    // The shapes down to the element split last: the next split is mostly near it.
+    // The shapes of the last kRecent elements made, element e's at e % kRecent (ids are
+    // made in order, so none overwrites a younger one): most elements are split soon
+    // after they are made, within a few hundred elements in the refinement's order
+    // (docs/engine.md), and then need no subdivision to make their shape again.
+    static constexpr uint32_t kRecent = 4096;
+    std::vector<Shape> recentShapes_;  // kRecent once the forest first splits
+    uint32_t recentFrom_;              // the first id made since the ids last changed
+    // The shapes down to the element split last, for the others: the next split is
+    // mostly near it.
     ShapeCursor<Shape> cursor_;
 };
 
