@@ -6,12 +6,14 @@
 #
 #   bench/compare_naive.sh [BUILD_DIR=build] [ROUNDS=7] [MIN_TIME=1]
 #
-# Each round runs BM_NaiveSqrt, BM_Hrbench and BM_NaiveSquares once each (a separate
-# process per row, the order rotated from round to round), takes the CPU time per
-# iteration of each, and prints per round and over the rounds (median, min, max):
-# hrbench / naive-sqrt, naive-squares / naive-sqrt, and the cycles per oracle call of
-# each. Then peak RSS per element (/usr/bin/time -v) of the hrbench CLI and of the naive
-# kernel, the branch-free oracle stream (BM_OracleStream), peak RSS per stored link in
+# Each round runs BM_NaiveSqrt, BM_Hrbench and BM_NaiveSquares once each, and the 3D
+# pair BM_Naive3d and BM_Hrbench3d (parallel3d l=32 d=1, eps 0.01, binary: the same
+# 524,286 elements), each row a separate process, the order rotated from round to
+# round; takes the CPU time per iteration of each, and prints per round and over the
+# rounds (median, min, max): hrbench / naive-sqrt, naive-squares / naive-sqrt, hrbench
+# 3D / naive 3D, and the cycles per oracle call of each. Then peak RSS per element
+# (/usr/bin/time -v) of the hrbench CLI and of the naive kernel, in 2D and in 3D, the
+# branch-free oracle stream (BM_OracleStream), peak RSS per stored link in
 # store mode on 1 and 2 threads, and from R rounds of refine_bench's BM_Headline rows the
 # count-only speed-up on 2 threads and the store-mode link rate against count-only. Clock: `perf stat -e
 # cycles` where it counts, else "cpu MHz" of /proc/cpuinfo (nominal: on a VM that is the
@@ -48,10 +50,10 @@ echo "machine: $(awk -F: '/model name/ {print $2; exit}' /proc/cpuinfo | sed 's/
 echo "clock: $GHZ GHz from $CLOCK_SOURCE"
 echo "rounds: $ROUNDS, --benchmark_min_time=$MIN_TIME per row"
 
-rows=(BM_NaiveSqrt BM_Hrbench BM_NaiveSquares)
+rows=(BM_NaiveSqrt BM_Hrbench BM_NaiveSquares BM_Naive3d BM_Hrbench3d)
 for ((r = 0; r < ROUNDS; ++r)); do
-    for ((k = 0; k < 3; ++k)); do
-        row=${rows[$(((r + k) % 3))]}
+    for ((k = 0; k < ${#rows[@]}; ++k)); do
+        row=${rows[$(((r + k) % ${#rows[@]}))]}
         "$BENCH" --benchmark_filter="^$row\$" --benchmark_min_time="$MIN_TIME" \
             --benchmark_format=json 2>/dev/null >"$TMP/$r-$row.json"
     done
@@ -60,7 +62,7 @@ done
 python3 - "$TMP" "$ROUNDS" "$GHZ" <<'EOF'
 import json, statistics, sys
 tmp, rounds, ghz = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
-rows = ["BM_NaiveSqrt", "BM_Hrbench", "BM_NaiveSquares"]
+rows = ["BM_NaiveSqrt", "BM_Hrbench", "BM_NaiveSquares", "BM_Naive3d", "BM_Hrbench3d"]
 def load(r, row):
     b = json.load(open(f"{tmp}/{r}-{row}.json"))["benchmarks"][0]
     if b.get("error_occurred"):
@@ -92,6 +94,8 @@ summary("ratio naive-squares / naive-sqrt",
         [s / n for s, n in zip(t["BM_NaiveSquares"], t["BM_NaiveSqrt"])])
 summary("ratio hrbench / naive-squares",
         [h / s for h, s in zip(t["BM_Hrbench"], t["BM_NaiveSquares"])])
+summary("ratio hrbench 3D / naive 3D",
+        [h / n for h, n in zip(t["BM_Hrbench3d"], t["BM_Naive3d"])])
 EOF
 
 # Peak RSS per element.
@@ -102,15 +106,23 @@ kb_cli=$(rss "$CLI" run parallel l=1024 d=1 --eps 0.01 --count-only)
 kb_cli0=$(rss "$CLI" run parallel l=1 d=1 --eps 10 --count-only)
 kb_naive=$(rss "$BENCH" --benchmark_filter='^BM_NaiveSqrt$' --benchmark_min_time=0.001)
 kb_naive0=$(rss "$BENCH" --benchmark_filter='^NONE$')
-python3 - "$nodes" "$kb_cli" "$kb_cli0" "$kb_naive" "$kb_naive0" <<'EOF'
+nodes3=$("$CLI" run parallel3d l=32 d=1 --eps 0.01 --count-only --json | python3 -c \
+    'import json,sys; print(json.load(sys.stdin)["nodes"])')
+kb_cli3=$(rss "$CLI" run parallel3d l=32 d=1 --eps 0.01 --count-only)
+kb_cli30=$(rss "$CLI" run parallel3d l=1 d=1 --eps 10 --count-only)
+kb_naive3=$(rss "$BENCH" --benchmark_filter='^BM_Naive3d$' --benchmark_min_time=0.001)
+python3 - "$nodes" "$kb_cli" "$kb_cli0" "$kb_naive" "$kb_naive0" "$nodes3" "$kb_cli3" \
+    "$kb_cli30" "$kb_naive3" <<'EOF'
 import sys
-n, cli, cli0, naive, naive0 = map(int, sys.argv[1:])
-def line(name, kb, kb0):
+n, cli, cli0, naive, naive0, n3, cli3, cli30, naive3 = map(int, sys.argv[1:])
+def line(name, kb, kb0, n=n):
     print(f"peak RSS {name}: {kb} KiB = {kb * 1024 / n:.1f} bytes/element "
           f"({(kb - kb0) * 1024 / n:.1f} above the {kb0} KiB of a run that refines nothing)")
-print(f"elements (nodes): {n}")
+print(f"elements (nodes): {n} in 2D, {n3} in 3D")
 line("hrbench run parallel l=1024 d=1 --eps 0.01 --count-only", cli, cli0)
 line("naive kernel (naive_kernel_bench BM_NaiveSqrt, 1 iteration)", naive, naive0)
+line("hrbench run parallel3d l=32 d=1 --eps 0.01 --count-only", cli3, cli30, n3)
+line("naive 3D kernel (naive_kernel_bench BM_Naive3d, 1 iteration)", naive3, naive0, n3)
 EOF
 
 # The oracle alone, branch-free, over the first 2^22 pairs of the recursion: the floor
