@@ -40,7 +40,10 @@ reproduce-full: build
 # The Google Benchmark suites, merged into results/bench.json: 9 repetitions of each
 # benchmark, so that hrbench-compare (tools/compare_bench.py) and Google Benchmark's own
 # compare.py can run their U tests on two such files. BENCH_FLAGS replaces these flags.
+# Then the performance targets' figures, from NAIVE_ROUNDS paired rounds against the
+# naive kernel (bench-naive below; NAIVE_ROUNDS=0 skips them).
 BENCH_FLAGS := --benchmark_repetitions=9 --benchmark_min_time=0.1
+NAIVE_ROUNDS := 3
 bench: build
 	@mkdir -p results
 	build/refine_bench --benchmark_out=results/bench-refine.json \
@@ -49,6 +52,7 @@ bench: build
 	  --benchmark_out_format=json $(BENCH_FLAGS)
 	$(PYTHON) tools/merge_bench.py results/bench.json results/bench-refine.json \
 	  results/bench-translation.json
+	@if [ "$(NAIVE_ROUNDS)" != 0 ]; then bash bench/compare_naive.sh build $(NAIVE_ROUNDS) 0.5; fi
 
 # hrbench's count-only kernel against the naive flat-array kernel of bench/, in paired
 # interleaved rounds by CPU time: the ratio, cycles per oracle call, bytes per element.
@@ -58,7 +62,8 @@ bench-naive: build
 # The benchmark history (docs/history.md): record results/bench.json for HEAD, then
 # draw the page of times and counters over commits with the detected steps.
 HISTORY_DIR := results/history
-history: bench
+history: build
+	$(MAKE) bench NAIVE_ROUNDS=0
 	$(PYTHON) -m hrbench_analysis.history record --history $(HISTORY_DIR) results/bench.json \
 	  --hrbench build/hrbench
 	$(PYTHON) -m hrbench_analysis.history html --history $(HISTORY_DIR) --out results/history.html
