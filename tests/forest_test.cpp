@@ -335,7 +335,8 @@ template <typename Shape>
 void GrowAtRandom(Forest<Shape> &f, std::vector<Shape> &shapes, int splits, uint64_t state) {
     for (int k = 0; k < splits; ++k) {
         state = state * 6364136223846793005u + 1442695040888963407u;
-        // Mostly among the last elements made, as the refinement splits them.
+        // Every other split among the last 5000 elements made, on both sides of the 4096
+        // whose shapes the forest keeps: the refinement mostly splits recent ones.
         uint32_t e = uint32_t((state >> 33) % f.Size());
         if (k % 2 == 0 && f.Size() > 5000)
             e = uint32_t(f.Size() - 1 - (state >> 33) % 5000);

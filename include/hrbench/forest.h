@@ -168,8 +168,8 @@ class Forest {
     ReservedArray<uint32_t> splitElement_;
     // The shapes of the last kRecent elements made, element e's at e % kRecent (ids are
     // made in order, so none overwrites a younger one): most elements are split soon
-    // after they are made, within a few hundred elements in the refinement's order
-    // (docs/engine.md), and then need no subdivision to make their shape again.
+    // after they are made, a few hundred elements later in the refinement's order
+    // (docs/benchmarks.md), and then need no subdivision to make their shape again.
     static constexpr uint32_t kRecent = 4096;
     std::vector<Shape> recentShapes_;  // kRecent once the forest first splits
     uint32_t recentFrom_;              // the first id made since the ids last changed
