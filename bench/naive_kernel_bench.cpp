@@ -202,23 +202,40 @@ void Attach(benchmark::State &state, uint64_t links, uint64_t calls, uint64_t no
         double(calls) * it, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-template <Form kForm>
-void BM_Naive(benchmark::State &state) {
+// Runs a naive kernel, made by _make_, once per iteration and attaches its counts; with
+// _mustMatch_, fails the row if they are not the _links_ and _calls_ of hrbench.
+template <typename Make>
+void RunNaive(benchmark::State &state, Make make, uint64_t expectedLinks, uint64_t expectedCalls,
+              bool mustMatch, const char *label) {
     uint64_t links = 0, calls = 0, nodes = 0;
     for (auto _ : state) {
-        NaiveKernel<kForm> k(kL, kD, kEps);
+        auto k = make();
         k.Run();
         benchmark::DoNotOptimize(k.links);
         links = k.links, calls = k.calls, nodes = k.Nodes();
     }
     Attach(state, links, calls, nodes);
-    bool exact = links == kExpectedLinks && calls == kExpectedCalls;
+    bool exact = links == expectedLinks && calls == expectedCalls;
     state.counters["counts_match"] = exact ? 1 : 0;
-    if (kForm == Form::Sqrt && !exact)
+    if (mustMatch && !exact)
         state.SkipWithError(("naive counts differ from hrbench's: links " + std::to_string(links) +
                              ", oracle calls " + std::to_string(calls))
                                 .c_str());
-    state.SetLabel(kForm == Form::Sqrt ? "naive sqrt count-only" : "naive squares count-only");
+    state.SetLabel(label);
+}
+
+template <Form kForm>
+void BM_Naive(benchmark::State &state) {
+    RunNaive(
+        state, [] { return NaiveKernel<kForm>(kL, kD, kEps); }, kExpectedLinks, kExpectedCalls,
+        kForm == Form::Sqrt,
+        kForm == Form::Sqrt ? "naive sqrt count-only" : "naive squares count-only");
+}
+
+void BM_Naive3d(benchmark::State &state) {
+    RunNaive(
+        state, [] { return NaiveKernel3d(kL3, kD, kEps); }, kExpectedLinks3, kExpectedCalls3, true,
+        "naive 3D count-only");
 }
 
 // The oracle alone, branch-free, over the first 2^22 pairs the recursion evaluates
@@ -272,45 +289,13 @@ void BM_OracleStream(benchmark::State &state) {
         double(pairs.size()) * it, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-// hrbench's own Refine() on the same configuration: 1 thread, count-only.
-void BM_Hrbench(benchmark::State &state) {
-    hrbench::Scene scene = hrbench::MakeScene("parallel", {{"l", kL}, {"d", kD}});
-    hrbench::RefineOptions o;
-    o.oracle = "garmann";
-    o.storeLinks = false;
-    o.eps = kEps;
-    o.threads = 1;
-    hrbench::Counters c;
-    for (auto _ : state) {
-        hrbench::Refinement<hrbench::Segment> r = hrbench::Refine<hrbench::Segment>(scene, o);
-        benchmark::DoNotOptimize(r.record.counters.links);
-        c = r.record.counters;
-    }
-    Attach(state, c.links, c.oracleCalls, c.nodes);
-    if (c.links != kExpectedLinks || c.oracleCalls != kExpectedCalls)
-        state.SkipWithError("hrbench counts differ from the headline's");
-    state.SetLabel("hrbench Refine 1 thread count-only");
-}
-
-void BM_Naive3d(benchmark::State &state) {
-    uint64_t links = 0, calls = 0, nodes = 0;
-    for (auto _ : state) {
-        NaiveKernel3d k(kL3, kD, kEps);
-        k.Run();
-        benchmark::DoNotOptimize(k.links);
-        links = k.links, calls = k.calls, nodes = k.Nodes();
-    }
-    Attach(state, links, calls, nodes);
-    if (links != kExpectedLinks3 || calls != kExpectedCalls3)
-        state.SkipWithError(("naive 3D counts differ from hrbench's: links " +
-                             std::to_string(links) + ", oracle calls " + std::to_string(calls))
-                                .c_str());
-    state.SetLabel("naive 3D count-only");
-}
-
-// hrbench's Refine() on parallel3d l=32 d=1, eps 0.01, binary: 1 thread, count-only.
-void BM_Hrbench3d(benchmark::State &state) {
-    hrbench::Scene scene = hrbench::MakeScene("parallel3d", {{"l", kL3}, {"d", kD}});
+// hrbench's own Refine() on _family_ with _params_ (1 thread, count-only, eps kEps,
+// binary subdivision), once per iteration; fails the row if its counts are not _links_
+// and _calls_.
+template <typename Shape>
+void RunHrbench(benchmark::State &state, const std::string &family, const hrbench::ParamMap &params,
+                uint64_t links, uint64_t calls, const char *label) {
+    hrbench::Scene scene = hrbench::MakeScene(family, params);
     hrbench::RefineOptions o;
     o.oracle = "garmann";
     o.storeLinks = false;
@@ -319,14 +304,25 @@ void BM_Hrbench3d(benchmark::State &state) {
     o.subdivision = hrbench::Subdivision::Binary;
     hrbench::Counters c;
     for (auto _ : state) {
-        hrbench::Refinement<hrbench::Polygon> r = hrbench::Refine<hrbench::Polygon>(scene, o);
+        hrbench::Refinement<Shape> r = hrbench::Refine<Shape>(scene, o);
         benchmark::DoNotOptimize(r.record.counters.links);
         c = r.record.counters;
     }
     Attach(state, c.links, c.oracleCalls, c.nodes);
-    if (c.links != kExpectedLinks3 || c.oracleCalls != kExpectedCalls3)
-        state.SkipWithError("hrbench counts differ from the 3D headline's");
-    state.SetLabel("hrbench Refine 3D 1 thread count-only");
+    if (c.links != links || c.oracleCalls != calls)
+        state.SkipWithError(("hrbench counts differ from those of " + family).c_str());
+    state.SetLabel(label);
+}
+
+// The headline configuration, and the 3D one (parallel3d l=32 d=1).
+void BM_Hrbench(benchmark::State &state) {
+    RunHrbench<hrbench::Segment>(state, "parallel", {{"l", kL}, {"d", kD}}, kExpectedLinks,
+                                 kExpectedCalls, "hrbench Refine 1 thread count-only");
+}
+
+void BM_Hrbench3d(benchmark::State &state) {
+    RunHrbench<hrbench::Polygon>(state, "parallel3d", {{"l", kL3}, {"d", kD}}, kExpectedLinks3,
+                                 kExpectedCalls3, "hrbench Refine 3D 1 thread count-only");
 }
 
 // A naive-kernel run of the whole tree (for /usr/bin/time -v: peak RSS per element):
