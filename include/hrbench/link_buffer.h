@@ -10,11 +10,6 @@
 
 #include "hrbench/util/reserved_array.h"
 
-#if defined(__unix__)
-#include <sys/mman.h>
-#include <unistd.h>
-#endif
-
 namespace hrbench {
 
 // One stored link: two element indices, 8 bytes.
@@ -71,15 +66,7 @@ class LinkBuffer {
     // caller that has copied those links elsewhere and never reads them again, so that
     // the copy and the original together hold little more than one of them.
     void Discard(size_t begin, size_t end) {
-#if defined(__unix__)
-        static const uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
-        uintptr_t first = (reinterpret_cast<uintptr_t>(data_ + begin) + page - 1) / page * page;
-        uintptr_t last = reinterpret_cast<uintptr_t>(data_ + std::min(end, size_)) / page * page;
-        if (last > first)
-            madvise(reinterpret_cast<void *>(first), last - first, MADV_DONTNEED);
-#else
-        (void)begin, (void)end;
-#endif
+        DiscardAddressSpace(data_ + begin, data_ + std::min(end, size_));
     }
 
     // Backs links [begin, end) (within the capacity) with memory now, in one system

@@ -11,14 +11,28 @@
 
 namespace hrbench {
 
-size_t PageRoundUp(size_t bytes) {
+namespace {
+
+uintptr_t PageSize() {
 #if defined(__unix__)
-    static const size_t page = size_t(sysconf(_SC_PAGESIZE));
+    static const uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
+    return page;
 #else
-    constexpr size_t page = 4096;
+    return 4096;
 #endif
-    return (bytes + page - 1) / page * page;
 }
+
+uintptr_t PageDown(const void *address) {
+    return reinterpret_cast<uintptr_t>(address) / PageSize() * PageSize();
+}
+
+uintptr_t PageUp(const void *address) {
+    return (reinterpret_cast<uintptr_t>(address) + PageSize() - 1) / PageSize() * PageSize();
+}
+
+}  // namespace
+
+size_t PageRoundUp(size_t bytes) { return (bytes + PageSize() - 1) / PageSize() * PageSize(); }
 
 bool ReservationsAreFree() {
 #if defined(__linux__)
@@ -51,14 +65,22 @@ void *MapAddressSpace(size_t bytes) {
 
 bool PopulateAddressSpace(const void *begin, const void *end) {
 #if defined(MADV_POPULATE_WRITE)
-    static const uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
-    uintptr_t first = reinterpret_cast<uintptr_t>(begin) / page * page;
-    uintptr_t last = (reinterpret_cast<uintptr_t>(end) + page - 1) / page * page;
+    uintptr_t first = PageDown(begin), last = PageUp(end);  // outward: every page touched
     return last <= first ||
            madvise(reinterpret_cast<void *>(first), last - first, MADV_POPULATE_WRITE) == 0;
 #else
     (void)begin, (void)end;
     return false;
+#endif
+}
+
+void DiscardAddressSpace(const void *begin, const void *end) {
+#if defined(__unix__)
+    uintptr_t first = PageUp(begin), last = PageDown(end);  // inward: whole pages only
+    if (last > first)
+        madvise(reinterpret_cast<void *>(first), last - first, MADV_DONTNEED);
+#else
+    (void)begin, (void)end;
 #endif
 }
 

@@ -25,6 +25,9 @@ size_t PageRoundUp(size_t bytes);
 // call, where touching them one by one takes a fault each. What they hold is unchanged.
 // Returns false, doing nothing, where the system cannot (before Linux 5.14; elsewhere).
 bool PopulateAddressSpace(const void *begin, const void *end);
+// Gives the whole pages within [begin, end) back to the system: they read as zero
+// afterwards. The partial pages at either end are kept, and so is the mapping.
+void DiscardAddressSpace(const void *begin, const void *end);
 
 // Whether address space reserved beyond what is used costs nothing here: the process's
 // address space is not limited (RLIMIT_AS) and the system does not charge reservations
