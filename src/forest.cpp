@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <tuple>
 
 #include "hrbench/util/error.h"
 
@@ -29,7 +28,7 @@ double SquaredSizeBound(double size) {
 template <typename Shape>
 Forest<Shape>::Forest(const Patches<Shape> &patches, size_t maxElements, Subdivision mode)
     : numRoots_(patches.size()), maxElements_(maxElements), mode_(mode),
-      arity_(SubdivisionArity(mode)), recentFrom_(uint32_t(patches.size())) {
+      arity_(SubdivisionArity(mode)) {
     if (numRoots_ >= (size_t(1) << 31))
         throw InputError("scene has too many patches");
     if (maxElements < SIZE_MAX) {
@@ -107,7 +106,7 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
 
     // Split element _i_ and check that double precision still resolves its children.
     uint32_t first = uint32_t(hot_.size());
-    bool recent = i >= recentFrom_ && first - i <= kRecent;
+    bool recent = first - i <= kRecent;
     const Shape &shape = i < numRoots_ ? rootShapes_[i]
                          : recent      ? recentShapes_[i % kRecent]
                                        : cursor_.ShapeOf(*this, i);
@@ -136,69 +135,6 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
     splitElement_.push_back(i);
     hot_[i].firstChild = first;
     return first;
-}
-
-namespace {
-
-// Moves entry k of each of _arrays_ (all of _n_ entries) to index to(k), where _to_ is
-// a permutation of [0, n), in place: cycle by cycle, with a bit per entry beside.
-template <typename To, typename... Arrays>
-void PermuteInPlace(size_t n, To to, Arrays &...arrays) {
-    std::vector<bool> placed(n);
-    for (size_t start = 0; start < n; ++start) {
-        if (placed[start] || to(start) == start)
-            continue;
-        auto carried = std::make_tuple(arrays[start]...);
-        for (size_t k = to(start); !placed[start]; k = to(k)) {
-            std::apply([&](auto &...value) { (std::swap(value, arrays[k]), ...); }, carried);
-            placed[k] = true;
-        }
-    }
-}
-
-}  // namespace
-
-template <typename Shape>
-std::vector<uint32_t> Forest<Shape>::Canonicalize() {
-    // The new id of every element: the preorder walk of the union (ForestUnion in
-    // refine.cpp), numbering each sibling group when its parent is reached.
-    std::vector<uint32_t> id(Size());
-    uint32_t next = uint32_t(numRoots_);
-    std::vector<uint32_t> stack;
-    for (uint32_t root = uint32_t(numRoots_); root-- > 0;) {
-        id[root] = root;
-        stack.push_back(root);
-    }
-    const int arity = Arity();
-    while (!stack.empty()) {
-        uint32_t e = stack.back();
-        stack.pop_back();
-        uint32_t first = hot_[e].firstChild;
-        if (first == kNoChildren)
-            continue;
-        for (int c = 0; c < arity; ++c)
-            id[first + c] = next + c;
-        next += arity;
-        for (int c = arity; c-- > 0;)
-            stack.push_back(first + c);
-    }
-
-    // Point the links between elements at the new ids, then move every element, and
-    // every sibling group, to its new place.
-    for (uint32_t e = 0; e < Size(); ++e)
-        if (hot_[e].firstChild != kNoChildren)
-            hot_[e].firstChild = id[hot_[e].firstChild];
-    for (uint32_t &parent : splitElement_)
-        parent = id[parent];
-    PermuteInPlace(
-        Size(), [&](size_t e) { return id[e]; }, hot_, depth_);
-    PermuteInPlace(
-        splitElement_.size(),
-        [&](size_t g) { return (id[numRoots_ + g * arity_] - numRoots_) / arity_; }, splitElement_);
-    cursor_.Clear();
-    recentFrom_ = uint32_t(Size());
-    maxElements_ = SIZE_MAX;
-    return id;
 }
 
 template <typename Shape>

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <thread>
@@ -27,65 +28,54 @@ struct Budget {
     size_t maxLinks;
 };
 
-// Builds the canonical forest, the union of the workers' forests (children are created
-// once), and for each worker the map from its element ids to canonical ids. Of the
-// workers' forests it needs only the first child of every element (Forest::FirstChildren()),
-// so that the forests themselves can be freed before.
+// Grows the canonical forest, the union of the workers' forests, and maps each worker's
+// element ids to canonical ones. Every worker's forest began as a copy of the sequential
+// pass's forest, which the canonical one starts as too, so their ids agree below
+// topSize. Above it, each task's worker made a run of sibling groups, in the order of
+// the task's recursion; replaying the runs in task order, splitting each parent unless
+// an earlier task already has, makes the groups in the order one worker running every
+// task would have made them (docs/conventions.md). A group new to the union is new to
+// its worker too, since the worker ran only earlier tasks before it.
 template <typename Forest>
 class ForestUnion {
   public:
-    using Children = std::vector<uint32_t>;  // first child of each element, or kNoChildren
+    // A task's run of sibling groups in its worker's forest.
+    struct Run {
+        size_t worker;
+        uint32_t begin, end;  // the run's elements: [begin, end)
+    };
 
-    ForestUnion(const std::vector<Children> &workers, Forest &canonical)
-        : workers_(workers), canonical_(canonical), scratch_(kSafetyDepth + 2) {
-        for (const Children &w : workers)
-            maps_.emplace_back(w.size(), UINT32_MAX);
-        for (auto &level : scratch_)
-            level.resize(workers.size());
+    // _splits_: each worker's Forest::SplitElements(); _runs_: the tasks' runs, in task
+    // order. _canonical_ holds the sequential pass's forest and grows to the union.
+    ForestUnion(const std::vector<std::vector<uint32_t>> &splits, const std::vector<Run> &runs,
+                Forest &canonical)
+        : maps_(splits.size()) {
+        const size_t topSize = canonical.Size();
+        const uint32_t numRoots = uint32_t(canonical.NumRoots()), arity = canonical.Arity();
         // The union has at most as many elements as the workers' forests together:
-        // reserve that, so that building it copies nothing (and leaves no outgrown
-        // blocks in the heap); the pages it does not fill are never touched.
-        size_t bound = canonical.Size();
-        for (const Children &w : workers)
-            bound += w.size();
+        // reserve that, so that growing it copies nothing.
+        size_t bound = topSize;
+        for (size_t w = 0; w < splits.size(); ++w) {
+            maps_[w].resize(numRoots + splits[w].size() * arity);
+            std::iota(maps_[w].begin(), maps_[w].begin() + ptrdiff_t(topSize), 0u);
+            bound += maps_[w].size() - topSize;
+        }
         canonical.Reserve(bound);
-        for (uint32_t root = 0; root < canonical.NumRoots(); ++root) {
-            std::fill(scratch_[0].begin(), scratch_[0].end(), root);
-            Visit(root, 0);
+        for (const Run &run : runs) {
+            std::vector<uint32_t> &map = maps_[run.worker];
+            for (uint32_t first = run.begin; first < run.end; first += arity) {
+                uint32_t parent = splits[run.worker][(first - numRoots) / arity];
+                uint32_t canonicalFirst = canonical.Children(map[parent]);
+                for (uint32_t c = 0; c < arity; ++c)
+                    map[first + c] = canonicalFirst + c;
+            }
         }
     }
 
     uint32_t Canonical(size_t worker, uint32_t local) const { return maps_[worker][local]; }
 
   private:
-    static constexpr uint32_t kAbsent = UINT32_MAX;
-
-    // _scratch_[level] holds the element's id in each worker's forest, or kAbsent.
-    void Visit(uint32_t id, int level) {
-        const std::vector<uint32_t> &local = scratch_[level];
-        bool subdivided = false;
-        for (size_t w = 0; w < workers_.size(); ++w) {
-            if (local[w] == kAbsent)
-                continue;
-            maps_[w][local[w]] = id;
-            subdivided |= workers_[w][local[w]] != kNoChildren;
-        }
-        if (!subdivided)
-            return;
-        uint32_t child = canonical_.Children(id);
-        for (int c = 0; c < canonical_.Arity(); ++c) {
-            for (size_t w = 0; w < workers_.size(); ++w) {
-                uint32_t first = local[w] == kAbsent ? kNoChildren : workers_[w][local[w]];
-                scratch_[level + 1][w] = first == kNoChildren ? kAbsent : first + c;
-            }
-            Visit(child + c, level + 1);
-        }
-    }
-
-    const std::vector<Children> &workers_;
-    Forest &canonical_;
-    std::vector<std::vector<uint32_t>> scratch_;
-    std::vector<std::vector<uint32_t>> maps_;
+    std::vector<std::vector<uint32_t>> maps_;  // per worker: local id -> canonical id
 };
 
 // The tree counters of a forest: elements, leaves, elements per depth.
@@ -227,6 +217,7 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     std::vector<size_t> taskLinksEnd(tasks.size());
     std::vector<uint64_t> taskLinkCount(tasks.size()), taskCallCount(tasks.size());
     std::vector<size_t> taskWorker(tasks.size());
+    std::vector<std::pair<uint32_t, uint32_t>> taskElements(tasks.size());  // made: [first, last)
     std::vector<Tally> workerTally(numWorkers);
     std::atomic<size_t> next{0};
     std::atomic<bool> failed{false};
@@ -243,7 +234,9 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
                 progress->At(pairOrdinal[tasks[t].pair]);
             try {
                 uint64_t linksBefore = kernel.tally.links, calls = kernel.tally.oracleCalls;
+                uint32_t elementsBefore = uint32_t(forests[w].Size());
                 kernel.Project(tasks[t].call, tasks[t].pair, links, nullptr);
+                taskElements[t] = {elementsBefore, uint32_t(forests[w].Size())};
                 taskLinkCount[t] = kernel.tally.links - linksBefore;
                 taskCallCount[t] = kernel.tally.oracleCalls - calls;
                 taskLinksEnd[t] = links.size();
@@ -287,18 +280,14 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     while (!counters.linksPerDepth.empty() && counters.linksPerDepth.back() == 0)
         counters.linksPerDepth.pop_back();
 
-    // One worker ran every task in order: renumber its trees in place and translate its
-    // links, in place too. Without links no id is seen, and the renumbering, a random
-    // walk over the whole forest, would cost up to as much as the refinement (3D).
+    // One worker ran every task in order: its ids are canonical, as made.
     if (numWorkers == 1) {
         if constexpr (kStoreLinks) {
-            std::vector<uint32_t> id = forests[0].Canonicalize();
-            for (Link &link : workerLinks[0])
-                link = {id[link.i], id[link.j]};
             result.links = std::move(workerLinks[0]);
             result.links.ShrinkToFit();
         }
         result.forest = std::move(forests[0]);
+        result.forest.LiftBudget();
         return CountTrees(result.forest, counters);
     }
 
@@ -308,11 +297,17 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
         CountUnion(top, forests, options.threads, counters);
     } else {
         // Merge the trees into canonical ids and translate the links to them.
-        std::vector<std::vector<uint32_t>> children;
+        using Union = ForestUnion<F>;
+        std::vector<std::vector<uint32_t>> splits;
         for (const F &forest : forests)
-            children.push_back(forest.FirstChildren());
+            splits.push_back(forest.SplitElements());
         std::vector<F>().swap(forests);
-        ForestUnion<F> merged(children, result.forest);
+        std::vector<typename Union::Run> runs;
+        for (size_t t = 0; t < tasks.size(); ++t)
+            runs.push_back({taskWorker[t], taskElements[t].first, taskElements[t].second});
+        result.forest = std::move(top);
+        result.forest.LiftBudget();
+        Union merged(splits, runs, result.forest);
         CountTrees(result.forest, counters);
 
         // Concatenate the tasks' ranges in task order, translating each worker's ids:

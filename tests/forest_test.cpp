@@ -99,77 +99,34 @@ TEST_CASE("Positions are canonical: the index along the root, whatever the creat
     CHECK(f.NumLeaves() == 5);
 }
 
-TEST_CASE("Canonicalize renumbers in preorder of the sibling groups, moving every element",
+TEST_CASE("Ids stay as made; SplitElements lists each group's parent in that order",
           "[forest][2d]") {
-    // Created out of order: root 1 first, then the second half of root 0 before its first.
+    // Made out of order: root 1 first, then the second half of root 0 before its first.
     Forest<Segment> f(TwoSegments(), 1000, Subdivision::Binary);
     REQUIRE(f.Children(1) == 2);   // 2, 3: the halves of root 1
     REQUIRE(f.Children(0) == 4);   // 4, 5: the halves of root 0
     REQUIRE(f.Children(5) == 6);   // 6, 7: root 0's second half split first
     REQUIRE(f.Children(4) == 8);   // 8, 9
     REQUIRE(f.Children(2) == 10);  // 10, 11: root 1's first half
-    std::vector<Segment> before;
-    for (uint32_t e = 0; e < f.Size(); ++e)
-        before.push_back(f.ShapeOf(e));
-    std::vector<uint32_t> id = f.Canonicalize();
-
-    // Canonical: roots, then root 0's children, its first child's, its second's, then
-    // root 1's children and its first child's.
-    CHECK(id == std::vector<uint32_t>{0, 1, 8, 9, 2, 3, 6, 7, 4, 5, 10, 11});
-    for (uint32_t e = 0; e < f.Size(); ++e) {
-        INFO("old element " << e);
-        const Segment &moved = f.ShapeOf(id[e]);
-        CHECK(moved.a == before[e].a);
-        CHECK(moved.b == before[e].b);
-    }
-    CHECK(f.Children(0) == 2);
-    CHECK(f.Children(2) == 4);
-    CHECK(f.Children(3) == 6);
-    CHECK(f.Children(1) == 8);
-    CHECK(f.Children(8) == 10);
-    CHECK(f.Parent(10) == 8);
-    CHECK(f.Parent(4) == 2);
-    CHECK(f.Position(7) == 3);
+    CHECK(f.SplitElements() == std::vector<uint32_t>{1, 0, 5, 4, 2});
+    CHECK(f.Parent(10) == 2);
+    CHECK(f.Parent(7) == 5);
+    CHECK(f.Position(7) == 3);  // root 0's last quarter
+    CHECK(f.Position(9) == 1);
     CHECK(f.Depth(11) == 2);
     CHECK(f.NumLeaves() == 7);
-
-    // Leaves split after the renumbering get the children of their own shapes, not of
-    // the shapes kept under their old ids.
-    for (uint32_t leaf : {4u, 5u, 7u, 11u}) {
-        INFO("leaf " << leaf);
-        std::array<Segment, 4> halves;
-        f.ShapeOf(leaf).Subdivide(Subdivision::Binary, halves);
-        uint32_t first = f.Children(leaf);
-        for (int c = 0; c < 2; ++c) {
-            CHECK(f[first + c].center == halves[size_t(c)].Centroid());
-            CHECK(f[first + c].sizeSquared == halves[size_t(c)].SquaredMeasure());
-        }
-    }
+    CHECK(f.NodesPerDepth() == std::vector<uint64_t>{2, 4, 6});
 }
 
-TEST_CASE("Canonicalize moves quadtree sibling groups and their shapes together", "[forest][3d]") {
-    // Out of order: the triangle's children, then the square's, then its last child's.
-    Forest<Polygon> f(SquareAndTriangle(), 1000, Subdivision::Quadtree);
-    REQUIRE(f.Children(1) == 2);   // 2..5
-    REQUIRE(f.Children(0) == 6);   // 6..9
-    REQUIRE(f.Children(9) == 10);  // 10..13
-    REQUIRE(f.Children(3) == 14);  // 14..17
-    std::vector<Polygon> before;
-    std::vector<uint32_t> parent;
-    for (uint32_t e = 0; e < f.Size(); ++e)
-        before.push_back(f.ShapeOf(e)), parent.push_back(f.Parent(e));
-    std::vector<uint32_t> id = f.Canonicalize();
-
-    // Roots; the square's children and its last child's; the triangle's and its second's.
-    CHECK(id ==
-          std::vector<uint32_t>{0, 1, 10, 11, 12, 13, 2, 3, 4, 5, 6, 7, 8, 9, 14, 15, 16, 17});
-    for (uint32_t e = 0; e < f.Size(); ++e) {
-        INFO("old element " << e);
-        CHECK(f.ShapeOf(id[e]).v == before[e].v);
-        CHECK(f.Parent(id[e]) == id[parent[e]]);
-    }
-    CHECK(f.Children(5) == 6);
-    CHECK(f.Position(9) == 15);
+TEST_CASE("LiftBudget lets a forest grow past the budget it was made with", "[forest]") {
+    Forest<Segment> f(TwoSegments(), 4, Subdivision::Binary);
+    REQUIRE(f.Children(0) == 2);
+    CHECK_THROWS_AS(f.Children(1), LimitError);
+    CHECK(f.Size() == 4);
+    f.LiftBudget();
+    CHECK(f.Children(1) == 4);
+    CHECK(f.Children(3) == 6);
+    CHECK(f.Size() == 8);
 }
 
 TEST_CASE("Polygon forests create children once, first child first", "[forest][3d]") {

@@ -17,6 +17,7 @@
 
 #include "hrbench/generators/generators.h"
 #include "hrbench/hrbench.h"
+#include "hrbench/kernel.h"
 #include "refinement_helpers.h"
 
 using namespace hrbench;
@@ -45,8 +46,11 @@ RefineOptions Options3D(double eps, const std::string &oracle = "garmann",
 
 // A direct transcription of docs/conventions.md, independent of the engine: elements
 // are keyed by (root, depth, position) in a map, the recursion is plain.
+using ElementKey = std::tuple<uint32_t, int, uint64_t>;  // root, depth, position
 struct ReferenceCounts {
     uint64_t nodes = 0, links = 0, calls = 0;
+    std::vector<ElementKey> made;  // the elements below the roots, in the order made
+    size_t madeFirst = 0;          // how many of them the first pass made (before the tasks)
 };
 
 // With _byLength_, the element to split is picked by comparing the lengths A instead of
@@ -56,12 +60,20 @@ ReferenceCounts ReferenceGarmann(const Segment &p, const Segment &q, double eps,
     struct Node {
         Vec2 a, b;
     };
-    std::map<std::tuple<int, int, uint64_t>, Node> nodes;
+    using Key = ElementKey;
+    std::map<Key, Node> nodes;
     ReferenceCounts counts;
-    using Key = std::tuple<int, int, uint64_t>;
     nodes[{0, 0, 0}] = {p.a, p.b};
     nodes[{1, 0, 0}] = {q.a, q.b};
+    // Ids follow the task order: a first pass leaves the pairs whose depths add up to
+    // kTaskDepth as tasks, which are then refined in order.
+    std::vector<std::pair<Key, Key>> tasks;
+    bool firstPass = true;
     std::function<void(Key, Key)> project = [&](Key i, Key j) {
+        if (firstPass && std::get<1>(i) + std::get<1>(j) >= kTaskDepth) {
+            tasks.emplace_back(i, j);
+            return;
+        }
         ++counts.calls;
         Node ni = nodes[i], nj = nodes[j];
         Vec2 ci = 0.5 * (ni.a + ni.b), cj = 0.5 * (nj.a + nj.b);
@@ -81,6 +93,8 @@ ReferenceCounts ReferenceGarmann(const Segment &p, const Segment &q, double eps,
         Vec2 m = 0.5 * (ns.a + ns.b);
         Key c0{std::get<0>(s), std::get<1>(s) + 1, 2 * std::get<2>(s)};
         Key c1{std::get<0>(s), std::get<1>(s) + 1, 2 * std::get<2>(s) + 1};
+        if (nodes.count(c0) == 0)
+            counts.made.insert(counts.made.end(), {c0, c1});
         nodes[c0] = {ns.a, m};
         nodes[c1] = {m, ns.b};
         if (splitI) {
@@ -92,6 +106,10 @@ ReferenceCounts ReferenceGarmann(const Segment &p, const Segment &q, double eps,
         }
     };
     project({0, 0, 0}, {1, 0, 0});
+    firstPass = false;
+    counts.madeFirst = counts.made.size();
+    for (const auto &[i, j] : tasks)
+        project(i, j);
     counts.nodes = nodes.size();
     return counts;
 }
@@ -339,6 +357,37 @@ TEST_CASE("Counts agree with an independent transcription of docs/conventions.md
     CHECK(r.record.counters.nodes == ref.nodes);
     CHECK(r.record.counters.links == ref.links);
     CHECK(r.record.counters.oracleCalls == ref.calls);
+}
+
+TEST_CASE("Element ids follow the order the refinement first splits each element, in task "
+          "order, on every thread count",
+          "[refine][threads]") {
+    // The last column: how many elements the tasks make, by the reference (the rest are
+    // made by the first pass).
+    auto [l, d, offset, l2, eps, byTasks] =
+        GENERATE(table<double, double, double, double, double, size_t>({
+            {64, 1, 0, 64, 0.1, 3968},
+            {8, 0.5, -2, 5, 0.35, 28},
+            {32, 1, 0.25, 32, 0.5, 128},
+            {1, 1, 0, 1, 0.05, 0},
+        }));
+    Scene scene = MakeScene("parallel", {{"l", l}, {"d", d}, {"offset", offset}, {"l2", l2}});
+    ReferenceCounts ref =
+        ReferenceGarmann(scene.Get<Segment>()[0].shape, scene.Get<Segment>()[1].shape, eps);
+    CHECK(ref.made.size() - ref.madeFirst == byTasks);
+    for (int threads : {1, 2, 3}) {
+        INFO("l=" << l << " d=" << d << " offset=" << offset << " l2=" << l2 << " eps=" << eps
+                  << " threads=" << threads);
+        RefineOptions o = Options(eps);
+        o.threads = threads;
+        Refinement<Segment> r = Refine<Segment>(scene, o);
+        const Forest<Segment> &f = r.forest;
+        REQUIRE(f.Size() == 2 + ref.made.size());
+        size_t differ = 0;
+        for (uint32_t e = 2; e < f.Size(); ++e)
+            differ += ElementKey{f[e].root, f.Depth(e), f.Position(e)} != ref.made[e - 2];
+        CHECK(differ == 0);
+    }
 }
 
 // ---------------------------------------------------------------------------------------

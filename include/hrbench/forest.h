@@ -106,22 +106,16 @@ class Forest {
         return first != kNoChildren ? first : Subdivide(i);
     }
 
-    // Renumbers the elements in place into the canonical order of docs/conventions.md
-    // (roots first; then, in preorder, each subdivided element's children,
-    // consecutively), which the union of several forests also has, and lifts the
-    // memory budget. Returns the map from old to new ids. Costs 4 bytes and a bit per
-    // element, and a bit per sibling group, beside the forest, where building a
-    // canonical copy would double it.
-    std::vector<uint32_t> Canonicalize();
-
-    // The first child of every element, in id order (kNoChildren for a leaf): the
-    // shape of the trees without their geometry.
-    std::vector<uint32_t> FirstChildren() const {
-        std::vector<uint32_t> children(Size());
-        for (size_t e = 0; e < Size(); ++e)
-            children[e] = hot_[e].firstChild;
-        return children;
+    // The element split into each sibling group, in the order the groups were made
+    // (group g: elements NumRoots() + g * Arity() onwards): the shape of the trees
+    // without their geometry, and the order they grew in.
+    std::vector<uint32_t> SplitElements() const {
+        return std::vector<uint32_t>(splitElement_.begin(), splitElement_.end());
     }
+
+    // Lifts the memory budget, for a finished refinement's forest that others grow
+    // further (as they may a forest merged from several workers', which has none).
+    void LiftBudget() { maxElements_ = SIZE_MAX; }
 
     // Cold data, for output and tests. The shape of element _i_, made again from its
     // root's by subdividing down the path to _i_: the subdivision is deterministic, so
@@ -172,7 +166,6 @@ class Forest {
     // (docs/benchmarks.md), and then need no subdivision to make their shape again.
     static constexpr uint32_t kRecent = 4096;
     std::vector<Shape> recentShapes_;  // kRecent once the forest first splits
-    uint32_t recentFrom_;              // the first id made since the ids last changed
     // The shapes down to the element split last, for the others: the next split is
     // mostly near it.
     ShapeCursor<Shape> cursor_;

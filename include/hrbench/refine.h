@@ -44,13 +44,13 @@ struct PairTally {
     uint64_t oracleCalls;  // oracle calls spent on the pair
 };
 
-// With links stored, element ids are canonical: roots first, then the union of all
-// trees in preorder, children allocated when their parent is first reached. So ids,
-// like counts, do not depend on the number of threads. Links are ordered by the
-// refinement's task order, which does not depend on it either. In count-only mode,
-// where no link refers to an id, the trees are counted but not renumbered: on one
-// thread the forest holds the same elements in the order the refinement made them; on
-// several it holds only the roots, as the workers' trees are counted as one rather
+// Element ids are canonical: roots first, in scene order, then each sibling group in
+// the order the refinement first splits its parent, running in task order (the
+// sequential pass down to the task depth, then the tasks in order, kernel.h), as one
+// thread makes them. Several workers' trees are merged into the same ids when links
+// are stored, so ids, like counts, do not depend on the number of threads. Links are in
+// that task order too. In count-only mode on several threads, where no link refers to
+// an id, the forest holds only the roots: the workers' trees are counted as one rather
 // than merged (the counters are the same).
 template <typename Shape>
 struct Refinement {
