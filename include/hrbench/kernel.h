@@ -68,7 +68,8 @@ class ProjectKernel {
     // and frontier pairs to _tasks_.
     void Project(Call start, uint32_t pair, LinkBuffer &links, std::vector<Task> *tasks) {
         if (links_ != &links)  // a buffer this kernel has not backed yet (tasks share one)
-            links_ = &links, populated_ = links.size();
+            links_ = &links, backedEnd_ = links.end();
+        next_ = links.end();
         tasks_ = tasks;
         pair_ = pair;
         if constexpr (kLookahead) {
@@ -80,6 +81,8 @@ class ProjectKernel {
         } else {
             Recurse(start.i, start.j, start.depthI, start.depthJ);
         }
+        if constexpr (kStoreLinks)
+            links.Resize(size_t(next_ - links.begin()));
     }
 
     Tally tally;
@@ -190,9 +193,9 @@ class ProjectKernel {
         ++tally.links;
         ++tally.linksPerDepth[depth];
         if constexpr (kStoreLinks) {
-            if (links_->size() == populated_)
+            if (next_ == backedEnd_)
                 GrowLinks();
-            links_->Append({i, j});
+            *next_++ = {i, j};
         }
     }
 
@@ -203,6 +206,7 @@ class ProjectKernel {
     // small run touches no more than it writes. Out of line: it runs once per
     // kPopulate links.
     [[gnu::noinline]] void GrowLinks() {
+        links_->Resize(size_t(next_ - links_->begin()));
         if (links_->size() == links_->capacity()) {
             size_t capacity = std::max<size_t>(2 * links_->capacity(), 1 << 16);
             if (capacity > maxLinks_)
@@ -211,9 +215,10 @@ class ProjectKernel {
                                  " links); use --count-only, a larger eps or --max-memory");
             links_->Reserve(capacity);
         }
-        populated_ = std::min(links_->capacity(), links_->size() + kPopulate);
+        size_t backed = std::min(links_->capacity(), links_->size() + kPopulate);
         if (links_->size() >= kPopulate)
-            links_->Populate(links_->size(), populated_);
+            links_->Populate(links_->size(), backed);
+        next_ = links_->end(), backedEnd_ = links_->begin() + backed;
     }
     static constexpr size_t kPopulate = size_t(1) << 16;  // 512 KiB: still in cache when written
 
@@ -224,8 +229,11 @@ class ProjectKernel {
     const int depthLimit_;
     const bool userDepthLimit_;
     const size_t maxLinks_;
+    // Appending writes at next_, and syncs the buffer's size at the end of Project()
+    // and in GrowLinks(): the kernel then keeps no buffer fields in step per link.
     LinkBuffer *links_ = nullptr;
-    size_t populated_ = 0;  // links_ is backed with memory up to here
+    Link *next_ = nullptr;       // where the next link goes
+    Link *backedEnd_ = nullptr;  // links_ is backed with memory up to here
     std::vector<Task> *tasks_ = nullptr;
     uint32_t pair_ = 0;
 };
