@@ -30,12 +30,12 @@ struct Budget {
 
 // Grows the canonical forest, the union of the workers' forests, and maps each worker's
 // element ids to canonical ones. Every worker's forest began as a copy of the sequential
-// pass's forest, which the canonical one starts as too, so their ids agree below
-// topSize. Above it, each task's worker made a run of sibling groups, in the order of
-// the task's recursion; replaying the runs in task order, splitting each parent unless
-// an earlier task already has, makes the groups in the order one worker running every
-// task would have made them (docs/conventions.md). A group new to the union is new to
-// its worker too, since the worker ran only earlier tasks before it.
+// pass's forest, which the canonical one starts as too, so the ids of its elements are
+// the same in all. Beyond them, each task's worker made a run of sibling groups, in the
+// order of the task's recursion; replaying the runs in task order, splitting each
+// parent unless an earlier task already has, makes the groups in the order one worker
+// running every task would have made them (docs/conventions.md). A group new to the
+// union is new to its worker too, since the worker ran only earlier tasks before it.
 template <typename Forest>
 class ForestUnion {
   public:

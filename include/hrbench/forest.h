@@ -48,16 +48,16 @@ class Forest;
 // the two roots used last), kept between calls: the shape of an element near the last
 // one asked for in its tree is made from their deepest common ancestor's, in a few
 // subdivisions, where Forest::ShapeOf() makes it from the root's. Two paths, since the
-// refinement splits the elements of a pair by turns. Valid for as long as the forest
-// keeps its ids (it may grow); a cursor asked about another forest starts again.
+// refinement splits the elements of a pair by turns. The forest may grow between calls
+// (ids never change); a cursor asked about another forest starts again.
 template <typename Shape>
 class ShapeCursor {
   public:
     const Shape &ShapeOf(const Forest<Shape> &forest, uint32_t e);
-    // Forgets the paths, for a forest whose ids changed.
-    void Clear() { paths_[0].Clear(), paths_[1].Clear(); }
 
   private:
+    void Clear() { paths_[0].Clear(), paths_[1].Clear(); }
+
     struct Path {
         std::vector<uint32_t> ids;  // ids[d]: the path's element at depth d (ids[0] its root)
         std::vector<Shape> shapes;  // and its shape

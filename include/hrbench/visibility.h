@@ -97,7 +97,7 @@ class SampledVisibility {
     // Fraction in [0, 1] of the sample segments between elements _i_ and _j_ (the
     // shapes' SamplePoints, k per side) that no third patch blocks; counts the query
     // and its rays in _tally_. Keeps the samples of the last query's elements, for as
-    // long as _forest_ keeps its ids (it grows, but is not renumbered or replaced).
+    // long as _forest_ is the same one (it may grow; ids never change).
     template <typename Forest>
     double Fraction(const Forest &forest, uint32_t i, uint32_t j, VisibilityTally &tally) {
         // One side of consecutive queries is mostly the same element (the kernel splits
