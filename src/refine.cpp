@@ -198,7 +198,7 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
             }
             Tally before = topKernel.tally;
             topKernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), topLinks, &tasks);
-            result.pairs.push_back({p, q, topKernel.tally.links - before.links,
+            result.pairs.push_back({p, q, topKernel.tally.Links() - before.Links(),
                                     topKernel.tally.oracleCalls - before.oracleCalls});
             if (progress)
                 pairOrdinal.push_back(counters.rootPairs);
@@ -233,11 +233,11 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
             if (progress)
                 progress->At(pairOrdinal[tasks[t].pair]);
             try {
-                uint64_t linksBefore = kernel.tally.links, calls = kernel.tally.oracleCalls;
+                uint64_t linksBefore = kernel.tally.Links(), calls = kernel.tally.oracleCalls;
                 uint32_t elementsBefore = uint32_t(forests[w].Size());
                 kernel.Project(tasks[t].call, tasks[t].pair, links, nullptr);
                 taskElements[t] = {elementsBefore, uint32_t(forests[w].Size())};
-                taskLinkCount[t] = kernel.tally.links - linksBefore;
+                taskLinkCount[t] = kernel.tally.Links() - linksBefore;
                 taskCallCount[t] = kernel.tally.oracleCalls - calls;
                 taskLinksEnd[t] = links.size();
                 taskWorker[t] = w;
@@ -271,7 +271,7 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
         result.pairs[tasks[t].pair].oracleCalls += taskCallCount[t];
     }
     counters.oracleCalls = total.oracleCalls;
-    counters.links = total.links;
+    counters.links = total.Links();
     counters.forcedLinks = total.forcedLinks;
     counters.rays = total.visibility.rays;
     counters.visibilityQueries = total.visibility.queries;

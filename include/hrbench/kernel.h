@@ -36,12 +36,20 @@ struct Task {
 
 // What one kernel instance counted.
 struct Tally {
-    uint64_t oracleCalls = 0, links = 0, forcedLinks = 0;
+    uint64_t oracleCalls = 0, forcedLinks = 0;
     VisibilityTally visibility;
     std::array<uint64_t, 2 * kSafetyDepth + 1> linksPerDepth{};
 
+    // The links, summed from their depths (the kernel counts each link once).
+    uint64_t Links() const {
+        uint64_t links = 0;
+        for (uint64_t n : linksPerDepth)
+            links += n;
+        return links;
+    }
+
     void Add(const Tally &other) {
-        oracleCalls += other.oracleCalls, links += other.links, forcedLinks += other.forcedLinks;
+        oracleCalls += other.oracleCalls, forcedLinks += other.forcedLinks;
         visibility.Add(other.visibility);
         for (size_t d = 0; d < linksPerDepth.size(); ++d)
             linksPerDepth[d] += other.linksPerDepth[d];
@@ -190,7 +198,6 @@ class ProjectKernel {
     }
 
     void AddLink(uint32_t i, uint32_t j, int depth) {
-        ++tally.links;
         ++tally.linksPerDepth[depth];
         if constexpr (kStoreLinks) {
             if (next_ == backedEnd_)
