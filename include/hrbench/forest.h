@@ -113,8 +113,8 @@ class Forest {
         return std::vector<uint32_t>(splitElement_.begin(), splitElement_.end());
     }
 
-    // Lifts the memory budget, for a finished refinement's forest that others grow
-    // further (as they may a forest merged from several workers', which has none).
+    // Lifts the memory budget: the union of several workers' forests grows past any
+    // one worker's budget, and a run's forest carries none, whatever the thread count.
     void LiftBudget() { maxElements_ = SIZE_MAX; }
 
     // Cold data, for output and tests. The shape of element _i_, made again from its
