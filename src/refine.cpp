@@ -216,8 +216,8 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
         workerLinks[0] = std::move(topLinks);
     std::vector<size_t> taskLinksEnd(tasks.size());
     std::vector<uint64_t> taskLinkCount(tasks.size()), taskCallCount(tasks.size());
-    std::vector<size_t> taskWorker(tasks.size());
-    std::vector<std::pair<uint32_t, uint32_t>> taskElements(tasks.size());  // made: [first, last)
+    // Per task: its worker and the elements it made there, for the merge.
+    std::vector<typename ForestUnion<F>::Run> taskRuns(tasks.size());
     std::vector<Tally> workerTally(numWorkers);
     std::atomic<size_t> next{0};
     std::atomic<bool> failed{false};
@@ -236,11 +236,10 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
                 uint64_t linksBefore = kernel.tally.Links(), calls = kernel.tally.oracleCalls;
                 uint32_t elementsBefore = uint32_t(forests[w].Size());
                 kernel.Project(tasks[t].call, tasks[t].pair, links, nullptr);
-                taskElements[t] = {elementsBefore, uint32_t(forests[w].Size())};
+                taskRuns[t] = {w, elementsBefore, uint32_t(forests[w].Size())};
                 taskLinkCount[t] = kernel.tally.Links() - linksBefore;
                 taskCallCount[t] = kernel.tally.oracleCalls - calls;
                 taskLinksEnd[t] = links.size();
-                taskWorker[t] = w;
             } catch (...) {
                 errors[w] = {t, std::current_exception()};
                 failed = true;
@@ -297,17 +296,13 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
         CountUnion(top, forests, options.threads, counters);
     } else {
         // Merge the trees into canonical ids and translate the links to them.
-        using Union = ForestUnion<F>;
         std::vector<std::vector<uint32_t>> splits;
         for (const F &forest : forests)
             splits.push_back(forest.SplitElements());
         std::vector<F>().swap(forests);
-        std::vector<typename Union::Run> runs;
-        for (size_t t = 0; t < tasks.size(); ++t)
-            runs.push_back({taskWorker[t], taskElements[t].first, taskElements[t].second});
         result.forest = std::move(top);
         result.forest.LiftBudget();
-        Union merged(splits, runs, result.forest);
+        ForestUnion<F> merged(splits, taskRuns, result.forest);
         CountTrees(result.forest, counters);
 
         // Concatenate the tasks' ranges in task order, translating each worker's ids:
@@ -315,7 +310,7 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
         // on the run's threads, each giving its source range back to the system.
         size_t topCount = workerLinks[0].size();
         for (size_t t = 0; t < tasks.size(); ++t)
-            if (taskWorker[t] == 0)
+            if (taskRuns[t].worker == 0)
                 topCount -= taskLinkCount[t];
         std::vector<size_t> taskStart(tasks.size());
         size_t total = topCount;
@@ -344,7 +339,7 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
             tasks.size(), 16, options.threads, [] { return 0; },
             [&](int, size_t t) {
                 size_t end = taskLinksEnd[t];
-                copy(taskWorker[t], end - taskLinkCount[t], end, taskStart[t]);
+                copy(taskRuns[t].worker, end - taskLinkCount[t], end, taskStart[t]);
             });
     }
 }
