@@ -108,19 +108,11 @@ class ProjectKernel {
     // changes), and their links and subtrees follow in order, first child first, so
     // that links, counts and errors come out exactly as from Recurse().
     void Split(uint32_t i, uint32_t j, int depthI, int depthJ) {
-        const auto &ei = forest_[i], &ej = forest_[j];
-        bool splitI = ei.sizeSquared >= ej.sizeSquared;
-        double preferredSizeSquared = splitI ? ei.sizeSquared : ej.sizeSquared;
-        int preferredDepth = splitI ? depthI : depthJ;
-        if (preferredSizeSquared < minAreaBound_ || preferredDepth >= depthLimit_) {
-            if (!userDepthLimit_ && preferredDepth >= depthLimit_)
-                ThrowSafetyDepth(ei.root, ej.root);
-            ++tally.forcedLinks;
-            return AddLink(i, j, depthI + depthJ);
-        }
         bool acceptable[kArity];
-        if (splitI) {
-            uint32_t child = forest_.Children(i);  // may move the arena: index again
+        if (forest_[i].sizeSquared >= forest_[j].sizeSquared) {
+            uint32_t child = ChildrenOrLink(i, depthI, i, j, depthI + depthJ);
+            if (child == kNoChildren)
+                return;
             tally.oracleCalls += kArity;
             for (int c = 0; c < kArity; ++c)
                 acceptable[c] = oracle_.Acceptable(forest_[child + c], forest_[j]);
@@ -131,7 +123,9 @@ class ProjectKernel {
                     Split(child + c, j, depthI + 1, depthJ);
             }
         } else {
-            uint32_t child = forest_.Children(j);
+            uint32_t child = ChildrenOrLink(j, depthJ, i, j, depthI + depthJ);
+            if (child == kNoChildren)
+                return;
             tally.oracleCalls += kArity;
             for (int c = 0; c < kArity; ++c)
                 acceptable[c] = oracle_.Acceptable(forest_[i], forest_[child + c]);
@@ -173,28 +167,41 @@ class ProjectKernel {
                 return AddLink(i, j, depthI + depthJ);
         }
 
-        // Pick the larger element by A^2, exactly (ties: the first), and apply the
-        // recursion limit to it: A < --min-area, decided on A^2 without rounding.
-        bool splitI = ei.sizeSquared >= ej.sizeSquared;
-        double preferredSizeSquared = splitI ? ei.sizeSquared : ej.sizeSquared;
-        int preferredDepth = splitI ? depthI : depthJ;
-        if (preferredSizeSquared < minAreaBound_ || preferredDepth >= depthLimit_) {
-            if (!userDepthLimit_ && preferredDepth >= depthLimit_)
-                ThrowSafetyDepth(ei.root, ej.root);
-            ++tally.forcedLinks;
-            return AddLink(i, j, depthI + depthJ);
-        }
-
-        // Recurse into the children of the preferred element, first child first.
-        if (splitI) {
-            uint32_t child = forest_.Children(i);
+        // Recurse into the children of the larger element by A^2, exactly (ties: the
+        // first), first child first, unless the recursion limits stop it.
+        if (ei.sizeSquared >= ej.sizeSquared) {
+            uint32_t child = ChildrenOrLink(i, depthI, i, j, depthI + depthJ);
+            if (child == kNoChildren)
+                return;
             for (int c = 0; c < kArity; ++c)
                 Recurse(child + c, j, depthI + 1, depthJ);
         } else {
-            uint32_t child = forest_.Children(j);
+            uint32_t child = ChildrenOrLink(j, depthJ, i, j, depthI + depthJ);
+            if (child == kNoChildren)
+                return;
             for (int c = 0; c < kArity; ++c)
                 Recurse(i, child + c, depthI, depthJ + 1);
         }
+    }
+
+    // The first child of element _e_ (at depth _depthE_), which the rejected pair (i, j)
+    // splits; or, where the recursion limits keep _e_ whole (A < --min-area, decided on
+    // A^2 without rounding, or the depth limit), kNoChildren, the pair then a forced
+    // link. The limits are properties of the element alone, fixed for a run, and an
+    // element is only ever split after passing them, so an element split before needs
+    // no check: the children it already has are all that the hot path reads.
+    uint32_t ChildrenOrLink(uint32_t e, int depthE, uint32_t i, uint32_t j, int depth) {
+        uint32_t first = forest_[e].firstChild;
+        if (first != kNoChildren) [[likely]]
+            return first;
+        if (forest_[e].sizeSquared < minAreaBound_ || depthE >= depthLimit_) {
+            if (!userDepthLimit_ && depthE >= depthLimit_)
+                ThrowSafetyDepth(forest_[i].root, forest_[j].root);
+            ++tally.forcedLinks;
+            AddLink(i, j, depth);
+            return kNoChildren;
+        }
+        return forest_.Children(e);  // may move the arena: index again
     }
 
     void AddLink(uint32_t i, uint32_t j, int depth) {
