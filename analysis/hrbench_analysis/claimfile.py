@@ -28,7 +28,7 @@ from .engine import MESH_SCENE
 from .errors import AnalysisError
 from .expr import Expression, ExpressionError
 from .lemmas import STATISTICS, claim_statistics
-from .loader import environment_names
+from .loader import TIMES, environment_names
 
 __all__ = [
     "Claim",
@@ -347,6 +347,12 @@ class Claim:
         """frozenset of str: the hierarchy statistics its formulas read
         (:data:`hrbench_analysis.lemmas.STATISTICS`); each point then also measures its links."""
         return claim_statistics(self)
+
+    @property
+    def timed(self):
+        """bool: whether its x or y reads a time (:data:`hrbench_analysis.loader.TIMES`),
+        so that its points, exponent and verdict change from run to run."""
+        return any(name in TIMES for name in self.x.names | self.y.names)
 
     def options_for(self, mode):
         """The engine options of `mode`: `options` updated by ``mode_options[mode]``.

@@ -31,8 +31,20 @@ __all__ = [
 #: Seed of the bootstrap generator, fixed so that intervals are the same on every run.
 DEFAULT_SEED = 20030101
 
-#: Competing growth models ``c * x^a * (log x)^b``, as (name, a, b).
+#: Competing models ``c * x^a * (log x)^b``, as (name, a, b): the growth models from
+#: ``1`` to ``x^3`` and their reciprocals, so that a quantity that falls (an error
+#: against the cost that buys it) meets the same shapes as one that grows. The set is
+#: closed under ``y -> 1/y``: ranking ``1/y`` picks the reciprocal of the model ranked
+#: for ``y``, with the same AIC differences.
 DEFAULT_MODELS = (
+    ("x^-3", -3.0, 0),
+    ("1/(x^2 log x)", -2.0, -1),
+    ("x^-2", -2.0, 0),
+    ("x^-1.5", -1.5, 0),
+    ("1/(x log x)", -1.0, -1),
+    ("x^-1", -1.0, 0),
+    ("x^-0.5", -0.5, 0),
+    ("1/log x", 0.0, -1),
     ("1", 0.0, 0),
     ("log x", 0.0, 1),
     ("x^0.5", 0.5, 0),
@@ -554,7 +566,7 @@ def theta_check(x, y, exponent, *, max_band=10.0, tolerance=0.1):
 
 @dataclass
 class ModelComparison:
-    """Competing growth models ``c * f(x)``, each fitted in log space, ranked by AIC.
+    """Competing models ``c * f(x)``, each fitted in log space, ranked by AIC.
 
     Attributes
     ----------
@@ -593,7 +605,7 @@ class ModelComparison:
 
 
 def compare_models(x, y, models=DEFAULT_MODELS):
-    """Rank growth models ``y = c * x^a * (log x)^b`` by AIC.
+    """Rank models ``y = c * x^a * (log x)^b`` by AIC.
 
     Parameters
     ----------

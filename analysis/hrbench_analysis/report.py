@@ -8,6 +8,7 @@ import math
 import multiprocessing
 import os
 import sys
+import textwrap
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,6 +23,15 @@ from .plots import (
     plot_ratio,
     plot_slopes,
 )
+from .summary import (
+    GROUPS,
+    TIMED_MARK,
+    claim_anchors,
+    claim_group,
+    report_order,
+    source_label,
+    verdict_tally,
+)
 from .verdict import MEASURED, SKIPPED
 
 __all__ = [
@@ -29,6 +39,9 @@ __all__ = [
     "ReportFigure",
     "get_claims_table",
     "print_claims_table",
+    "format_claims_table",
+    "TERMINAL_WIDTH",
+    "TIMED_NOTE",
     "get_claims_json",
     "get_figures",
     "write_report",
@@ -118,7 +131,8 @@ def _num(value, digits=3):
 
 
 def get_claims_table(outcomes):
-    """One row per claim, ready to print.
+    """One row per claim, ready to print, in the report's order
+    (:func:`~hrbench_analysis.summary.report_order`).
 
     Parameters
     ----------
@@ -127,17 +141,28 @@ def get_claims_table(outcomes):
     Returns
     -------
     rows : list of dict
-        Keys ``id``, ``statement``, ``source``, ``expected``, ``measured``, ``interval``,
-        ``verdict``, ``expected_to_hold``, ``agrees``, ``reason`` (strings).
+        Keys ``id``, ``anchor`` (of the claim's section), ``mark`` (:data:`TIMED_MARK` for
+        a claim that times the CPU, else empty), ``statement``, ``source`` and
+        ``source_short`` (who states it, :func:`~hrbench_analysis.summary.source_label`),
+        ``citation``, ``group`` (its heading, :data:`~hrbench_analysis.summary.GROUPS`),
+        ``expected``, ``measured``, ``interval``, ``verdict``, ``expected_to_hold``,
+        ``agrees``, ``reason`` (strings).
     """
+    outcomes = report_order(outcomes)
+    anchors = claim_anchors([o.claim for o in outcomes])
     rows = []
     for o in outcomes:
         a, c = o.assessment, o.claim
         fit, iv = a.fit, a.interval
         rows.append({
             "id": c.id,
+            "anchor": anchors[c.id],
+            "mark": TIMED_MARK if c.timed else "",
             "statement": c.statement,
-            "source": c.source_key,
+            "source": source_label(c),
+            "source_short": source_label(c, short=True),
+            "citation": c.source,
+            "group": GROUPS[claim_group(c)][1],
             "expected": f"{c.expected_exponent:g} +/- {c.tolerance:g}",
             "measured": _num(fit.exponent) if fit else "-",
             "interval": f"[{_num(iv.low)}, {_num(iv.high)}]" if iv else "-",
@@ -149,14 +174,85 @@ def get_claims_table(outcomes):
     return rows
 
 
-_COLUMNS = (("id", "claim"), ("statement", "statement"), ("expected", "expected k"),
-            ("measured", "measured k"), ("interval", "interval"),
+_COLUMNS = (("id", "claim"), ("source", "source"), ("statement", "statement"),
+            ("expected", "expected k"), ("measured", "measured k"), ("interval", "interval"),
             ("verdict", "verdict"), ("expected_to_hold", "should hold"),
             ("agrees", "as expected"))
 
+#: Columns of the claims table on the terminal.
+TERMINAL_WIDTH = 100
+
+# The terminal's columns: (row key, header, widest); the statement, last, takes the rest
+# of TERMINAL_WIDTH. The claimed exponent is in the statement and the interval in the
+# reasons printed below the table, so neither has a column here.
+_TERMINAL = (("claim", "claim", 20), ("source_short", "source", 13), ("measured", "k", 8),
+             ("verdict", "verdict", 12), ("agrees", "as expected", 11))
+
+#: The note on the claims that time the CPU, below every claims table that has one.
+TIMED_NOTE = (f"{TIMED_MARK} times the CPU: its x or y is a time (s), which depends on the "
+              "machine and its load, so its points, exponent and verdict change whenever "
+              "they are measured anew (another machine, an empty cache); the other claims "
+              "measure counts and errors, which do not.")
+
+
+def _clip(text, width):
+    # The text cut to `width` characters, at a space where one is near, an ellipsis
+    # marking the cut.
+    if len(text) <= width:
+        return text
+    cut = text[:width - 1]
+    space = cut.rfind(" ")
+    return (cut[:space] if space > width // 2 else cut).rstrip() + "…"
+
+
+def _wrap(text):
+    # The text as lines of at most TERMINAL_WIDTH characters, continuation lines
+    # indented; words (formulas, paths) are never split.
+    return textwrap.wrap(text, TERMINAL_WIDTH, subsequent_indent="    ",
+                         break_long_words=False, break_on_hyphens=False)
+
+
+def format_claims_table(rows):
+    """The claims table as lines of aligned plain text, :data:`TERMINAL_WIDTH` wide at most.
+
+    Parameters
+    ----------
+    rows : list of dict
+        From :func:`get_claims_table`.
+
+    Returns
+    -------
+    lines : list of str
+        Header, rule, one line per claim (id with its mark, the first author and year of
+        its source, measured exponent, verdict, whether as expected, statement cut to the
+        columns left), then a line that says what ``k`` is and :data:`TIMED_NOTE` if a
+        claim times the CPU. Cut cells end in an ellipsis; nothing wraps.
+    """
+    cells = [{**r, "claim": r["id"] + r["mark"]} for r in rows]
+    widths = [min(cap, max([len(head), *(len(c[key]) for c in cells)]))
+              for key, head, cap in _TERMINAL]
+    # The caps leave the statement 26 columns at least.
+    rest = TERMINAL_WIDTH - sum(widths) - 2 * len(widths)
+    columns = [*(key for key, _, _ in _TERMINAL), "statement"]
+    widths.append(rest)
+
+    def line(values):
+        return "  ".join(_clip(v, w).ljust(w) for v, w in zip(values, widths,
+                                                              strict=True)).rstrip()
+
+    lines = [line([*(head for _, head, _ in _TERMINAL), "statement"]),
+             "  ".join("-" * w for w in widths)]
+    lines += [line([c[key] for key in columns]) for c in cells]
+    lines += _wrap("k: the measured exponent (the claimed one is in the statement, the "
+                   "interval in the reasons below)")
+    if any(r["mark"] for r in rows):
+        lines += _wrap(TIMED_NOTE)
+    return lines
+
 
 def print_claims_table(rows, file=None):
-    """Print the claims table as aligned plain text, then one reason per claim.
+    """Print the claims table (:func:`format_claims_table`), then one reason per claim,
+    wrapped to :data:`TERMINAL_WIDTH` columns.
 
     Parameters
     ----------
@@ -166,15 +262,12 @@ def print_claims_table(rows, file=None):
         Default standard output.
     """
     file = sys.stdout if file is None else file
-    widths = {k: max(len(h), *(len(r[k]) for r in rows)) if rows else len(h)
-              for k, h in _COLUMNS}
-    print("  ".join(h.ljust(widths[k]) for k, h in _COLUMNS).rstrip(), file=file)
-    print("  ".join("-" * widths[k] for k, _ in _COLUMNS), file=file)
-    for r in rows:
-        print("  ".join(r[k].ljust(widths[k]) for k, _ in _COLUMNS).rstrip(), file=file)
+    for text in format_claims_table(rows):
+        print(text, file=file)
     print(file=file)
     for r in rows:
-        print(f"{r['id']}: {r['verdict']}: {r['reason']}", file=file)
+        for text in _wrap(f"{r['id']}: {r['verdict']}: {r['reason']}"):
+            print(text, file=file)
 
 
 def get_claims_json(outcomes, mode="quick"):
@@ -454,12 +547,54 @@ def _slug(text):
     return "-".join(words).lower()
 
 
+def _md_text(text):
+    # Text that stays text in a Markdown table cell.
+    return text.replace("|", "\\|")
+
+
+def _md_link(text, anchor):
+    # A link to an anchor of the report; its text escaped to stay one link in a cell.
+    text = "".join("\\" + ch if ch in "\\[]|" else ch for ch in text)
+    return f"[{text}](#{anchor})"
+
+
 def _md_table(rows):
     head = "| " + " | ".join(h for _, h in _COLUMNS) + " |"
     rule = "|" + "|".join("---" for _ in _COLUMNS) + "|"
-    body = ["| " + " | ".join(r[k].replace("|", "\\|") for k, _ in _COLUMNS) + " |"
+    body = ["| " + " | ".join(_md_link(r["id"], r["anchor"]) + r["mark"] if k == "id"
+                              else _md_text(r[k]) for k, _ in _COLUMNS) + " |"
             for r in rows]
     return "\n".join([head, rule, *body])
+
+
+# The anchor of each group's section, by its heading.
+_GROUP_ANCHORS = {title: f"group-{key}" for key, title in GROUPS}
+
+
+def _contents(rows, placed):
+    # The table of contents: (anchor, title, [(claim id, anchor), ...]) per section.
+    members = {}
+    for r in rows:
+        members.setdefault(r["group"], []).append((r["id"], r["anchor"]))
+    entries = [("run", "Run", []), ("claims", "Claims table", [])]
+    entries += [(_GROUP_ANCHORS[title], title, members[title])
+                for _, title in GROUPS if title in members]
+    if placed.get(None):
+        entries.append(("figures", "Figures", []))
+    return entries
+
+
+def _html_cell(row, key):
+    # A cell of the HTML claims table: the claim links to its section, the verdict is
+    # coloured by its class, the source shows its full citation on hover.
+    esc = html.escape
+    if key == "id":
+        return f"<td><a href='#{esc(row['anchor'])}'>{esc(row['id'])}</a>{esc(row['mark'])}</td>"
+    if key == "verdict":
+        return f"<td class='{esc(row[key])}'>{esc(row[key])}</td>"
+    if key == "source":
+        return f"<td title='{esc(row['citation'])}'>{esc(row[key])}</td>"
+    return f"<td>{esc(row[key])}</td>"
 
 
 def _context_lines(context):
@@ -517,7 +652,7 @@ def _details(o):
     if a.models:
         m = a.models
         order = np.argsort(m.delta_aic)[:4]
-        lines.append("- growth models by AIC: " + ", ".join(
+        lines.append("- models by AIC: " + ", ".join(
             f"{m.names[i]} (dAIC {m.delta_aic[i]:.1f})" for i in order))
     for f in o.data.failures:
         lines.append(f"- FAILED point {c.sweep_param}={f['value']:g}: exit code "
@@ -599,6 +734,7 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
     for stale in [*plots.glob("chart-*.png"), *plots.glob("slopes-*.png")]:
         if stale.name not in names:
             stale.unlink()  # a figure of an earlier run whose claims have changed
+    outcomes = report_order(outcomes)
     rows = get_claims_table(outcomes)
     pngs = dict(zip((f.name for f in every), render_pngs(every, jobs), strict=True))
     for name, png in pngs.items():
@@ -611,18 +747,30 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
                                                    outcomes, context.get("mode", "quick"))},
                                     indent=2, default=_jsonable) + "\n")
 
-    # Write the Markdown report.
+    # Write the Markdown report: the tally, the contents, the run, the claims table, one
+    # section per group of claims, the figures of no claim.
     placed = _place_figures(outcomes, figures)
+    contents = _contents(rows, placed)
+    note = [TIMED_NOTE, ""] if any(r["mark"] for r in rows) else []
     md = ["# hrbench: reproduction of published complexity claims", "",
-          *_context_lines(context), "", "## Claims", "", _md_table(rows), ""]
-    for o in outcomes:
-        md += [f"### {o.claim.id}: {o.claim.statement}", "", o.claim.description, "",
-               *_details(o), ""]
+          f"**{verdict_tally(outcomes)}**", "", "## Contents", ""]
+    md += [f"- {_md_link(title, anchor)}"
+           + (": " + ", ".join(_md_link(*claim) for claim in claims) if claims else "")
+           for anchor, title, claims in contents]
+    md += ["", '## <a id="run"></a>Run', "", *_context_lines(context), "",
+           '## <a id="claims"></a>Claims', "", _md_table(rows), "", *note]
+    group = None
+    for o, r in zip(outcomes, rows, strict=True):
+        if r["group"] != group:
+            group = r["group"]
+            md += [f'## <a id="{_GROUP_ANCHORS[group]}"></a>{group}', ""]
+        md += [f'### <a id="{r["anchor"]}"></a>{o.claim.id}: {o.claim.statement}', "",
+               o.claim.description, "", *_details(o), ""]
         for f in placed.get(o.claim.id, []):
             md += [f"#### {f.title}", "", f"![{f.title}](plots/{f.name}.png)", "",
                    f.caption, ""]
     if placed.get(None):
-        md += ["## Figures", ""]
+        md += ['## <a id="figures"></a>Figures', ""]
     for f in placed.get(None, []):
         md += [f"### {f.title}", "", f"![{f.title}](plots/{f.name}.png)", "", f.caption, ""]
         if f.alternate is not None:
@@ -640,16 +788,22 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
              "th{background:#eee}.reproduced{background:#d8f5d8}.refuted{background:#f8d8d8}",
              ".inconclusive{background:#f5efc8}.measured{background:#dce8f5}.skipped{background:#e4e4e4}img{max-width:100%}code{background:#f4f4f4}",
              "</style></head><body>",
-             "<h1>hrbench: reproduction of published complexity claims</h1><ul>"]
+             "<h1>hrbench: reproduction of published complexity claims</h1>",
+             f"<p><b>{esc(verdict_tally(outcomes))}</b></p>",
+             "<nav><h2 id='contents'>Contents</h2><ul>"]
+    for anchor, title, claims in contents:
+        links = ", ".join(f"<a href='#{esc(a)}'>{esc(cid)}</a>" for cid, a in claims)
+        parts.append(f"<li><a href='#{esc(anchor)}'>{esc(title)}</a>"
+                     + (f": {links}" if links else "") + "</li>")
+    parts.append("</ul></nav><h2 id='run'>Run</h2><ul>")
     parts += [f"<li>{esc(k)}: {esc(str(v))}</li>" for k, v in context.items()]
-    parts += ["</ul><h2>Claims</h2><table><tr>"]
+    parts += ["</ul><h2 id='claims'>Claims</h2><table><tr>"]
     parts += [f"<th>{esc(h)}</th>" for _, h in _COLUMNS]
     parts.append("</tr>")
     for r in rows:
-        cells = "".join(f"<td class='{esc(r['verdict'])}'>{esc(r[k])}</td>" if k == "verdict"
-                        else f"<td>{esc(r[k])}</td>" for k, _ in _COLUMNS)
-        parts.append(f"<tr>{cells}</tr>")
+        parts.append(f"<tr>{''.join(_html_cell(r, k) for k, _ in _COLUMNS)}</tr>")
     parts.append("</table>")
+    parts += [f"<p>{esc(line)}</p>" for line in note if line]
     def img(f):
         data = base64.b64encode(pngs[f.name]).decode("ascii")
         return f"<img alt='{esc(f.title)}' src='data:image/png;base64,{data}'>"
@@ -661,8 +815,13 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
         return (f"<h{level}>{esc(f.title)}</h{level}>{img(f)}{toggle}"
                 f"<p>{esc(f.caption)}</p>")
 
-    for o in outcomes:
-        parts.append(f"<h3>{esc(o.claim.id)}: {esc(o.claim.statement)}</h3>")
+    group = None
+    for o, r in zip(outcomes, rows, strict=True):
+        if r["group"] != group:
+            group = r["group"]
+            parts.append(f"<h2 id='{_GROUP_ANCHORS[group]}'>{esc(group)}</h2>")
+        parts.append(f"<h3 id='{esc(r['anchor'])}'>{esc(o.claim.id)}: "
+                     f"{esc(o.claim.statement)}</h3>")
         parts.append(f"<p>{esc(o.claim.description)}</p><ul>")
         for line in _details(o):
             text = esc(line[2:]).replace("**", "")
@@ -670,7 +829,7 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
         parts.append("</ul>")
         parts += [image(f, 4) for f in placed.get(o.claim.id, [])]
     if placed.get(None):
-        parts.append("<h2>Figures</h2>")
+        parts.append("<h2 id='figures'>Figures</h2>")
     parts += [image(f, 3) for f in placed.get(None, [])]
     parts.append("</body></html>")
     html_path = outdir / "report.html"

@@ -74,7 +74,7 @@ class Assessment:
     theta : ThetaCheck or None
         The bounded-ratio check of ``y / x^k`` over the regime.
     models : ModelComparison or None
-        Competing growth models over the regime.
+        Competing models (growing and falling) over the regime.
     """
 
     verdict: str

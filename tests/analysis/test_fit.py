@@ -103,6 +103,42 @@ def test_model_comparison_prefers_the_true_model():
     assert np.min(np.delete(comparison.delta_aic, comparison.names.index("x^2 log x"))) > 10
 
 
+def test_model_comparison_names_the_falling_power_law_of_a_decreasing_quantity():
+    # An error that falls like the inverse of its cost, with 5% scatter: a set of growth
+    # models alone would name the constant the best (RMS 0.9 decade over three decades).
+    x = np.logspace(1, 4, 31)
+    rng = np.random.default_rng(11)
+    y = 0.3 / x * np.exp(rng.normal(0, 0.05, x.size))
+    comparison = compare_models(x, y)
+    assert comparison.best == "x^-1" and comparison.best_power == -1.0
+    rms = dict(zip(comparison.names, comparison.rms, strict=True))
+    assert rms["x^-1"] < 0.05 and rms["1"] > 0.8  # decades
+    others = np.delete(comparison.delta_aic, comparison.names.index("x^-1"))
+    assert np.min(others) > 10
+    # The set is closed under y -> 1/y: the reciprocal data ranks the reciprocal models.
+    flipped = compare_models(x, 1 / y)
+    assert flipped.best == "x"
+    assert (dict(zip(flipped.names, flipped.delta_aic, strict=True))["x log x"]
+            == pytest.approx(dict(zip(comparison.names, comparison.delta_aic,
+                                      strict=True))["1/(x log x)"]))
+
+
+def test_model_comparison_of_a_growing_quantity_is_unchanged_by_the_falling_models():
+    growth = (("1", 0.0, 0), ("log x", 0.0, 1), ("x^0.5", 0.5, 0), ("x", 1.0, 0),
+              ("x log x", 1.0, 1), ("x^1.5", 1.5, 0), ("x^2", 2.0, 0),
+              ("x^2 log x", 2.0, 1), ("x^3", 3.0, 0))
+    x = np.logspace(0.5, 4, 30)
+    rng = np.random.default_rng(3)
+    y = 5 * x ** 2 * np.exp(rng.normal(0, 0.05, x.size))
+    alone, full = compare_models(x, y, models=growth), compare_models(x, y)
+    assert alone.best == full.best == "x^2"
+    dfull = dict(zip(full.names, full.delta_aic, strict=True))
+    for name, delta in zip(alone.names, alone.delta_aic, strict=True):
+        assert dfull[name] == pytest.approx(delta, abs=1e-9)
+    # The four best, as the report lists them, are still growth models.
+    assert {full.names[i] for i in np.argsort(full.delta_aic)[:4]} <= {n for n, _, _ in growth}
+
+
 def test_model_comparison_skips_log_models_below_one():
     comparison = compare_models([0.5, 1, 2, 4], [0.5, 1, 2, 4])
     assert "x log x" in comparison.skipped

@@ -1,0 +1,165 @@
+"""How the report presents its claims as a whole: their order, groups, sources and tally."""
+
+import re
+from collections import Counter
+
+from .verdict import SKIPPED, VERDICTS
+
+__all__ = [
+    "SEED_CLAIMS",
+    "OWN_SOURCE",
+    "GROUPS",
+    "TIMED_MARK",
+    "claim_group",
+    "report_order",
+    "source_label",
+    "claim_anchors",
+    "verdict_tally",
+]
+
+#: The seed paper's claims, in its numbering: Garmann & Müller's C1, C2 and C4, and C3,
+#: the linear law of Hanrahan et al. that the paper sets against C4.
+SEED_CLAIMS = ("C1", "C2", "C3", "C4")
+
+#: The words by which a claim's source (its ``source`` key, else the citation of its
+#: file) marks a law or measurement of this benchmark's own, not a published one.
+OWN_SOURCE = "this benchmark"
+
+#: The groups of :func:`claim_group`, in order: (anchor, heading).
+GROUPS = (("seed", "The seed paper's claims C1 to C4 (Garmann & Müller 2003)"),
+          ("published", "Other published claims"),
+          ("own", "hrbench's own laws and measurements"))
+
+#: The mark of a claim whose x or y is a time (:attr:`~hrbench_analysis.claimfile.Claim.timed`).
+TIMED_MARK = "†"
+
+# A publication year in a citation: 1800 to 2099.
+_YEAR = re.compile(r"\b(?:1[89]|20)\d\d\b")
+
+
+def claim_group(claim):
+    """The report's group of a claim, an index into :data:`GROUPS`.
+
+    Returns
+    -------
+    group : int
+        2 for hrbench's own laws and measurements: a claim without a published exponent
+        (``published = false``) or whose source says :data:`OWN_SOURCE`; 0 for the seed
+        paper's claims (:data:`SEED_CLAIMS`); 1 for every other published claim.
+    """
+    if not claim.published or OWN_SOURCE in claim.source.lower():
+        return 2
+    return 0 if claim.id in SEED_CLAIMS else 1
+
+
+def report_order(outcomes):
+    """The claims in the order the report lists them.
+
+    The seed paper's claims C1 to C4 first, in that order; then the other published
+    claims; then hrbench's own laws and measurements (:func:`claim_group`). Within a group
+    the claims keep the order of their files (files by name), except that claims on the
+    solved radiosity (``command = "solve"``: its accuracy) come last.
+
+    Parameters
+    ----------
+    outcomes : sequence of ClaimOutcome
+
+    Returns
+    -------
+    ordered : list of ClaimOutcome
+    """
+    def key(outcome):
+        claim = outcome.claim
+        group = claim_group(claim)
+        seed = SEED_CLAIMS.index(claim.id) if group == 0 else 0
+        return group, seed, claim.command == "solve"
+
+    return sorted(outcomes, key=key)
+
+
+def source_label(claim, short=False):
+    """Who states a claim, in a few words.
+
+    Parameters
+    ----------
+    claim : Claim
+    short : bool, optional
+        The first author only (for the terminal).
+
+    Returns
+    -------
+    label : str
+        ``"hrbench"`` for the benchmark's own claims (group 2 of :func:`claim_group`);
+        else the authors' surnames and the year of a citation of the form ``"R. Garmann,
+        H. Müller: title, ..., 2003"``: ``"Garmann & Müller 2003"``, ``"Hanrahan et al.
+        1991"`` (``"Garmann 2003"``, ``"Hanrahan 1991"`` when `short`); the source key of
+        a citation of another form.
+    """
+    if claim_group(claim) == 2:
+        return "hrbench"
+    authors, colon, rest = claim.source.partition(":")
+    year = _YEAR.search(rest)
+    parts = [part.split() for part in re.split(r",|&|\band\b", authors)]
+    names = [words[-1] for words in parts if words]
+    if not colon or year is None or not names or any(len(words) > 4 for words in parts):
+        return claim.source_key
+    if short or len(names) == 1:
+        who = names[0]
+    elif len(names) == 2:
+        who = f"{names[0]} & {names[1]}"
+    else:
+        who = f"{names[0]} et al."
+    return f"{who} {year.group()}"
+
+
+def claim_anchors(claims):
+    """The anchor of every claim's section in the report.
+
+    Parameters
+    ----------
+    claims : sequence of Claim
+
+    Returns
+    -------
+    anchors : dict of str to str
+        Claim id to an anchor of lower-case letters, digits and dashes, ``"claim-c1-3d"``
+        for ``"C1-3d"``; unique, a number added where two ids give the same one.
+    """
+    anchors, used = {}, set()
+    for claim in claims:
+        words = "".join(ch if ch.isalnum() else " " for ch in claim.id.lower()).split()
+        base = "-".join(["claim", *words])
+        anchor, n = base, 1
+        while anchor in used:
+            n += 1
+            anchor = f"{base}-{n}"
+        used.add(anchor)
+        anchors[claim.id] = anchor
+    return anchors
+
+
+def verdict_tally(outcomes):
+    """One line that counts the verdicts and names the claims not as expected.
+
+    Parameters
+    ----------
+    outcomes : sequence of ClaimOutcome
+
+    Returns
+    -------
+    line : str
+        E.g. ``"62 claims: reproduced 38, refuted 3, inconclusive 3, measured 18; not as
+        expected: none"``: every verdict of :data:`~hrbench_analysis.verdict.VERDICTS`,
+        then ``skipped`` if any; then the claims whose verdict is not what their file
+        expects (``ClaimOutcome.agrees`` false), five at most by name.
+    """
+    counts = Counter(o.assessment.verdict for o in outcomes)
+    parts = [f"{v} {counts[v]}" for v in VERDICTS]
+    if counts[SKIPPED]:
+        parts.append(f"{SKIPPED} {counts[SKIPPED]}")
+    against = [o.claim.id for o in report_order(outcomes) if o.agrees is False]
+    named = ", ".join(against[:5]) + (f" and {len(against) - 5} more" if len(against) > 5
+                                      else "")
+    n = len(outcomes)
+    return (f"{n} claim{'' if n == 1 else 's'}: {', '.join(parts)}; not as expected: "
+            f"{named or 'none'}")
