@@ -1,4 +1,4 @@
-"""Benchmark history over commits: ``hrbench-history record`` and ``hrbench-history html``.
+"""Benchmark history over commits: ``hrbench-history record``, ``measure`` and ``html``.
 
 ``record`` stores one Google Benchmark run (a JSON file as ``make bench`` or
 ``refine_bench --benchmark_out=F.json`` writes it, with repetitions) in a history
@@ -24,8 +24,17 @@ same run (same content, same commit) a no-op, and the content hash refuses the s
 measurement under another commit: one measurement is never two points. See
 docs/history.md.
 
-Exit codes of the command: 0 success (also a run that was already recorded), 2 usage
-or input error (one line on standard error).
+``measure BASE..HEAD`` builds every commit of a range in its own git worktree (the code
+of the CI gates, :mod:`hrbench_analysis.builds`), runs its benchmarks and records them,
+as asv's ``asv run`` does.
+
+A step is flagged only with at least 3 points on each side, and is credited to the range
+of commits between the last point before it and the first after it: the commits of that
+range this machine did not measure are listed (git is asked in ``--repo``).
+
+Exit codes of the command: 0 success (also a run that was already recorded), 1
+``measure`` could not build or run some commit (the others are recorded), 2 usage or
+input error (one line on standard error).
 """
 
 import argparse
@@ -45,6 +54,15 @@ from pathlib import Path
 
 import numpy as np
 
+from .builds import (
+    DEFAULT_FILTER,
+    BuildError,
+    build_commit,
+    commits_between,
+    locate_project,
+    resolve_ref,
+    run_benchmarks,
+)
 from .errors import AnalysisError, one_line
 from .gbench import InputError, format_time, get_repetition_times, load_benchmark_file, time_unit
 
@@ -59,6 +77,7 @@ __all__ = [
     "DEFAULT_PENALTY",
     "DEFAULT_MIN_CHANGE",
     "DEFAULT_MIN_NOISE",
+    "DEFAULT_MIN_POINTS",
     "detect_steps",
     "record_run",
     "load_history",
@@ -75,6 +94,7 @@ HISTORY_FORMAT = 1
 DEFAULT_PENALTY = 6.0
 DEFAULT_MIN_CHANGE = 0.05
 DEFAULT_MIN_NOISE = 0.005
+DEFAULT_MIN_POINTS = 3
 
 # Numeric fields of a Google Benchmark iteration row that are not user counters.
 _NOT_COUNTERS = frozenset({
@@ -119,17 +139,18 @@ def _segment_cost(csum, csum2, s, t):
     return (csum2[t] - csum2[s]) - total * total / n
 
 
-def _optimal_partition(y, beta):
-    """Breakpoints of the least-squares piecewise-constant fit with penalty beta per step."""
+def _optimal_partition(y, beta, min_points):
+    """Breakpoints of the least-squares piecewise-constant fit with penalty beta per step,
+    every segment at least min_points long (the caller ensures n >= min_points)."""
     n = y.size
     csum = np.concatenate(([0.0], np.cumsum(y)))
     csum2 = np.concatenate(([0.0], np.cumsum(y * y)))
-    best = np.empty(n + 1)
+    best = np.full(n + 1, np.inf)  # no partition ends before min_points
     best[0] = -beta
     last = np.zeros(n + 1, dtype=int)
-    for t in range(1, n + 1):
-        s = np.arange(t)
-        costs = best[:t] + _segment_cost(csum, csum2, s, t) + beta
+    for t in range(min_points, n + 1):
+        s = np.arange(t - min_points + 1)
+        costs = best[:t - min_points + 1] + _segment_cost(csum, csum2, s, t) + beta
         k = int(np.argmin(costs))
         best[t], last[t] = costs[k], k
     breaks = []
@@ -163,7 +184,7 @@ def noise_level(y):
 
 
 def detect_steps(values, penalty=DEFAULT_PENALTY, min_change=DEFAULT_MIN_CHANGE,
-                 min_noise=DEFAULT_MIN_NOISE):
+                 min_noise=DEFAULT_MIN_NOISE, min_points=DEFAULT_MIN_POINTS):
     """Find the points where a positive series steps to a new level.
 
     Parameters
@@ -177,6 +198,11 @@ def detect_steps(values, penalty=DEFAULT_PENALTY, min_change=DEFAULT_MIN_CHANGE,
     min_noise : float, optional
         Floor of ``sigma`` (in log units, 0.005 is 0.5%), so that an almost noiseless
         series does not turn every wiggle into a step.
+    min_points : int, optional
+        Fewest points on each side of a step (3). The `min_points` points just before a
+        step and those just after must not overlap (each on its own side of it): two
+        commits, one outlying commit, or a level only the last two commits reached, are
+        not a step.
 
     Returns
     -------
@@ -186,12 +212,13 @@ def detect_steps(values, penalty=DEFAULT_PENALTY, min_change=DEFAULT_MIN_CHANGE,
     Notes
     -----
     The rule, in the spirit of asv's step detection: fit the logs of the values by a
-    piecewise-constant function, minimising the sum of squared residuals plus
-    ``beta = penalty * sigma**2 * ln(n)`` per step (optimal partitioning, exact, O(n^2)),
-    where ``sigma`` is the robust noise of one point (`noise_level`, at least
-    `min_noise`). Then, while the smallest step changes the level by less than
-    `min_change`, it is removed and its two segments are merged. Levels are the
-    geometric means of the segments' values.
+    piecewise-constant function with segments of at least `min_points` points, minimising
+    the sum of squared residuals plus ``beta = penalty * sigma**2 * ln(n)`` per step
+    (optimal partitioning, exact, O(n^2)), where ``sigma`` is the robust noise of one
+    point (`noise_level`, at least `min_noise`). Then a step whose `min_points` points
+    on either side overlap is removed (its two segments merged), and so, while the
+    smallest step changes the level by less than `min_change`, is that one.
+    Levels are the geometric means of the segments' values.
 
     Examples
     --------
@@ -204,20 +231,31 @@ def detect_steps(values, penalty=DEFAULT_PENALTY, min_change=DEFAULT_MIN_CHANGE,
         raise ValueError("values must be a 1-d array of finite positive numbers")
     if not (penalty >= 0 and min_change >= 0 and min_noise > 0):
         raise ValueError("penalty and min_change must be >= 0, min_noise > 0")
+    if not (isinstance(min_points, int) and min_points >= 1):
+        raise ValueError("min_points must be an integer >= 1")
     n = v.size
-    if n < 2:
+    if n < max(2, 2 * min_points):
         return []
     y = np.log(v)
     sigma = max(noise_level(y), min_noise)
     beta = penalty * sigma * sigma * math.log(n)
-    breaks = _optimal_partition(y, beta)
+    breaks = _optimal_partition(y, beta, min_points)
 
     def levels(bs):
         edges = [0, *bs, n]
         return [float(np.mean(y[a:b])) for a, b in zip(edges[:-1], edges[1:], strict=True)]
 
+    def separated(b, up):
+        # The min_points points on each side of the step do not overlap.
+        before, after = y[b - min_points:b], y[b:b + min_points]
+        return before.max() < after.min() if up else before.min() > after.max()
+
     while breaks:
         lv = levels(breaks)
+        mixed = [i for i, b in enumerate(breaks) if not separated(b, lv[i + 1] > lv[i])]
+        if mixed:
+            del breaks[mixed[0]]
+            continue
         sizes = [abs(math.expm1(lv[i + 1] - lv[i])) for i in range(len(breaks))]
         i = int(np.argmin(sizes))
         if sizes[i] >= min_change:
@@ -584,14 +622,14 @@ def _exact(values):
 
 
 def get_series(runs, penalty=DEFAULT_PENALTY, min_change=DEFAULT_MIN_CHANGE,
-               min_noise=DEFAULT_MIN_NOISE):
+               min_noise=DEFAULT_MIN_NOISE, min_points=DEFAULT_MIN_POINTS):
     """Build the series of every benchmark and machine, with their steps.
 
     Parameters
     ----------
     runs : list of Run
         In commit order, as `load_history` returns them.
-    penalty, min_change, min_noise : float, optional
+    penalty, min_change, min_noise, min_points : optional
         The step rule's parameters (see `detect_steps`).
 
     Returns
@@ -633,7 +671,7 @@ def get_series(runs, penalty=DEFAULT_PENALTY, min_change=DEFAULT_MIN_CHANGE,
         medians = [pt.median for pt in points]
         steps = []
         if all(m > 0 for m in medians):
-            steps = detect_steps(medians, penalty, min_change, min_noise)
+            steps = detect_steps(medians, penalty, min_change, min_noise, min_points)
         series.append(Series(bench, label, points, steps))
     return commits, series
 
@@ -672,6 +710,71 @@ def get_counter_changes(series):
                     changes.append(CounterChange(s.benchmark, s.machine, i, name,
                                                  a[name], b[name]))
     return changes
+
+
+@dataclass(frozen=True)
+class StepRange:
+    """The commits a step of a series is credited to: those after the last point at the
+    old level (``before``) up to the first at the new one (``after``).
+
+    Attributes
+    ----------
+    series : Series
+    step : Step
+    before, after : str
+        Hashes of the two measured commits around the step.
+    commits : list of (sha, subject) or None
+        ``before..after`` in git, oldest first (``after`` last); None where git does not
+        know the commits (run in the repository, or pass its path).
+    unmeasured : list of (sha, subject) or None
+        Those of `commits` that this series has no point for: the step may be any of
+        them, or ``after``.
+    """
+
+    series: Series
+    step: Step
+    before: str
+    after: str
+    commits: list | None
+    unmeasured: list | None
+
+
+def get_step_ranges(series, repo="."):
+    """The commits every step of `series` is credited to (`StepRange`), git asked in
+    `repo` for the commits between two measured ones."""
+    ranges = []
+    for s in series:
+        measured = {p.sha for p in s.points}
+        for st in s.steps:
+            before, after = s.points[st.index - 1].sha, s.points[st.index].sha
+            commits = commits_between(repo, before, after)
+            unmeasured = None if commits is None else [
+                c for c in commits if c[0] not in measured]
+            ranges.append(StepRange(s, st, before, after, commits, unmeasured))
+    return ranges
+
+
+def describe_range(r, commits, width=10, limit=8):
+    """Where a step lies, in words: ``at SHA``, or the range with its unmeasured commits.
+
+    _commits_ is the history's commit list (`get_series`): without git, the commits that
+    other machines measured between the two points are the only ones known."""
+    if r.commits is None:
+        index = {sha: i for i, (sha, _, _) in enumerate(commits)}
+        gap = index[r.after] - index[r.before] - 1
+        return f"at {r.after[:width]}" + (
+            f" (after {r.before[:width]}, {_commits(gap)} between not measured)" if gap else "")
+    if not r.unmeasured:
+        return f"at {r.after[:width]}"
+    listed = ", ".join(f"{sha[:width]} {subject[:50]!r}" for sha, subject in
+                       r.unmeasured[:limit])
+    more = len(r.unmeasured) - limit
+    return (f"in {r.before[:width]}..{r.after[:width]} ({_commits(len(r.commits))}; not "
+            f"measured: {listed}" + (f" and {more} more" if more > 0 else "") + ")")
+
+
+# ---------------------------------------------------------------------------------------
+# The page.
 
 
 # ---------------------------------------------------------------------------------------
@@ -771,7 +874,7 @@ def _table(headers, rows):
 
 
 def write_html(out, runs, notes, commits, series, *, metric="real_time",
-               machine=None, params=None, title="hrbench benchmark history"):
+               machine=None, params=None, title="hrbench benchmark history", repo="."):
     """Write the static page; return the steps and counter changes it lists.
 
     Parameters
@@ -786,15 +889,17 @@ def write_html(out, runs, notes, commits, series, *, metric="real_time",
         The machine the page is restricted to, if any.
     params : dict, optional
         The step rule's parameters, shown on the page.
+    repo : path-like, optional
+        The git repository of the commits, to list those between two measured ones.
 
     Returns
     -------
-    steps : list of (Series, Step)
+    steps : list of StepRange
     changes : list of CounterChange
     """
     esc = html.escape
     params = params or {}
-    steps = [(s, st) for s in series for st in s.steps]
+    steps = get_step_ranges(series, repo)
     changes = get_counter_changes(series)
     machines = _machines_summary(runs)
 
@@ -836,21 +941,24 @@ def write_html(out, runs, notes, commits, series, *, metric="real_time",
     rule = (f"Piecewise-constant fit of the log medians, penalty "
             f"{params.get('penalty', DEFAULT_PENALTY)} &sigma;&sup2; ln n per step, "
             f"&sigma; the robust noise (at least {params.get('min_noise', DEFAULT_MIN_NOISE)}"
-            f"), steps under {params.get('min_change', DEFAULT_MIN_CHANGE):.1%} merged.")
+            f"), at least {params.get('min_points', DEFAULT_MIN_POINTS)} points on each "
+            f"side, steps under {params.get('min_change', DEFAULT_MIN_CHANGE):.1%} merged. "
+            "A step is credited to the commits after the last point at the old level up to "
+            "the first at the new one; those not measured are listed.")
     parts.append(f"<p>{rule}</p>")
     if steps:
         rows = []
-        for s, st in steps:
+        for r in steps:
+            s, st = r.series, r.step
             cls = "slower" if st.ratio > 1 else "faster"
-            ci, prev = s.points[st.index].commit_index, s.points[st.index - 1].commit_index
-            where = commit_cell(ci) + ("" if prev == ci - 1 else
-                                       f" (somewhere after {esc(commits[prev][0][:10])}: "
-                                       f"{_commits(ci - prev - 1)} between not measured)")
+            where = commit_cell(s.points[st.index].commit_index)
+            if not (r.commits is not None and not r.unmeasured):
+                where += f"<br>{esc(describe_range(r, commits))}"
             rows.append((f"<a href='#b{series.index(s)}'>{esc(s.benchmark)}</a>",
                          esc(s.machine), where,
                          f"{esc(format_time(st.before))} &rarr; {esc(format_time(st.after))}",
                          f"<span class='{cls}'>{st.ratio:.3f} ({st.ratio - 1:+.1%})</span>"))
-        parts.append(_table(["benchmark", "machine", "commit", "before → after", "ratio"],
+        parts.append(_table(["benchmark", "machine", "commits", "before → after", "ratio"],
                             rows))
     else:
         parts.append("<p>No step detected.</p>")
@@ -932,17 +1040,48 @@ def _parser(prog):
                       help=f"smallest relative step (default {DEFAULT_MIN_CHANGE})")
     page.add_argument("--min-noise", type=float, default=DEFAULT_MIN_NOISE,
                       help=f"floor of sigma, log units (default {DEFAULT_MIN_NOISE})")
+    page.add_argument("--min-points", type=int, default=DEFAULT_MIN_POINTS,
+                      help="fewest points on each side of a step (default "
+                           f"{DEFAULT_MIN_POINTS})")
+    page.add_argument("--repo", metavar="DIR", default=".",
+                      help="the git repository of the commits, to list the commits a step "
+                           "may be due to (default: the current directory)")
+    mes = sub.add_parser("measure", help="build every commit of a range, run its "
+                         "benchmarks and record them")
+    mes.add_argument("range", metavar="RANGE", help="BASE..HEAD (the commits after BASE "
+                     "up to HEAD, as git log shows them) or one commit")
+    mes.add_argument("--history", required=True, metavar="DIR", help="history directory")
+    mes.add_argument("--machine", metavar="NAME", help="machine name (default: this host)")
+    mes.add_argument("--project", metavar="DIR", default=".",
+                     help="hrbench's directory in the git repository (default: here)")
+    mes.add_argument("--workdir", metavar="DIR", default=os.path.join(
+        os.environ.get("RUNNER_TEMP") or "/tmp", "hrbench-gates"),
+                     help="worktrees and builds, shared with scripts/ci/gates (default "
+                          "/tmp/hrbench-gates)")
+    mes.add_argument("--filter", default=DEFAULT_FILTER, help="--benchmark_filter of "
+                     "refine_bench (default: the five benchmarks of the CI gates)")
+    mes.add_argument("--repetitions", type=int, default=5,
+                     help="--benchmark_repetitions of refine_bench (default 5)")
+    mes.add_argument("--min-time", type=float, default=0.2,
+                     help="--benchmark_min_time of refine_bench, seconds (default 0.2)")
+    mes.add_argument("--bench-cmd", metavar="CMD",
+                     help="run this shell command instead of refine_bench: with "
+                          "$HRBENCH_BUILD and $HRBENCH_COMMIT set, it must write Google "
+                          "Benchmark JSON with repetitions to $HRBENCH_BENCH_OUT")
+    mes.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                     help="parallel build jobs (default: number of cores)")
+    mes.add_argument("--no-ccache", action="store_true", help="compile without ccache")
+    mes.add_argument("--rerun", action="store_true", help="measure also the commits this "
+                     "machine has measured already (their runs are pooled)")
     return parser
 
 
-def _main_record(args):
-    path, created, record = record_run(args.history, args.bench, args.commit, args.date,
-                                       args.subject, args.machine, args.hrbench)
+def _print_record(path, created, record, source):
     c, m = record["commit"], record["machine"]
     if not created:
-        print(f"already recorded: {args.bench} for commit {c['sha'][:12]} is {path}; "
+        print(f"already recorded: {source} for commit {c['sha'][:12]} is {path}; "
               "nothing written")
-        return 0
+        return
     times = get_repetition_times(record["benchmark"])
     reps = sorted({len(v) for v in times.values()})
     load = m["load_avg"]
@@ -964,12 +1103,86 @@ def _main_record(args):
             c["sha"]):
         print(f"note: the engine was built from {engine['git_commit']}, not from "
               f"{c['sha']}")
+
+
+def _measured_commits(history, machine):
+    """Hashes of the commits `machine` has runs of in `history` (none if it is empty)."""
+    if not Path(history).is_dir() or not any(Path(history).glob("*.json")):
+        return set()
+    return {r.sha for r in load_history(history)[0] if r.machine.get("name") == machine}
+
+
+def _main_measure(args):
+    if args.repetitions < 1 or args.jobs < 1:
+        raise HistoryError("--repetitions and --jobs must be at least 1")
+    if not (math.isfinite(args.min_time) and args.min_time > 0):
+        raise HistoryError("--min-time must be a number > 0")
+    if args.bench_cmd is not None and not args.bench_cmd.strip():
+        raise HistoryError("--bench-cmd must not be empty")
+    repo, prefix = locate_project(args.project)
+    if ".." in args.range:
+        base, head = args.range.split("..", 1)
+        base_sha = resolve_ref(repo, base or "HEAD", "BASE")
+        head_sha = resolve_ref(repo, head or "HEAD", "HEAD")
+        commits = commits_between(repo, base_sha, head_sha) or []
+    else:
+        sha = resolve_ref(repo, args.range, "commit")
+        commits = [(sha, "")]
+    if not commits:
+        raise HistoryError(f"{args.range} holds no commits (BASE..HEAD: the commits after "
+                           "BASE up to HEAD)")
+    machine = args.machine or socket.gethostname()
+    done = set() if args.rerun else _measured_commits(args.history, machine)
+    workdir = os.path.abspath(args.workdir)
+    runs_dir = os.path.join(workdir, "history-runs")
+    os.makedirs(runs_dir, exist_ok=True)
+
+    def log(message):
+        print(f"measure: {message}", file=sys.stderr, flush=True)
+
+    failed, recorded = [], 0
+    for k, (sha, _) in enumerate(commits, 1):
+        short = sha[:12]
+        if sha in done:
+            print(f"[{k}/{len(commits)}] {short}: measured on {machine} already, skipped "
+                  "(--rerun to measure again)")
+            continue
+        print(f"[{k}/{len(commits)}] {short}", flush=True)
+        out = os.path.join(runs_dir, f"{short}.json")
+        try:
+            build = build_commit(repo, prefix, sha, workdir, args.jobs, not args.no_ccache,
+                                 "commit", log)
+            run_benchmarks(build, out, f"the benchmarks of {short}", bench_cmd=args.bench_cmd,
+                           bench_filter=args.filter, min_time=args.min_time,
+                           repetitions=args.repetitions, env={"HRBENCH_COMMIT": sha})
+        except BuildError as e:
+            print(f"measure: {short} not measured: {one_line(e, 300)}", file=sys.stderr)
+            failed.append(short)
+            continue
+        engine = os.path.join(build, "hrbench")
+        path, created, record = record_run(
+            args.history, out, commit=sha, machine=machine, cwd=repo,
+            hrbench=engine if os.access(engine, os.X_OK) else None)
+        _print_record(path, created, record, out)
+        recorded += created
+    print(f"{recorded} runs recorded in {args.history}, {len(commits) - recorded - len(failed)} "
+          f"commits skipped, {len(failed)} failed" + (f" ({', '.join(failed)})" if failed else "")
+          + f"; the page: hrbench-history html --history {args.history} --out PAGE.html")
+    return 1 if failed else 0
+
+
+def _main_record(args):
+    path, created, record = record_run(args.history, args.bench, args.commit, args.date,
+                                       args.subject, args.machine, args.hrbench)
+    _print_record(path, created, record, args.bench)
     return 0
 
 
 def _main_html(args):
-    if not (args.penalty >= 0 and args.min_change >= 0 and args.min_noise > 0):
-        raise HistoryError("--penalty and --min-change must be >= 0, --min-noise > 0")
+    if not (args.penalty >= 0 and args.min_change >= 0 and args.min_noise > 0
+            and args.min_points >= 1):
+        raise HistoryError("--penalty and --min-change must be >= 0, --min-noise > 0, "
+                           "--min-points >= 1")
     runs, notes = load_history(args.history, args.metric)
     labels = sorted({r.label for r in runs})
     if args.machine is not None:
@@ -979,10 +1192,10 @@ def _main_html(args):
                                f"(machines: {', '.join(labels)})")
         runs = kept
     params = {"penalty": args.penalty, "min_change": args.min_change,
-              "min_noise": args.min_noise}
+              "min_noise": args.min_noise, "min_points": args.min_points}
     commits, series = get_series(runs, **params)
     steps, changes = write_html(args.out, runs, notes, commits, series, metric=args.metric,
-                                machine=args.machine, params=params)
+                                machine=args.machine, params=params, repo=args.repo)
     shown = sorted({r.label for r in runs})
     print(f"wrote {args.out}: {len(runs)} runs, {len(commits)} commits, "
           f"{len({s.benchmark for s in series})} benchmarks, machines: {', '.join(shown)}")
@@ -991,13 +1204,14 @@ def _main_html(args):
               "detected per machine")
     for note in notes:
         print(f"note: {note}")
-    for s, st in steps:
-        sha, prev = s.points[st.index].sha, s.points[st.index - 1]
-        gap = s.points[st.index].commit_index - prev.commit_index - 1
-        print(f"step    {s.benchmark} [{s.machine}] at {sha[:10]}: "
-              f"{format_time(st.before)} -> {format_time(st.after)} (x{st.ratio:.3f})"
-              + (f" (after {prev.sha[:10]}, {_commits(gap)} between not measured)"
-                 if gap else ""))
+    if any(r.commits is None for r in steps):
+        print(f"note: git does not know these commits in {args.repo}: a step is credited to "
+              "the measured commits only, unmeasured ones between are not listed (run in "
+              "the repository, or pass --repo DIR)")
+    for r in steps:
+        st = r.step
+        print(f"step    {r.series.benchmark} [{r.series.machine}] {describe_range(r, commits)}"
+              f": {format_time(st.before)} -> {format_time(st.after)} (x{st.ratio:.3f})")
     for c in changes:
         sha = [p for p in series if p.benchmark == c.benchmark and p.machine == c.machine
                ][0].points[c.index].sha
@@ -1008,13 +1222,16 @@ def _main_html(args):
 
 
 def main(argv=None, prog="hrbench-history"):
-    """Run the command line; return the exit code (0, or 2 on a usage or input error)."""
+    """Run the command line; return the exit code (0; 1 when `measure` could not build or
+    run a commit; 2 on a usage or input error)."""
     args = _parser(prog).parse_args(argv)
     try:
         if args.command == "record":
             return _main_record(args)
+        if args.command == "measure":
+            return _main_measure(args)
         return _main_html(args)
-    except (HistoryError, InputError) as e:
+    except (AnalysisError, InputError) as e:
         print(f"{prog}: error: {one_line(e)}", file=sys.stderr)
         return 2
     except OSError as e:

@@ -2,34 +2,41 @@
 """hrbench's CI gates on a change: the exact count baseline and the timing comparison.
 
 usage: gates BASE_REF HEAD_REF [--rounds N] [--threshold T] [--alpha A] [--filter REGEX]
-             [--metric cpu_time|real_time] [--min-time S] [--summary FILE] [--workdir DIR]
-             [--base-build DIR] [--head-build DIR] [--project DIR] [--jobs N]
-             [--no-ccache] [--skip-counts] [--skip-timing]
+             [--metric cpu_time|real_time] [--min-time S] [--bench-cmd CMD]
+             [--summary FILE] [--workdir DIR] [--base-build DIR] [--head-build DIR]
+             [--project DIR] [--jobs N] [--no-ccache] [--skip-counts] [--skip-timing]
 
 Builds BASE_REF and HEAD_REF, each in its own `git worktree` under --workdir (Release,
-targets hrbench and refine_bench; a commit's finished build is reused), or takes
-prebuilt build directories (--base-build, --head-build: each must hold the executables
-hrbench and refine_bench). Then two gates:
+targets hrbench and refine_bench; a commit's finished build is reused;
+hrbench_analysis.builds), or takes prebuilt build directories (--base-build,
+--head-build). Then two gates:
 
 - counts: tools/check_baseline.py with HEAD's engine against HEAD's
   tests/baseline/counts.json. Any difference fails and prints the diff of counters. If
   HEAD changed counts.json relative to BASE (updated on purpose), that is reported with
   the diff between the two files, as information.
-- timing: --rounds interleaved rounds, one repetition of each build's refine_bench per
-  round, the order alternating (base first in odd rounds, head first in even ones);
-  the rounds are merged with tools/merge_bench.py and compared with the one-sided
-  Mann-Whitney U test of tools/compare_bench.py (hrbench_analysis.benchcompare): a
-  benchmark fails if its median is slower by more than --threshold and p <= --alpha.
+- timing: --rounds interleaved rounds, one run of each build's benchmarks per round
+  (refine_bench, or --bench-cmd: any command writing Google Benchmark JSON), the order
+  alternating (base first in odd rounds, head first in even ones). Rounds pair the two
+  builds under the same load, so each benchmark is judged on its per-round ratios head /
+  base (hrbench_analysis.benchcompare): the two-sided Wilcoxon signed-rank test and the
+  confidence interval it gives. A benchmark is SLOWER (the gate fails) if p <= --alpha
+  and the ratio exceeds 1 + --threshold; inconclusive if the interval is wider than
+  +-threshold and reaches above 1 + threshold; else faster, slower (within the
+  threshold) or no significant change.
 
 Prints a Markdown summary and writes it to --summary FILE and, when set, appends it to
 $GITHUB_STEP_SUMMARY ($GITHUB_OUTPUT gets verdict= and summary=). Progress goes to
-stderr. Exit codes: 0 both gates pass; 1 a gate failed (or a build or a benchmark run
-failed); 2 usage or input error (unknown ref, missing build or executable, not a git
-repository), with one line on stderr. See examples/ci/README.md and docs/ci.md.
+stderr; so does a warning when BASE and HEAD are the same commit. Exit codes: 0 both
+gates pass; 1 a gate failed (or a build or a benchmark run failed); 2 usage or input
+error (unknown ref, missing build or executable, not a git repository), with one line on
+stderr; 3 no gate failed but the timing gate is inconclusive (too noisy, or too few
+rounds, to resolve the threshold). See examples/ci/README.md and docs/ci.md.
 """
 
 import argparse
 import io
+import json
 import math
 import os
 import shutil
@@ -38,26 +45,31 @@ import sys
 import time
 
 _ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-# tools/ for benchtools, analysis/ for hrbench_analysis (gbench and engine: standard
-# library only; benchcompare needs numpy and scipy and is imported when timing).
+# tools/ for benchtools, analysis/ for hrbench_analysis (gbench, builds and engine:
+# standard library only; benchcompare needs numpy and scipy and is imported when timing).
 sys.path[:0] = [os.path.join(_ROOT, "tools"), os.path.join(_ROOT, "analysis")]
 
 from benchtools.baseline import RunError, get_counter_changes, load_baseline  # noqa: E402
+from hrbench_analysis.builds import (  # noqa: E402
+    DEFAULT_FILTER,
+    BuildError,
+    UsageError,
+    build_commit,
+    locate_project,
+    read_file_at,
+    resolve_ref,
+    run_benchmarks,
+)
 from hrbench_analysis.gbench import (  # noqa: E402
     InputError,
     format_time,
     get_repetition_times,
     load_benchmark_file,
+    merge_benchmark_files,
 )
 
 PROG = "gates"
 
-# Five refine_bench benchmarks, both oracles, count-only and store mode, both sweeps:
-# about 0.3 s each at --min-time 0.2, so a round (both builds) takes about 4 s.
-DEFAULT_FILTER = ("^BM_EpsSweep/garmann_(count|store)/inv_eps:64/"
-                  "|^BM_EpsSweep/hanrahan_count/inv_eps:256/"
-                  "|^BM_GeometrySweep/garmann_count/g:256/"
-                  "|^BM_GeometrySweep/hanrahan_store/g:16/")
 DEFAULT_ROUNDS = 10
 DEFAULT_THRESHOLD = 0.10
 DEFAULT_ALPHA = 0.05
@@ -67,14 +79,12 @@ BASELINE_PATH = "tests/baseline/counts.json"
 SIDES = ("base", "head")
 # Lines of a gate's console output kept in the Markdown summary (all are printed).
 MAX_SUMMARY_LINES = 150
-
-
-class UsageError(Exception):
-    """A usage or input error: exit code 2, one line."""
+# Exit codes by overall verdict (2 is a usage or input error).
+EXIT_CODES = {"PASS": 0, "FAIL": 1, "INCONCLUSIVE": 3}
 
 
 class GateFailure(Exception):
-    """A build or a benchmark run failed: exit code 1."""
+    """A benchmark run failed, or its output is unusable: exit code 1."""
 
 
 def log(message):
@@ -99,32 +109,41 @@ def _default_workdir():
 def parse_args(argv):
     p = _Parser(prog=PROG, description="Run hrbench's count and timing gates on BASE_REF "
                 "and HEAD_REF; print a Markdown summary. Exit 0 pass, 1 a gate failed, "
-                "2 usage or input error.")
+                "2 usage or input error, 3 timing inconclusive (too noisy to tell).")
     p.add_argument("base", metavar="BASE_REF", help="the base commit (any git revision)")
     p.add_argument("head", metavar="HEAD_REF", help="the change (any git revision)")
     p.add_argument("--rounds", type=int, default=DEFAULT_ROUNDS,
                    help=f"interleaved timing rounds (default {DEFAULT_ROUNDS})")
     p.add_argument("--threshold", type=float, default=DEFAULT_THRESHOLD,
-                   help="relative slowdown of a median that fails "
-                        f"(default {DEFAULT_THRESHOLD} = {DEFAULT_THRESHOLD * 100:g}%%)")
+                   help="relative slowdown that fails, and the largest noise the timing "
+                        f"gate can decide at (default {DEFAULT_THRESHOLD} = "
+                        f"{DEFAULT_THRESHOLD * 100:g}%%)")
     p.add_argument("--alpha", type=float, default=DEFAULT_ALPHA,
-                   help=f"significance level of the one-sided U test (default {DEFAULT_ALPHA})")
-    p.add_argument("--filter", default=DEFAULT_FILTER,
+                   help="significance level of the two-sided signed-rank test "
+                        f"(default {DEFAULT_ALPHA})")
+    p.add_argument("--filter",
                    help="--benchmark_filter of refine_bench (default: five representative "
                         "benchmarks)")
     p.add_argument("--metric", choices=("cpu_time", "real_time"), default=DEFAULT_METRIC,
                    help=f"time compared (default {DEFAULT_METRIC}: machines are shared)")
-    p.add_argument("--min-time", type=float, default=DEFAULT_MIN_TIME,
+    p.add_argument("--min-time", type=float,
                    help="--benchmark_min_time of each benchmark per round, seconds "
                         f"(default {DEFAULT_MIN_TIME})")
+    p.add_argument("--bench-cmd", metavar="CMD",
+                   help="time this shell command instead of refine_bench: run once per "
+                        "build and round with $HRBENCH_BUILD (the build directory), "
+                        "$HRBENCH_SIDE (base or head), $HRBENCH_ROUND, and it must write "
+                        "Google Benchmark JSON to $HRBENCH_BENCH_OUT")
     p.add_argument("--summary", metavar="FILE", help="also write the Markdown summary here")
     p.add_argument("--workdir", metavar="DIR", default=_default_workdir(),
                    help="worktrees, builds and results (default $RUNNER_TEMP/hrbench-gates, "
                         "else /tmp/hrbench-gates)")
     p.add_argument("--base-build", metavar="DIR",
-                   help="prebuilt build of BASE_REF (hrbench, refine_bench): do not build")
+                   help="prebuilt build of BASE_REF (refine_bench unless --bench-cmd): do not "
+                        "build")
     p.add_argument("--head-build", metavar="DIR",
-                   help="prebuilt build of HEAD_REF (hrbench, refine_bench): do not build")
+                   help="prebuilt build of HEAD_REF (hrbench unless --skip-counts, refine_bench "
+                        "unless --bench-cmd): do not build")
     p.add_argument("--project", metavar="DIR", default=".",
                    help="the hrbench source directory in the git repository (default: the "
                         "current directory; a subdirectory where a project vendors hrbench)")
@@ -141,6 +160,15 @@ def parse_args(argv):
         p.error("--threshold must be a finite number >= 0")
     if not 0 < args.alpha < 1:
         p.error("--alpha must be in (0, 1)")
+    if args.bench_cmd is not None:
+        if not args.bench_cmd.strip():
+            p.error("--bench-cmd must not be empty")
+        for option in ("filter", "min_time"):
+            if getattr(args, option) is not None:
+                p.error(f"--{option.replace('_', '-')} is an option of refine_bench: with "
+                        "--bench-cmd, put it in the command")
+    args.filter = DEFAULT_FILTER if args.filter is None else args.filter
+    args.min_time = DEFAULT_MIN_TIME if args.min_time is None else args.min_time
     if not (math.isfinite(args.min_time) and args.min_time > 0):
         p.error("--min-time must be a number > 0")
     if args.jobs < 1:
@@ -160,38 +188,6 @@ def parse_args(argv):
 # Git, worktrees and builds.
 
 
-def git(repo, *args, check=True):
-    proc = subprocess.run(["git", "-C", repo, *args], capture_output=True, text=True)
-    if check and proc.returncode != 0:
-        raise GateFailure(f"git {' '.join(args)} failed: {proc.stderr.strip()}")
-    return proc
-
-
-def locate_project(project):
-    """(git top level, the project's path inside it with a trailing slash or '')."""
-    if not os.path.isdir(project):
-        raise UsageError(f"--project {project}: no such directory")
-    top = git(project, "rev-parse", "--show-toplevel", check=False)
-    if top.returncode != 0:
-        raise UsageError(f"{os.path.abspath(project)} is not in a git repository")
-    prefix = git(project, "rev-parse", "--show-prefix").stdout.strip()
-    return top.stdout.strip(), prefix
-
-
-def resolve_ref(repo, ref, which):
-    proc = git(repo, "rev-parse", "--verify", "--quiet", f"{ref}^{{commit}}", check=False)
-    if proc.returncode != 0:
-        raise UsageError(f"{which} {ref!r} is not a commit of {repo} (fetch it first: "
-                         "actions/checkout needs fetch-depth: 0)")
-    return proc.stdout.strip()
-
-
-def read_file_at(repo, sha, path):
-    """The content of _path_ at commit _sha_, or None if it has no such file."""
-    proc = subprocess.run(["git", "-C", repo, "show", f"{sha}:{path}"], capture_output=True)
-    return proc.stdout if proc.returncode == 0 else None
-
-
 def check_build_dir(path, option, need):
     if not os.path.isdir(path):
         raise UsageError(f"{option} {path}: no such directory")
@@ -202,67 +198,6 @@ def check_build_dir(path, option, need):
                              "-DHRBENCH_BUILD_BENCH=ON and build hrbench and refine_bench)")
     return os.path.abspath(path)
 
-
-def _tail(path, n=30):
-    try:
-        with open(path, encoding="utf-8", errors="replace") as f:
-            return "".join(f.readlines()[-n:])
-    except OSError:
-        return ""
-
-
-def build_commit(repo, prefix, sha, workdir, jobs, use_ccache, which):
-    """Build hrbench and refine_bench of _sha_ in a worktree; reuse a finished build."""
-    short = sha[:12]
-    # workdir/commits/SHA/src (the worktree) and .../build: the same relative paths
-    # from every build to its sources, so that ccache (CCACHE_BASEDIR) hits across commits.
-    tree = os.path.join(workdir, "commits", short, "src")
-    build = os.path.join(workdir, "commits", short, "build")
-    stamp = os.path.join(build, ".hrbench-gates-built")
-    exes = [os.path.join(build, e) for e in ("hrbench", "refine_bench")]
-    if os.path.isfile(stamp) and all(os.access(e, os.X_OK) for e in exes):
-        with open(stamp) as f:
-            if f.read().strip() == sha:
-                log(f"{which} {short}: reusing the build in {build}")
-                return build
-    if not (os.path.isdir(tree) and git(tree, "rev-parse", "HEAD", check=False)
-            .stdout.strip() == sha):
-        if os.path.exists(tree):
-            shutil.rmtree(tree)
-        git(repo, "worktree", "prune")
-        os.makedirs(os.path.dirname(tree), exist_ok=True)
-        git(repo, "worktree", "add", "--detach", "--force", tree, sha)
-    source = os.path.join(tree, prefix)
-    if not os.path.isfile(os.path.join(source, "CMakeLists.txt")):
-        raise UsageError(f"{which} {short} has no {prefix}CMakeLists.txt: not hrbench")
-    os.makedirs(build, exist_ok=True)
-    configure = ["cmake", "-S", source, "-B", build, "-DCMAKE_BUILD_TYPE=Release",
-                 "-DHRBENCH_BUILD_BENCH=ON", "-DHRBENCH_BUILD_TESTS=OFF"]
-    if shutil.which("ninja") and not os.path.isfile(os.path.join(build, "Makefile")):
-        configure += ["-G", "Ninja"]
-    env = dict(os.environ)
-    if use_ccache and shutil.which("ccache"):
-        configure.append("-DCMAKE_CXX_COMPILER_LAUNCHER=ccache")
-        # Paths under the workdir hash alike in every commit's build: a file the change
-        # leaves alone is a cache hit.
-        env.setdefault("CCACHE_BASEDIR", workdir)
-    build_log = os.path.join(build, "hrbench-gates-build.log")
-    log(f"{which} {short}: building in {build} (log {build_log})")
-    start = time.monotonic()
-    with open(build_log, "w") as out:
-        for cmd in (configure, ["cmake", "--build", build, "--target", "hrbench",
-                                "refine_bench", "--parallel", str(jobs)]):
-            out.write("$ " + " ".join(cmd) + "\n")
-            out.flush()
-            rc = subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT, env=env).returncode
-            if rc != 0:
-                sys.stderr.write(_tail(build_log))
-                raise GateFailure(f"the build of {which} {short} failed (exit code {rc}); "
-                                  f"see {build_log}")
-    with open(stamp, "w") as f:
-        f.write(sha + "\n")
-    log(f"{which} {short}: built in {time.monotonic() - start:.0f} s")
-    return build
 
 
 # ---------------------------------------------------------------------------------------
@@ -378,40 +313,68 @@ def check_filter(exe, pattern, side):
         raise UsageError(f"--filter {pattern!r} matches no benchmark of {side}'s {exe}")
 
 
-def _iqr(values):
+def _round_times(path, metric):
+    """Each benchmark's time in one round's file: the median of its rows (one row per
+    round from refine_bench; a --bench-cmd may write repetitions)."""
     import numpy as np
-    q1, med, q3 = np.percentile(values, [25, 50, 75])
-    return (q3 - q1) / med if med > 0 else 0.0
+    try:
+        times = get_repetition_times(load_benchmark_file(path), metric)
+    except InputError as e:
+        raise GateFailure(f"the benchmark output {path}: {e}") from None
+    return {name: float(np.median(values)) for name, values in times.items()}
 
 
-def timing_gate(exes, args, results):
+def paired_times(rounds):
+    """Per benchmark, the base and head times of the rounds that have it on both sides.
+
+    _rounds_: one ``{side: {benchmark: time}}`` per round. Returns ``(base, head)``, two
+    dicts of benchmark to list, in the order benchmarks first appear in base's rounds."""
+    base, head = {}, {}
+    for times in rounds:
+        for name, t in times["base"].items():
+            if name in times["head"]:
+                base.setdefault(name, []).append(t)
+                head.setdefault(name, []).append(times["head"][name])
+    return base, head
+
+
+def timing_gate(exes, builds, args, results):
     """Run the interleaved rounds, merge them and compare; return a dict."""
     try:
-        from hrbench_analysis.benchcompare import get_comparison_report, min_pvalue
+        from hrbench_analysis.benchcompare import (
+            get_comparison_report,
+            get_geomean,
+            get_overall_verdict,
+            min_pvalue,
+            print_comparison_report,
+        )
     except ImportError as e:
         raise UsageError(f"the timing gate needs numpy and scipy ({e}); run scripts/setup.sh "
                          "or pip install numpy scipy") from None
-    for side in SIDES:
-        check_filter(exes[side], args.filter, side)
+    if not args.bench_cmd:
+        for side in SIDES:
+            check_filter(exes[side], args.filter, side)
     timing = os.path.join(results, "timing")
     os.makedirs(timing, exist_ok=True)
     files = {side: [] for side in SIDES}
-    order = []
+    order, rounds = [], []
     start = time.monotonic()
+    what = "benchmark command" if args.bench_cmd else "refine_bench"
     for r in range(args.rounds):
         sides = round_order(r)
         order.append(sides)
+        rounds.append({})
         for side in sides:
             out = os.path.join(timing, f"{side}-{r + 1:03d}.json")
-            cmd = [exes[side], f"--benchmark_filter={args.filter}",
-                   f"--benchmark_min_time={args.min_time:g}", f"--benchmark_out={out}",
-                   "--benchmark_out_format=json"]
-            proc = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                  text=True)
-            if proc.returncode != 0 or not os.path.isfile(out):
-                raise GateFailure(f"{side}'s refine_bench failed in round {r + 1} (exit code "
-                                  f"{proc.returncode}): {proc.stderr.strip()[-300:]}")
+            try:
+                run_benchmarks(builds[side], out, f"{side}'s {what} in round {r + 1}",
+                               bench_cmd=args.bench_cmd, bench_filter=args.filter,
+                               min_time=args.min_time,
+                               env={"HRBENCH_SIDE": side, "HRBENCH_ROUND": str(r + 1)})
+            except BuildError as e:
+                raise GateFailure(str(e)) from None
             files[side].append(out)
+            rounds[-1][side] = _round_times(out, args.metric)
         log(f"timing: round {r + 1}/{args.rounds} ({' then '.join(sides)}), "
             f"{time.monotonic() - start:.0f} s")
     with open(os.path.join(timing, "order.txt"), "w") as f:
@@ -419,33 +382,31 @@ def timing_gate(exes, args, results):
             f.write(f"round {r + 1}: {' '.join(sides)}\n")
     merged = {}
     for side in SIDES:
+        # Artifacts: one file per build with one row per round, as merge_bench.py writes.
         merged[side] = os.path.join(timing, f"{side}.json")
-        proc = subprocess.run([sys.executable, os.path.join(_ROOT, "tools", "merge_bench.py"),
-                               merged[side], *files[side]], capture_output=True, text=True)
-        if proc.returncode != 0:
-            raise GateFailure(f"merge_bench.py failed: {proc.stderr.strip()}")
-    try:
-        times = {side: get_repetition_times(load_benchmark_file(merged[side]), args.metric)
-                 for side in SIDES}
-    except InputError as e:
-        raise GateFailure(str(e)) from None
+        with open(merged[side], "w", encoding="utf-8") as f:
+            json.dump(merge_benchmark_files([load_benchmark_file(p) for p in files[side]]),
+                      f, indent=2)
+    base, head = paired_times(rounds)
     comparisons, only_base, only_head = get_comparison_report(
-        times["base"], times["head"], args.threshold, args.alpha)
+        base, head, args.threshold, args.alpha, paired=True)
     if not comparisons:
-        raise GateFailure("the two builds have no benchmark in common under --filter")
-    # The text report of tools/compare_bench.py, for the log.
-    from hrbench_analysis.benchcompare import print_comparison_report
+        raise GateFailure("the two builds have no benchmark in common"
+                          + ("" if args.bench_cmd else " under --filter"))
+    only_base = sorted({n for t in rounds for n in t["base"]} - set(base))
+    only_head = sorted({n for t in rounds for n in t["head"]} - set(head))
+    # The text report of tools/compare_bench.py --paired, for the log.
     text = io.StringIO()
     print_comparison_report(comparisons, only_base, only_head, args.threshold, args.alpha,
                             file=text)
-    noise = {c.name: max(_iqr(times["base"][c.name]), _iqr(times["head"][c.name]))
-             for c in comparisons}
-    weak = any(min_pvalue(c.n_baseline, c.n_new) > args.alpha for c in comparisons)
-    return {"status": "fail" if any(c.slower for c in comparisons) else "pass",
-            "comparisons": comparisons, "only_base": only_base, "only_head": only_head,
-            "order": order, "text": text.getvalue().rstrip("\n").splitlines(),
-            "noise": noise, "weak": weak, "seconds": time.monotonic() - start,
-            "merged": merged}
+    verdict = get_overall_verdict(comparisons)
+    return {"status": verdict.lower(), "comparisons": comparisons, "only_base": only_base,
+            "only_head": only_head, "order": order,
+            "text": text.getvalue().rstrip("\n").splitlines(),
+            "geomean": get_geomean(comparisons),
+            "weak": any(min_pvalue(c.n_baseline, c.n_new, True) > args.alpha
+                        for c in comparisons),
+            "seconds": time.monotonic() - start, "merged": merged}
 
 
 # ---------------------------------------------------------------------------------------
@@ -477,18 +438,39 @@ def _md(text):
     return text.replace("|", "\\|")
 
 
-def _verdict(c, threshold):
-    return "**SLOWER**" if c.slower else ("faster" if c.change < -threshold else "same")
+_VERDICT_MD = {"SLOWER": "**SLOWER**", "inconclusive": "*inconclusive*"}
+
+
+def _timing_detail(timing, threshold):
+    cs = timing["comparisons"]
+    return (f"{sum(c.regression for c in cs)} of {len(cs)} benchmarks significantly slower "
+            f"by more than {threshold:.0%}, {sum(c.inconclusive for c in cs)} inconclusive")
+
+
+def same_commit_note(ctx):
+    """What to say when BASE and HEAD are one commit, or None."""
+    if ctx["base_sha"] != ctx["head_sha"]:
+        return None
+    args = ctx["args"]
+    return (f"BASE_REF {args.base} and HEAD_REF {args.head} are the same commit "
+            f"{ctx['base_sha'][:12]}: nothing is compared with another version (the timing "
+            "gate measures the build against itself: the machine's noise). Give the base "
+            "commit explicitly, e.g. `scripts/ci/gates HEAD~1 HEAD` or "
+            "`make gates BASE=HEAD~1` (in a fresh clone origin/main is HEAD)")
 
 
 def render_summary(ctx):
     """The Markdown summary of a run (ctx: everything main gathered)."""
     args, counts, timing = ctx["args"], ctx.get("counts"), ctx.get("timing")
     statuses = [g["status"] for g in (counts, timing) if g]
-    overall = "FAIL" if "fail" in statuses else "PASS"
+    overall = ("FAIL" if "fail" in statuses else
+               "INCONCLUSIVE" if "inconclusive" in statuses else "PASS")
     out = [f"## hrbench gates: {overall}", ""]
     out.append(f"base `{ctx['base_sha'][:12]}` ({_md(args.base)}), head "
                f"`{ctx['head_sha'][:12]}` ({_md(args.head)})")
+    same = same_commit_note(ctx)
+    if same:
+        out += ["", f"**Same commit.** {_md(same)}."]
     out += ["", "| gate | verdict | detail |", "|---|---|---|"]
     if counts:
         detail = counts["line"] + ("; baseline updated on purpose" if counts["info"] else "")
@@ -496,9 +478,8 @@ def render_summary(ctx):
     else:
         out.append("| counts | skipped | --skip-counts |")
     if timing:
-        slower = sum(c.slower for c in timing["comparisons"])
-        out.append(f"| timing | {timing['status'].upper()} | {slower} of "
-                   f"{len(timing['comparisons'])} benchmarks significantly slower |")
+        out.append(f"| timing | {timing['status'].upper()} | "
+                   f"{_timing_detail(timing, args.threshold)} |")
     else:
         out.append("| timing | skipped | --skip-timing |")
     if counts:
@@ -518,36 +499,49 @@ def render_summary(ctx):
             out += ["", "Diff of counters (HEAD's engine against HEAD's baseline):", "",
                     "```text", *lines, "```"]
     if timing:
+        # numpy and scipy: imported only where the timing gate ran.
+        from hrbench_analysis.benchcompare import format_interval, format_noise
+
+        level = f"{1 - args.alpha:.0%}"
+        what = (f"`{_md(args.bench_cmd)}`" if args.bench_cmd else
+                f"`refine_bench` (--benchmark_min_time {args.min_time:g})")
         out += ["", "### Timing", ""]
-        out.append(f"`refine_bench`, {args.metric}, median of {args.rounds} interleaved rounds "
-                   f"(one repetition of each build per round, the order alternating; "
-                   f"--benchmark_min_time {args.min_time:g}). A benchmark is slower if its "
-                   f"median is slower by more than {args.threshold:.0%} and the one-sided "
-                   f"Mann-Whitney U test gives p <= {args.alpha}.")
-        if args.metric == "cpu_time":
+        out.append(f"{what}, {args.metric}, {args.rounds} interleaved rounds (one run of "
+                   "each build per round, the order alternating). Each benchmark is judged on "
+                   "its per-round ratios head / base: change is their median, p the two-sided "
+                   "Wilcoxon signed-rank test, CI the ratios the test does not reject at "
+                   f"alpha {args.alpha} ({level} confidence), noise its half-width. **SLOWER** "
+                   f"(fails): p <= {args.alpha} and a change above +{args.threshold:.0%}; "
+                   f"*inconclusive*: noise above {args.threshold:.0%} and the CI reaching above "
+                   f"+{args.threshold:.0%}, so that such a slowdown can be neither found nor "
+                   "ruled out; faster or slower (within the threshold) when significant, else "
+                   "no significant change.")
+        if args.metric == "cpu_time" and not args.bench_cmd:
             out[-1] += (" (The names end in `/real_time` because the suite sizes its "
                         "iterations by wall time; the time compared is CPU time.)")
-        out += ["", "| benchmark | base | head | change | p(slower) | noise | rounds | verdict |",
-                "|---|---:|---:|---:|---:|---:|---:|---|"]
+        out += ["", f"| benchmark | base | head | change | {level} CI | p | noise | rounds "
+                "| verdict |", "|---|---:|---:|---:|---:|---:|---:|---:|---|"]
         for c in timing["comparisons"]:
-            p = "-" if math.isnan(c.pvalue) else f"{c.pvalue:.4f}"
             out.append(f"| `{_md(c.name)}` | {format_time(c.baseline_median)} | "
-                       f"{format_time(c.new_median)} | {c.change:+.1%} | {p} | "
-                       f"{timing['noise'][c.name]:.1%} | {c.n_baseline}/{c.n_new} | "
-                       f"{_verdict(c, args.threshold)} |")
+                       f"{format_time(c.new_median)} | {c.change:+.1%} | {format_interval(c)} "
+                       f"| {c.pvalue:.4f} | {format_noise(c)} | {c.n_baseline} | "
+                       f"{_VERDICT_MD.get(c.verdict, c.verdict)} |")
+        base, head, change = timing["geomean"]
+        out.append(f"| OVERALL_GEOMEAN | {format_time(base)} | {format_time(head)} | "
+                   f"{change:+.1%} | | | | | |")
         out.append("")
-        out.append("noise: the larger interquartile range of the two builds' rounds, relative "
-                   "to the median.")
+        out.append("base, head: medians over the rounds; OVERALL_GEOMEAN: geometric means "
+                   "of the medians and of the changes' ratios.")
         for name in timing["only_base"]:
             out.append(f"Only in BASE: `{_md(name)}`.")
         for name in timing["only_head"]:
             out.append(f"Only in HEAD: `{_md(name)}`.")
         if timing["weak"]:
             out.append(f"Note: {args.rounds} rounds are too few for the test to reach alpha "
-                       f"{args.alpha}; the timing gate cannot fail (use --rounds 5 or more).")
-        slower = sum(c.slower for c in timing["comparisons"])
-        out += ["", f"**{timing['status'].upper()}**: {slower} of {len(timing['comparisons'])} "
-                    f"benchmarks significantly slower ({timing['seconds']:.0f} s of rounds)."]
+                       f"{args.alpha}: every benchmark is inconclusive (use --rounds 6 or "
+                       "more; the default is 10).")
+        out += ["", f"**{timing['status'].upper()}**: {_timing_detail(timing, args.threshold)} "
+                    f"({timing['seconds']:.0f} s of rounds)."]
     m = ctx["machine"]
     load = ", ".join(f"{x:.2f}" for x in m["load"]) if m["load"] else "unknown"
     out += ["", "### Machine", "",
@@ -583,19 +577,17 @@ def run(args):
     repo, prefix = locate_project(args.project)
     base_sha = resolve_ref(repo, args.base, "BASE_REF")
     head_sha = resolve_ref(repo, args.head, "HEAD_REF")
-    need = (["hrbench"] if not args.skip_counts else []) + (
-        ["refine_bench"] if not args.skip_timing else [])
+    bench = [] if args.skip_timing or args.bench_cmd else ["refine_bench"]
+    # BASE's engine is not checked: the count gate runs HEAD's only.
+    need = {"base": bench, "head": ([] if args.skip_counts else ["hrbench"]) + bench}
     prebuilt = {"base": args.base_build, "head": args.head_build}
     for side in SIDES:
         if prebuilt[side]:
-            # BASE's engine is not checked: only its refine_bench is needed.
-            prebuilt[side] = check_build_dir(prebuilt[side], f"--{side}-build", need
-                                             if side == "head" else need[-1:] if
-                                             not args.skip_timing else [])
+            prebuilt[side] = check_build_dir(prebuilt[side], f"--{side}-build", need[side])
     if not args.skip_counts and read_file_at(repo, head_sha, prefix + BASELINE_PATH) is None:
         raise UsageError(f"HEAD {head_sha[:12]} has no {prefix + BASELINE_PATH}: nothing to "
                          "check the counts against (write it with `make baseline`)")
-    if not args.skip_timing:
+    if bench:
         for side in SIDES:
             if prebuilt[side]:
                 check_filter(os.path.join(prebuilt[side], "refine_bench"), args.filter, side)
@@ -606,6 +598,9 @@ def run(args):
     os.makedirs(results)
     log(f"base {base_sha[:12]} ({args.base}), head {head_sha[:12]} ({args.head}); "
         f"results in {results}")
+    ctx = {"args": args, "machine": machine, "base_sha": base_sha, "head_sha": head_sha}
+    if same_commit_note(ctx):
+        log(f"warning: {same_commit_note(ctx)}")
 
     builds, how = {}, []
     for side, sha in (("base", base_sha), ("head", head_sha)):
@@ -617,10 +612,9 @@ def run(args):
         else:
             t = time.monotonic()
             builds[side] = build_commit(repo, prefix, sha, workdir, args.jobs,
-                                        not args.no_ccache, side)
+                                        not args.no_ccache, side, log)
             how.append((side, f"built in {time.monotonic() - t:.0f} s"))
-    ctx = {"args": args, "machine": machine, "base_sha": base_sha, "head_sha": head_sha,
-           "builds": how}
+    ctx["builds"] = how
     if not args.skip_counts:
         ctx["counts"] = count_gate(repo, prefix, base_sha, head_sha, builds["head"], results,
                                    args.jobs)
@@ -628,14 +622,20 @@ def run(args):
             print(line, file=sys.stderr)
     if not args.skip_timing:
         exes = {side: os.path.join(builds[side], "refine_bench") for side in SIDES}
-        ctx["timing"] = timing_gate(exes, args, results)
+        ctx["timing"] = timing_gate(exes, builds, args, results)
         for line in ctx["timing"]["text"]:
             print(line, file=sys.stderr)
     ctx["seconds"] = time.monotonic() - start
     summary, overall = render_summary(ctx)
     write_outputs(summary, overall, args, results)
     print(summary, end="")
-    return 0 if overall == "PASS" else 1
+    if overall == "INCONCLUSIVE":
+        log("timing inconclusive: the noise exceeds the threshold on "
+            f"{sum(c.inconclusive for c in ctx['timing']['comparisons'])} benchmark(s); "
+            "rerun with more --rounds or on a quieter machine (exit code 3)")
+    if same_commit_note(ctx):
+        log(f"warning: {same_commit_note(ctx)}")
+    return EXIT_CODES[overall]
 
 
 def _write_failure_summary(args, message):
@@ -660,7 +660,7 @@ def main(argv=None):
     except UsageError as e:
         print(f"{PROG}: error: {e}", file=sys.stderr)
         return 2
-    except GateFailure as e:
+    except (GateFailure, BuildError) as e:
         print(f"{PROG}: failed: {e}", file=sys.stderr)
         _write_failure_summary(args, str(e))
         return 1

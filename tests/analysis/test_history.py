@@ -3,7 +3,10 @@
 import datetime as dt
 import hashlib
 import json
+import os
 import re
+import shutil
+import subprocess
 
 import numpy as np
 import pytest
@@ -360,3 +363,184 @@ def test_html_corrupt_run_file(tmp_path, capsys):
     (history / "x.json").write_text("[1, 2]")
     assert main(["html", "--history", str(history), "--out", str(tmp_path / "p.html")]) == 2
     assert "not a history run file" in _one_line_error(capsys)
+
+
+# ---------------------------------------------------------------------------------------
+# Too few points, unmeasured commits, measuring a range.
+
+
+@pytest.mark.parametrize("values", [
+    [10.0] * 8 + [13.0] * 2,               # two points after
+    [10.0] * 2 + [13.0] * 8,               # two points before
+    [10.0, 13.0],                          # two commits
+    [10.0] * 5 + [13.0] + [10.0] * 5,      # one outlying commit
+])
+def test_a_step_needs_three_points_on_each_side(values):
+    assert detect_steps(values) == []
+
+
+def test_three_points_on_each_side_are_enough():
+    (step,) = detect_steps([10.0, 10.1, 9.9, 13.0, 13.1, 12.9])
+    assert step.index == 3
+    assert [s.index for s in detect_steps([10.0] * 8 + [13.0] * 2, min_points=2)] == [8]
+    with pytest.raises(ValueError):
+        detect_steps([1.0, 2.0], min_points=0)
+
+
+def test_two_commits_at_different_levels_are_no_step(tmp_path, capsys):
+    history = tmp_path / "hist"
+    for i, level in ((1, 2.0), (2, 1.2)):     # x0.6, as two runs at different loads
+        bench = _write(tmp_path / f"b{i}.json", _bench_json([level] * REPS))
+        assert _record(history, bench, i) == 0
+    capsys.readouterr()
+    assert main(["html", "--history", str(history), "--out", str(tmp_path / "p.html")]) == 0
+    assert capsys.readouterr().out.strip().endswith("0 steps, 0 counter changes")
+
+
+def _git(repo, *args, date=None):
+    env = {"GIT_COMMITTER_DATE": date, "GIT_AUTHOR_DATE": date} if date else {}
+    proc = subprocess.run(["git", "-C", str(repo), "-c", "user.name=t", "-c",
+                           "user.email=t@t", *args], check=True, capture_output=True,
+                          text=True, env={**os.environ, **env})
+    return proc.stdout.strip()
+
+
+def _commit(repo, i, subject, files):
+    for name, text in files.items():
+        (repo / name).write_text(text)
+    _git(repo, "add", "-A")
+    _git(repo, "commit", "-q", "--allow-empty", "-m", subject, date=_date(i))
+    return _git(repo, "rev-parse", "HEAD")
+
+
+def test_a_step_is_credited_to_a_range_listing_the_unmeasured_commits(tmp_path, capsys):
+    repo = tmp_path / "repo"
+    repo.mkdir()
+    _git(repo, "init", "-q", "-b", "main")
+    subjects = {5: "refine: a new split order", 6: "docs: the new split order",
+                7: "docs: typo"}
+    shas = [_commit(repo, i, subjects.get(i, f"change {i}"), {"f.txt": f"{i}\n"})
+            for i in range(1, 11)]
+    history = tmp_path / "hist"
+    for i, sha in enumerate(shas, 1):
+        if i in (5, 6, 7):
+            continue                           # not measured
+        level = 2.0 if i < 5 else 1.5          # the change is commit 5 (or 6, or 7)
+        times = [level * (1 + 0.002 * k) for k in range(REPS)]
+        bench = _write(tmp_path / f"b{i}.json",
+                       _bench_json(times, rng=np.random.default_rng(i)))
+        assert main(["record", "--history", str(history), str(bench), "--commit", sha,
+                     "--date", _date(i), "--subject", f"change {i}"]) == 0
+    capsys.readouterr()
+    out = tmp_path / "page.html"
+    assert main(["html", "--history", str(history), "--out", str(out),
+                 "--repo", str(repo)]) == 0
+    printed = capsys.readouterr().out
+    (line,) = [x for x in printed.splitlines() if x.startswith("step")]
+    assert line.startswith(f"step    {BENCH} [ci-1] in {shas[3][:10]}..{shas[7][:10]} "
+                           f"(4 commits; not measured: {shas[4][:10]} "
+                           f"'refine: a new split order', {shas[5][:10]} 'docs: the new "
+                           f"split order', {shas[6][:10]} 'docs: typo'): ")
+    assert line.endswith("(x0.750)")
+    page = out.read_text()
+    assert f"not measured: {shas[4][:10]}" in page
+    # Outside the repository git cannot list them: said once, the step at its commit.
+    assert main(["html", "--history", str(history), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "note: git does not know these commits" in printed
+    assert f"[ci-1] at {shas[7][:10]}: " in printed
+
+
+# A project with hrbench's two targets, built in no time: `refine_bench` writes Google
+# Benchmark JSON whose times are the commit's speed.txt (milliseconds).
+FAKE_CMAKE = """cmake_minimum_required(VERSION 3.20)
+project(fake NONE)
+file(READ "${CMAKE_CURRENT_SOURCE_DIR}/speed.txt" SPEED)
+string(STRIP "${SPEED}" SPEED)
+foreach(exe hrbench refine_bench)
+  configure_file("${exe}.in" "${CMAKE_BINARY_DIR}/${exe}" @ONLY
+                 FILE_PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE)
+  add_custom_target(${exe})
+endforeach()
+"""
+FAKE_REFINE_BENCH = r"""#!/bin/sh
+out=; reps=1
+for a in "$@"; do
+  case "$a" in
+    --benchmark_out=*) out="${a#*=}" ;;
+    --benchmark_repetitions=*) reps="${a#*=}" ;;
+  esac
+done
+row='{"name": "BM_K", "run_name": "BM_K", "run_type": "iteration", "repetitions": %s,'
+row="$row"' "repetition_index": %s, "iterations": 1, "real_time": %s, "cpu_time": %s,'
+row="$row"' "time_unit": "ms", "links": 5092}'
+{
+  printf '{"context": {"date": "%s", "host_name": "box", "num_cpus": 2}, "benchmarks": [' \
+    "$(date +%s.%N)"
+  k=0
+  while [ "$k" -lt "$reps" ]; do
+    [ "$k" -eq 0 ] || printf ', '
+    t="@SPEED@$k"   # the speed, its last digit the repetition
+    printf "$row" "$reps" "$k" "$t" "$t"
+    k=$((k + 1))
+  done
+  printf ']}\n'
+} > "$out"
+"""
+FAKE_HRBENCH = """#!/bin/sh
+case "$1" in
+  --version) echo "hrbench 0.0.0-fake" ;;
+  *) echo '{"context": {"build_type": "Release"}}' ;;
+esac
+"""
+
+
+@pytest.mark.skipif(shutil.which("cmake") is None, reason="needs cmake")
+def test_measure_builds_runs_and_records_a_range(tmp_path, capsys):
+    repo = tmp_path / "repo"
+    repo.mkdir()
+    _git(repo, "init", "-q", "-b", "main")
+    files = {"CMakeLists.txt": FAKE_CMAKE, "refine_bench.in": FAKE_REFINE_BENCH,
+             "hrbench.in": FAKE_HRBENCH}
+    speeds = [2.0, 2.0, 2.0, 2.0, 3.0, 3.0, 3.0, 3.0]
+    shas = [_commit(repo, i, f"change {i}", {**files, "speed.txt": f"{v}\n"})
+            for i, v in enumerate(speeds, 1)]
+    history, work = tmp_path / "hist", tmp_path / "work"
+
+    def measure(rng, *extra):
+        return main(["measure", rng, "--history", str(history), "--project", str(repo),
+                     "--workdir", str(work), "--machine", "box", "--jobs", "1",
+                     "--repetitions", "3", *extra])
+
+    assert measure(shas[0]) == 0                              # one commit
+    assert measure(f"{shas[0]}..{shas[2]}") == 0              # commits 2 and 3
+    assert measure(f"{shas[4]}..{shas[7]}") == 0              # 6, 7, 8
+    printed = capsys.readouterr().out
+    assert sum(x.startswith("recorded ") for x in printed.splitlines()) == 6
+    assert measure(f"{shas[0]}..{shas[2]}") == 0              # measured already
+    assert "2 commits skipped" in capsys.readouterr().out
+    runs, _ = load_history(history)
+    assert sorted(r.sha for r in runs) == sorted(shas[i] for i in (0, 1, 2, 5, 6, 7))
+    assert all(r.build["engine"]["version"] == "hrbench 0.0.0-fake" for r in runs)
+    by_sha = {r.sha: r.times["BM_K"] for r in runs}
+    assert by_sha[shas[1]] == pytest.approx([2.00e6, 2.01e6, 2.02e6])   # ms -> ns, 3 reps
+    assert by_sha[shas[7]] == pytest.approx([3.00e6, 3.01e6, 3.02e6])
+    assert main(["html", "--history", str(history), "--out", str(tmp_path / "p.html"),
+                 "--repo", str(repo)]) == 0
+    (line,) = [x for x in capsys.readouterr().out.splitlines() if x.startswith("step")]
+    assert f"in {shas[2][:10]}..{shas[5][:10]} (3 commits; not measured: {shas[3][:10]} " \
+           f"'change 4', {shas[4][:10]} 'change 5')" in line
+    # A commit that does not build: said, skipped, exit 1; the others are recorded.
+    broken = _commit(repo, 9, "broken", {"CMakeLists.txt": 'message(FATAL_ERROR "no")\n'})
+    fixed = _commit(repo, 10, "fixed", files)
+    assert measure(f"{shas[7]}..{fixed}") == 1
+    captured = capsys.readouterr()
+    assert f"measure: {broken[:12]} not measured: the build of commit {broken[:12]} " \
+           "failed" in captured.err
+    assert "1 runs recorded" in captured.out and f"1 failed ({broken[:12]})" in captured.out
+    assert fixed in {r.sha for r in load_history(history)[0]}
+    # Bad input: one line, exit 2.
+    assert measure("no-such-ref..HEAD") == 2
+    assert "is not a commit" in _one_line_error(capsys)
+    assert measure(f"{shas[2]}..{shas[2]}") == 2
+    assert "holds no commits" in _one_line_error(capsys)

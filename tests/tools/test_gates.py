@@ -3,7 +3,7 @@
 A fake build is a directory with two executables: `hrbench`, the stand-in engine of
 tests/tools/data/fake_hrbench.py (counters can be shifted), and `refine_bench`, a small
 sh stand-in written below that writes Google Benchmark JSON with controlled times (a
-factor per build, +-2% deterministic noise) and logs each run. The refs are commits
+factor per build, +-2% deterministic noise unless told) and logs each run. The refs are commits
 of a throwaway git repository holding tests/baseline/counts.json. Nothing is compiled.
 """
 
@@ -54,15 +54,16 @@ cp "$dir/runs/$(basename "$out")" "$out"
 """
 
 
-def _fake_runs(directory, name, factor):
-    """The JSON of every run: times times _factor_, +-2% noise fixed by build and file."""
+def _fake_runs(directory, name, factor, noise):
+    """The JSON of every run: times times _factor_, +-_noise_ (relative, uniform) fixed by
+    build and file."""
     directory.mkdir()
     for side in ("base", "head"):
         for r in range(1, MAX_ROUNDS + 1):
             rng = random.Random(f"{name}-{side}-{r}")
             rows = []
             for bench, ns in BENCHMARKS.items():
-                t = ns * factor * (1 + rng.uniform(-0.02, 0.02))
+                t = ns * factor * (1 + rng.uniform(-noise, noise))
                 rows.append({"name": bench, "run_name": bench, "run_type": "iteration",
                              "repetitions": 1, "repetition_index": 0, "threads": 1,
                              "iterations": 10, "real_time": 2 * t, "cpu_time": t,
@@ -81,16 +82,16 @@ def _executable(path, text):
     path.chmod(path.stat().st_mode | stat.S_IXUSR)
 
 
-def make_build(tmp_path, name, factor=1.0, shift=None, crash=False):
+def make_build(tmp_path, name, factor=1.0, shift=None, crash=False, noise=0.02):
     """A fake build directory: hrbench (counters shifted by _shift_, "links=8") and
-    refine_bench (times multiplied by _factor_)."""
+    refine_bench (times multiplied by _factor_, +-_noise_ per run)."""
     build = tmp_path / f"build-{name}"
     build.mkdir()
     (build / "name").write_text(name + "\n")
     (build / "names.txt").write_text("\n".join(BENCHMARKS) + "\n")
     if crash:
         (build / "crash").write_text("")
-    _fake_runs(build / "runs", name, factor)
+    _fake_runs(build / "runs", name, factor, noise)
     _executable(build / "refine_bench", FAKE_REFINE_BENCH)
     env = f"FAKE_HRBENCH_SHIFT={shift} " if shift else ""
     _executable(build / "hrbench", f'#!/bin/sh\n{env}exec "{sys.executable}" '
@@ -159,7 +160,7 @@ def run_gates(tmp_path, repo, base_build, head_build, *extra, env=None, base="ba
     a command (_subprocess_run_). Returns (result, the summary file's text)."""
     summary = tmp_path / "summary.md"
     argv = [base, head, "--project", str(repo), "--base-build", base_build, "--head-build",
-            head_build, "--workdir", str(tmp_path / "work"), "--rounds", "5", "--summary",
+            head_build, "--workdir", str(tmp_path / "work"), "--rounds", "8", "--summary",
             str(summary), "--jobs", "1", *extra]
     full_env = {k: v for k, v in os.environ.items() if not k.startswith("GITHUB_")}
     full_env.update(env or {})
@@ -187,6 +188,11 @@ def run_gates(tmp_path, repo, base_build, head_build, *extra, env=None, base="ba
     return result, text
 
 
+def benchmark_rows(summary):
+    """The timing table's rows of benchmarks (not its header, not OVERALL_GEOMEAN)."""
+    return [row for row in markdown_tables(summary)[-1][1:] if row[0] != "OVERALL_GEOMEAN"]
+
+
 def markdown_tables(text):
     """The tables of a Markdown text, each a list of rows of cells; asserts their shape."""
     tables, block = [], []
@@ -211,8 +217,11 @@ class TestGates:
         assert proc.returncode == 0, proc.stderr
         assert "## hrbench gates: PASS" in summary
         assert "| counts | PASS |" in summary and "| timing | PASS |" in summary
-        assert "0 of 5 benchmarks significantly slower" in summary
+        assert "0 of 5 benchmarks significantly slower by more than 10%, 0 inconclusive" \
+            in summary
+        assert all(row[-1] == "no significant change" for row in benchmark_rows(summary))
         assert proc.stdout == summary  # printed as written
+        assert "same commit" not in proc.stderr
 
     def test_thirty_percent_slower_fails_the_timing_gate(self, tmp_path, repo):
         proc, summary = run_gates(tmp_path, repo, make_build(tmp_path, "base"),
@@ -222,15 +231,16 @@ class TestGates:
         assert "| counts | PASS |" in summary and "| timing | FAIL |" in summary
         timing = markdown_tables(summary)[1]
         assert timing[0][:4] == ["benchmark", "base", "head", "change"]
-        assert len(timing) == 6 and all(row[-1] == "**SLOWER**" for row in timing[1:])
-        assert all(row[3].startswith("+") for row in timing[1:])
+        rows = benchmark_rows(summary)
+        assert len(rows) == 5 and all(row[-1] == "**SLOWER**" for row in rows)
+        assert all(row[3].startswith("+") for row in rows)
         assert "5 of 5 benchmarks significantly slower" in summary
 
     def test_faster_head_passes(self, tmp_path, repo):
         proc, summary = run_gates(tmp_path, repo, make_build(tmp_path, "base"),
                                   make_build(tmp_path, "head", factor=0.7))
         assert proc.returncode == 0, proc.stderr
-        assert all(row[-1] == "faster" for row in markdown_tables(summary)[1][1:])
+        assert all(row[-1] == "faster" for row in benchmark_rows(summary))
 
     def test_count_change_fails_with_the_counter_diff(self, tmp_path, repo):
         proc, summary = run_gates(tmp_path, repo, make_build(tmp_path, "base"),
@@ -271,7 +281,7 @@ class TestGates:
         assert proc.returncode == 0, proc.stderr
         runs = (tmp_path / "bench.log").read_text().split()
         rounds = [tuple(runs[i:i + 2]) for i in range(0, len(runs), 2)]
-        assert rounds == [("base", "head"), ("head", "base")] * 2 + [("base", "head")]
+        assert rounds == [("base", "head"), ("head", "base")] * 4
         gates = load_gates()
         assert [gates.round_order(r) for r in range(4)] == [
             ("base", "head"), ("head", "base"), ("base", "head"), ("head", "base")]
@@ -280,7 +290,7 @@ class TestGates:
         proc, summary = run_gates(tmp_path, repo, make_build(tmp_path, "base"),
                                   make_build(tmp_path, "head"), "--skip-counts", "--rounds", "7")
         assert proc.returncode == 0, proc.stderr
-        assert all(row[6] == "7/7" for row in markdown_tables(summary)[1][1:])
+        assert all(row[7] == "7" for row in benchmark_rows(summary))
         results = next((tmp_path / "work" / "results").iterdir())
         merged = json.loads((results / "timing" / "head.json").read_text())
         assert len(merged["benchmarks"]) == 7 * 5
@@ -297,11 +307,14 @@ class TestGates:
         assert summary.count("```") % 2 == 0
         gates_table, timing_table = markdown_tables(summary)
         assert [row[0] for row in gates_table] == ["gate", "counts", "timing"]
-        assert timing_table[0] == ["benchmark", "base", "head", "change", "p(slower)", "noise",
-                                   "rounds", "verdict"]
-        for row in timing_table[1:]:
+        assert timing_table[0] == ["benchmark", "base", "head", "change", "95% CI", "p",
+                                   "noise", "rounds", "verdict"]
+        assert timing_table[-1][0] == "OVERALL_GEOMEAN"
+        for row in timing_table[1:-1]:
             assert re.fullmatch(r"`BM_\S+`", row[0])
-            assert re.fullmatch(r"[+-]\d+\.\d%", row[3]) and 0 <= float(row[4]) <= 1
+            assert re.fullmatch(r"[+-]\d+\.\d%", row[3]) and 0 <= float(row[5]) <= 1
+            low, high = re.fullmatch(r"\[([+-]\d+\.\d)%, ([+-]\d+\.\d)%\]", row[4]).groups()
+            assert float(low) <= float(row[3][:-1]) <= float(high)
         for heading in ("### Counts", "### Timing", "### Machine"):
             assert heading in summary
         assert re.search(r"load average at start \d+\.\d\d, \d+\.\d\d, \d+\.\d\d", summary)
@@ -324,18 +337,86 @@ class TestGates:
         assert proc.returncode == 1
         assert "2 of 2 runs differ from tests/baseline/counts.json" in summary
 
-    def test_too_few_rounds_are_said_to_be_unable_to_fail(self, tmp_path, repo):
+    def test_too_few_rounds_are_inconclusive_not_a_pass(self, tmp_path, repo):
+        # 5 rounds: the signed-rank test cannot reach p <= 0.05 (2 / 2**5 = 0.0625), so a
+        # 30% slowdown can be neither found nor ruled out.
         proc, summary = run_gates(tmp_path, repo, make_build(tmp_path, "base"),
                                   make_build(tmp_path, "head", factor=1.3), "--skip-counts",
-                                  "--rounds", "2")
-        assert proc.returncode == 0
+                                  "--rounds", "5")
+        assert proc.returncode == 3, proc.stderr
+        assert summary.startswith("## hrbench gates: INCONCLUSIVE")
         assert "too few for the test to reach alpha" in summary
+        assert all(row[-1] == "*inconclusive*" and row[6] == "inf"
+                   for row in benchmark_rows(summary))
+
+    def test_thirty_percent_noise_is_inconclusive_not_a_pass(self, tmp_path, repo):
+        outputs = tmp_path / "outputs.txt"
+        proc, summary = run_gates(tmp_path, repo, make_build(tmp_path, "base", noise=0.3),
+                                  make_build(tmp_path, "head", noise=0.3), "--skip-counts",
+                                  env={"GITHUB_OUTPUT": str(outputs)})
+        assert proc.returncode == 3, proc.stderr
+        assert summary.startswith("## hrbench gates: INCONCLUSIVE")
+        assert "| timing | INCONCLUSIVE |" in summary
+        assert "timing inconclusive" in proc.stderr and "exit code 3" in proc.stderr
+        rows = benchmark_rows(summary)
+        blind = [row for row in rows if row[-1] == "*inconclusive*"]
+        assert blind and all(float(row[6].rstrip("%")) > 10 for row in blind)
+        for row in rows:  # the others resolved: their interval stays under +10%
+            high = float(row[4].split(", ")[1].rstrip("%]"))
+            assert row in blind or high <= 10
+        assert "verdict=inconclusive" in outputs.read_text()
+
+    def test_a_2x_slowdown_with_little_noise_is_slower_with_p_below_alpha(self, tmp_path,
+                                                                        repo):
+        proc, summary = run_gates(tmp_path, repo, make_build(tmp_path, "base", noise=0.01),
+                                  make_build(tmp_path, "head", factor=2.0, noise=0.01),
+                                  "--skip-counts")
+        assert proc.returncode == 1
+        for row in benchmark_rows(summary):
+            assert row[-1] == "**SLOWER**" and float(row[5]) < 0.05
+            assert 95 < float(row[3].rstrip("%")) < 105
+        geomean = markdown_tables(summary)[-1][-1]
+        assert geomean[0] == "OVERALL_GEOMEAN" and 95 < float(geomean[3].rstrip("%")) < 105
+
+    def test_equal_times_are_no_significant_change(self, tmp_path, repo):
+        proc, summary = run_gates(tmp_path, repo, make_build(tmp_path, "base", noise=0),
+                                  make_build(tmp_path, "head", noise=0), "--skip-counts")
+        assert proc.returncode == 0, proc.stderr
+        for row in benchmark_rows(summary):
+            assert row[3:8] == ["+0.0%", "[+0.0%, +0.0%]", "1.0000", "0.0%", "8"]
+            assert row[-1] == "no significant change"
+
+    def test_base_equal_to_head_is_said_on_stderr_and_in_the_summary(self, tmp_path, repo):
+        build = make_build(tmp_path, "base")
+        proc, summary = run_gates(tmp_path, repo, build, build, "--skip-counts", head="base")
+        assert proc.returncode == 0, proc.stderr
+        warnings = [line for line in proc.stderr.splitlines() if "same commit" in line]
+        assert warnings and warnings[0].startswith("gates: warning: BASE_REF base and "
+                                                   "HEAD_REF base are the same commit")
+        assert "nothing is compared with another version" in warnings[0]
+        assert "**Same commit.**" in summary
+
+    def test_any_benchmark_command_is_timed(self, tmp_path, repo):
+        """--bench-cmd: the user's own benchmark, in builds without refine_bench."""
+        builds = [make_build(tmp_path, side, factor=f) for side, f in (("base", 1), ("head", 2))]
+        for build in builds:
+            os.rename(os.path.join(build, "refine_bench"), os.path.join(build, "my_bench"))
+        cmd = ('"$HRBENCH_BUILD/my_bench" --benchmark_out="$HRBENCH_BENCH_OUT" '
+               '--benchmark_out_format=json  # $HRBENCH_SIDE, round $HRBENCH_ROUND')
+        proc, summary = run_gates(tmp_path, repo, *builds, "--bench-cmd", cmd)
+        assert proc.returncode == 1, proc.stderr
+        assert "| counts | PASS |" in summary  # the engine of the build, its own baseline
+        assert f"`{cmd}`" in summary
+        assert len(benchmark_rows(summary)) == 5
+        assert all(row[-1] == "**SLOWER**" for row in benchmark_rows(summary))
+        runs = (tmp_path / "bench.log").read_text().split()
+        assert runs[:4] == ["base", "head", "head", "base"]
 
     def test_a_crashing_benchmark_fails_with_a_summary(self, tmp_path, repo):
         proc, summary = run_gates(tmp_path, repo, make_build(tmp_path, "base"),
                                   make_build(tmp_path, "head", crash=True))
         assert proc.returncode == 1
-        assert "head's refine_bench failed in round 1" in proc.stderr
+        assert "head's refine_bench in round 1 failed (exit code 3)" in proc.stderr
         assert summary.startswith("## hrbench gates: FAIL")
 
 
@@ -343,7 +424,8 @@ class TestUsageErrors:
     @pytest.mark.parametrize("case", ["unknown base", "unknown head", "empty ref",
                                       "missing build", "no refine_bench", "not git",
                                       "no baseline", "filter matches nothing", "bad rounds",
-                                      "bad metric"])
+                                      "bad metric", "filter with bench-cmd",
+                                      "empty bench-cmd"])
     def test_exit_2_with_one_line(self, tmp_path, repo, case):
         base, head = make_build(tmp_path, "base"), make_build(tmp_path, "head")
         refs, extra = {}, []
@@ -369,6 +451,10 @@ class TestUsageErrors:
             extra = ["--rounds", "0"]
         elif case == "bad metric":
             extra = ["--metric", "wall"]
+        elif case == "filter with bench-cmd":
+            extra = ["--bench-cmd", "true", "--filter", "BM_"]
+        elif case == "empty bench-cmd":
+            extra = ["--bench-cmd", " "]
         proc, summary = run_gates(tmp_path, repo, base, head, *extra, **refs,
                                   subprocess_run=True)
         assert proc.returncode == 2, proc.stderr
@@ -404,7 +490,7 @@ class TestAction:
         """The gates step's script, run as GitHub would run it (inputs in the env)."""
         step = next(s for s in action["runs"]["steps"] if s.get("id") == "gates")
         inputs = {name: spec.get("default", "") for name, spec in action["inputs"].items()}
-        inputs.update(base="base", head="head", rounds="5", metric="cpu_time",
+        inputs.update(base="base", head="head", rounds="8", metric="cpu_time",
                       args=f"--base-build {make_build(tmp_path, 'base')} --head-build "
                            f"{make_build(tmp_path, 'head')} --workdir {tmp_path / 'work'}")
         env = {k: v for k, v in os.environ.items() if not k.startswith("GITHUB_")}
@@ -417,7 +503,7 @@ class TestAction:
         proc = subprocess.run(["bash", "--noprofile", "--norc", "-eo", "pipefail", "-c",
                                step["run"]], cwd=repo, env=env, capture_output=True, text=True)
         assert proc.returncode == 0, proc.stderr
-        assert "median of 5 interleaved rounds" in proc.stdout
+        assert "8 interleaved rounds" in proc.stdout
         assert step_summary.read_text() == proc.stdout
 
     def test_the_example_workflow_uses_the_action(self, action):
