@@ -14,12 +14,19 @@ fit         power-law fits, bootstrap intervals, local slopes, Theta checks, mod
 verdict     the verdict of a claim
 plots       plotting functions (each draws on a given Axes)
 report      the Markdown, HTML and JSON report
-render      read the leaves of ``hrbench solve --out``; render a 3D solution, draw a 2D profile
+render      read the leaves of ``hrbench solve --out``; render a 3D solution, draw a 2D profile;
+            ``hrbench-render``, a solve drawn with mplot3d
 solution    the report's pictures of a solve: the profile on the plates, the Cornell box
+tiling      ``hrbench-tiling``: the link tilings of a flatland pair at several eps
+explorer    the page of sliders over eps and l (``results/explorer.html``, ``hrbench-explorer``)
+cli         what the drawing commands share: engine options, scene words, one-line errors
 reproduce   the command lines ``hrbench-reproduce`` (``python -m hrbench_analysis.reproduce``)
             and ``hrbench-sweep``
 gbench      read Google Benchmark JSON files
 benchcompare  ``hrbench-compare``: the timing comparison of two benchmark runs
+builds      a commit built in its git worktree and its benchmarks run (the CI gates,
+            ``hrbench-history measure``)
+history     ``hrbench-history``: benchmark runs over commits, steps, the page
 
 An engine other than hrbench works if it keeps the engine contract
 (docs/engine-contract.md); its run records are described by

@@ -6,7 +6,11 @@ the leaves as seen by a perspective :class:`Camera` with a z-buffer rasteriser w
 numpy (each leaf's polygon split into triangles, nearest depth wins), optionally with the
 element mesh over it; :func:`render_figure` puts the image in a figure for the report. In
 2D (flatland), :func:`plot_radiosity_profile` draws each root patch's radiosity along its
-arc length.
+arc length. :func:`plot_solution_3d` draws the leaves as mplot3d polygons coloured by
+radiosity, to turn round and explore; the command ``hrbench-render`` (:func:`main`,
+``python -m hrbench_analysis.render``) solves a scene and draws it so, with a colour bar:
+
+    hrbench-render cornell --eps 0.05 --min-area 0.005 --out room.png
 
 Columns of the CSV, in this order (a header line names them; extra columns are ignored):
 
@@ -21,11 +25,28 @@ As in :mod:`hrbench_analysis.plots`, nothing here creates a pyplot figure or pic
 
 import csv
 import math
+import sys
+import tempfile
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
+from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+from .cli import (
+    Parser,
+    add_engine_options,
+    engine_of,
+    output_file,
+    positive_int,
+    positive_number,
+    run_command,
+    save_figure,
+    scene_params,
+)
+from .engine import MESH_SCENE
 from .errors import one_line
 from .loader import ResultFormatError
 
@@ -42,6 +63,10 @@ __all__ = [
     "render_image",
     "render_figure",
     "plot_radiosity_profile",
+    "radiosity_scale",
+    "view_direction",
+    "plot_solution_3d",
+    "main",
 ]
 
 _COMMON = ("element", "root", "depth", "position")
@@ -749,3 +774,209 @@ def plot_radiosity_profile(ax, solution, reference=None, reference_depth=None):
     if lines:
         ax.legend(fontsize=8)
     return lines
+
+
+# ---------------------------------------------------------------------------------------
+# Polygons in mplot3d, and the command hrbench-render
+
+
+def radiosity_scale(solution):
+    """The top of a colour scale of radiosity: emitters must not wash out the rest.
+
+    Returns
+    -------
+    top : float
+        The 99th percentile of the radiosity of the leaves that do not emit (each leaf
+        counted once), else of all leaves; the largest radiosity if that is 0; 1 if all
+        are 0 (units of emission).
+    """
+    lit = solution.radiosity[solution.emission == 0]
+    values = lit if lit.size else solution.radiosity
+    top = float(np.percentile(values, 99))
+    if top <= 0:
+        top = float(solution.radiosity.max())
+    return top if top > 0 else 1.0
+
+
+def view_direction(elev, azim, up="z"):
+    """The unit vector from the scene towards the eye of an mplot3d view.
+
+    Parameters
+    ----------
+    elev, azim : float
+        Elevation and azimuth (degrees), as ``Axes3D.view_init`` takes them.
+    up : {"x", "y", "z"}
+        The vertical axis (``view_init``'s ``vertical_axis``).
+
+    Returns
+    -------
+    direction : ndarray, shape (3,)
+        In data coordinates, for axes of equal scale (as :func:`plot_solution_3d` sets).
+    """
+    e, a = np.radians(elev), np.radians(azim)
+    direction = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+    # mplot3d's own rule: the z-up vector rolled so that its last entry is the up axis.
+    return np.roll(direction, "xyz".index(up) - 2)
+
+
+def plot_solution_3d(ax, solution, *, cmap="inferno", norm=None, edges=True, facing=None):
+    """Draw a 3D solution's leaves as polygons coloured by their radiosity.
+
+    Parameters
+    ----------
+    ax : mpl_toolkits.mplot3d.axes3d.Axes3D
+    solution : Solution
+        A 3D solution.
+    cmap : str or Colormap, optional
+    norm : matplotlib.colors.Normalize, optional
+        Default ``Normalize(0, radiosity_scale(solution))``: brighter leaves (the lamp)
+        get the colour map's top colour.
+    edges : bool, optional
+        Outline every leaf (the element mesh).
+    facing : array_like, shape (3,), optional
+        The direction towards the eye (:func:`view_direction`): leaves whose front faces
+        away from it are left out, as a patch sends light from its front only (and the
+        walls of a room seen from outside would hide its inside).
+
+    Returns
+    -------
+    collection : mpl_toolkits.mplot3d.art3d.Poly3DCollection
+        Pass it to ``Figure.colorbar`` for the scale. The axes span the corners' box
+        with equal scale on x, y and z (scene units).
+
+    Notes
+    -----
+    mplot3d sorts whole polygons by depth (the painter's algorithm): near and far
+    leaves that overlap on screen can be drawn in the wrong order, which a z-buffer
+    (:func:`render_image`) never does. Give `facing` for an orthographic view
+    (``ax.set_proj_type("ortho")``); in perspective, leaves seen almost edge-on may be
+    culled wrongly.
+    """
+    _require_3d(solution, "plot_solution_3d")
+    shown = np.arange(len(solution))
+    if facing is not None:
+        c = solution.corners
+        front = np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0])
+        shown = np.flatnonzero(front @ np.asarray(facing, dtype=float) > 0)
+    polygons = [solution.corners[i, :solution.n_corners[i]] for i in shown]
+    collection = Poly3DCollection(
+        polygons, cmap=cmap, norm=norm or Normalize(0.0, radiosity_scale(solution)),
+        edgecolor=(0, 0, 0, 0.25) if edges else "face", linewidth=0.2 if edges else 0)
+    collection.set_array(solution.radiosity[shown])
+    ax.add_collection3d(collection)
+    low = np.nanmin(solution.corners, axis=(0, 1))
+    high = np.nanmax(solution.corners, axis=(0, 1))
+    # A flat scene keeps a thin box: mplot3d cannot scale an axis of zero extent.
+    span = np.maximum(high - low, 1e-3 * float(np.max(high - low)) or 1.0)
+    ax.set(xlim=(low[0], low[0] + span[0]), ylim=(low[1], low[1] + span[1]),
+           zlim=(low[2], low[2] + span[2]), xlabel="x", ylabel="y", zlabel="z")
+    ax.set_box_aspect(span)
+    return collection
+
+
+#: The view of ``hrbench-render`` (vertical axis, elevation and azimuth in degrees) by
+#: scene family: the Cornell box, y up as in its published data, from its open side
+#: (where its published camera stands), raised and turned so that the floor and a side
+#: wall show; any other scene from matplotlib's default view, z up.
+VIEWS = {"cornell": ("y", 15.0, 155.0)}
+DEFAULT_VIEW = ("z", 30.0, -60.0)
+
+
+def _render_parser():
+    p = Parser(prog="hrbench-render",
+               description="Solve a 3D scene's radiosity on the hierarchy (hrbench solve) "
+               "and draw its leaves coloured by radiosity, with a colour bar; a flatland "
+               "scene is drawn as its radiosity profile along the patches.")
+    p.add_argument("scene", nargs="?", metavar="SCENE",
+                   help="a scene family, e.g. cornell (or --mesh F)")
+    p.add_argument("params", nargs="*", metavar="key=value",
+                   help="its parameters (default: the family's)")
+    p.add_argument("--eps", type=positive_number, required=True, metavar="E",
+                   help="oracle threshold")
+    p.add_argument("--out", type=output_file, required=True, metavar="FILE",
+                   help="PNG to write")
+    p.add_argument("--oracle", default="garmann", help="oracle (default: %(default)s)")
+    p.add_argument("--min-area", type=positive_number, metavar="A",
+                   help="recursion limit on element size (scenes whose patches touch)")
+    p.add_argument("--max-depth", type=int, metavar="D", help="recursion limit on depth")
+    p.add_argument("--visibility", choices=("none", "fraction", "refine"),
+                   help="occlusion (default: the engine's, none)")
+    p.add_argument("--emission", type=float, metavar="E",
+                   help="emission of every patch (for scenes without a lamp)")
+    p.add_argument("--reflectance", type=float, metavar="R",
+                   help="reflectance of every patch")
+    p.add_argument("--threads", type=positive_int, default=1, metavar="N",
+                   help="solver threads (the solution does not depend on them)")
+    p.add_argument("--mesh", type=Path, metavar="F", help="an OFF or OBJ file instead of SCENE")
+    p.add_argument("--triangulate", action="store_true",
+                   help="with --mesh: split faces that are not planar convex quads")
+    p.add_argument("--scale", type=positive_number, metavar="S",
+                   help="with --mesh: multiply every coordinate by S")
+    p.add_argument("--view", type=float, nargs=2, metavar=("ELEV", "AZIM"),
+                   help="elevation and azimuth of the view in degrees (default: by scene)")
+    p.add_argument("--up", choices=("x", "y", "z"), help="the vertical axis (default: by "
+                   "scene, y for cornell, else z)")
+    p.add_argument("--size", type=positive_int, nargs=2, default=(900, 750),
+                   metavar=("W", "H"), help="image size in pixels (default: 900 750)")
+    p.add_argument("--csv", type=output_file, metavar="F",
+                   help="also keep the leaves the engine wrote (hrbench solve --out F)")
+    add_engine_options(p)
+    return p
+
+
+def _render_main(argv):
+    from .solution import solve_to_csv  # solution draws with this module
+
+    parser = _render_parser()
+    args = parser.parse_args(argv)
+    if (args.scene is None) == (args.mesh is None):
+        parser.error("give either SCENE [key=value ...] or --mesh F")
+    scene, params = (scene_params(parser, [args.scene, *args.params]) if args.scene
+                     else (MESH_SCENE, {}))
+    if args.mesh is None and (args.triangulate or args.scale is not None):
+        parser.error("--triangulate and --scale apply to --mesh only")
+    options = {name: value for name, value in (
+        ("mesh", None if args.mesh is None else str(args.mesh)),
+        ("triangulate", args.triangulate or None), ("scale", args.scale),
+        ("visibility", args.visibility), ("emission", args.emission),
+        ("reflectance", args.reflectance), ("threads", args.threads)) if value is not None}
+    engine = engine_of(args)
+    with tempfile.TemporaryDirectory(prefix="hrbench-render-") as folder:
+        csv_path = args.csv or Path(folder) / "solution.csv"
+        record = solve_to_csv(engine, scene, params, args.eps, args.oracle, options,
+                              csv_path, min_area=args.min_area, max_depth=args.max_depth)
+        solution = read_solution(csv_path)
+    what = " ".join([args.mesh.name if args.mesh else scene,
+                     *(f"{k}={v:g}" for k, v in params.items())])
+    title = (f"{what}, {args.oracle}, eps {args.eps:g}: {len(solution)} leaves, "
+             f"{record['links']} links, {record['iterations']} sweeps")
+    width, height = args.size
+    fig = Figure(figsize=(width / 100, height / 100), layout="constrained")
+    if solution.dimension == 2:
+        ax = fig.add_subplot()
+        plot_radiosity_profile(ax, solution)
+        ax.grid(True, alpha=0.3)
+    else:
+        up, elev, azim = VIEWS.get(scene, DEFAULT_VIEW)
+        elev, azim = args.view or (elev, azim)
+        up = args.up or up
+        ax = fig.add_subplot(projection="3d", proj_type="ortho")
+        ax.view_init(elev=elev, azim=azim, vertical_axis=up)
+        collection = plot_solution_3d(ax, solution, facing=view_direction(elev, azim, up))
+        top = collection.norm.vmax
+        bar = fig.colorbar(collection, ax=ax, shrink=0.7,
+                           extend="max" if solution.radiosity.max() > top else "neither")
+        bar.set_label("radiosity B (units of emission)")
+    ax.set_title(title, fontsize=10)
+    save_figure(fig, args.out)
+    print(f"{args.out}: {title}")
+    return 0
+
+
+def main(argv=None):
+    """Run ``hrbench-render``; return its exit code (0, 2 for bad input or environment)."""
+    return run_command("hrbench-render", _render_main, argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

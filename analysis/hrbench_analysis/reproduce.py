@@ -32,6 +32,7 @@ internal error of the analysis (a bug: the traceback is printed); 130 when inter
 import argparse
 import csv
 import datetime
+import difflib
 import os
 import platform
 import shlex
@@ -45,6 +46,7 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 
+from . import __version__
 from .claimfile import ClaimsFileError, check_names, load_claims, load_claims_dir
 from .engine import (
     INPUT_ERROR,
@@ -60,11 +62,13 @@ from .engine import (
     run_links,
 )
 from .errors import AnalysisError, one_line
+from .explorer import write_explorer
 from .loader import SCHEMA_VERSION, ResultFormatError, read_links_csv
 from .report import ClaimOutcome, get_claims_table, get_figures, print_claims_table, write_report
 from .schedulers import LOCAL, SchedulerError, check_scheduler, open_scheduler
 from .solution import solution_figures
 from .store import ResultStore
+from .summary import verdict_tally
 from .sweep import UNREADABLE_RECORD, ClaimData, expand_claim, get_claim_data, run_points
 from .verdict import assess_claim, skipped_assessment
 
@@ -209,7 +213,7 @@ def _reproduce_parser():
     p.add_argument("--no-pictures", "--no-tiling", dest="no_pictures", action="store_true",
                    help="skip the figures that need runs of their own: the link tiling "
                    "('hrbench links'), the radiosity profile and the Cornell box ('hrbench "
-                   "solve')")
+                   "solve'), and the explorer page")
     return p
 
 
@@ -239,7 +243,8 @@ def check_claims(claims, mode, capabilities):
         does not list (:func:`~hrbench_analysis.engine.oracle_error`), a scene parameter the
         family lacks or a value (fixed or swept, in either mode) out of its range
         (:func:`~hrbench_analysis.engine.param_errors`), or a formula name no run provides
-        (:func:`~hrbench_analysis.claimfile.check_names`; checked for the claims not skipped).
+        (:func:`~hrbench_analysis.claimfile.check_names`; checked for the claims not skipped),
+        or a scene family the hrbench of this release lacks (:func:`unknown_family`).
         Each line names the file, the line and the claim.
     skipped : dict of str to str
         Claim id to the reason the engine cannot run it now
@@ -256,6 +261,14 @@ def check_claims(claims, mode, capabilities):
             errors.extend(problems)
             continue
         reason = missing_capability(c, mode, capabilities)
+        if reason is not None and capabilities.family(c.scene) is None:
+            message = unknown_family(c.scene, capabilities)
+            if (capabilities.engine, capabilities.version) == ("hrbench", __version__):
+                # The hrbench of this release has every family its claims may name, so
+                # the name is a typo; an older hrbench or another engine may lack it.
+                errors.append(f"{c.path}:{c.line}: claim {c.id!r}: {message}")
+                continue
+            reason = message
         if reason is not None:
             skipped[c.id] = reason
             continue
@@ -265,6 +278,18 @@ def check_claims(claims, mode, capabilities):
         except ClaimsFileError as exc:
             errors.append(str(exc))
     return errors, skipped
+
+
+def unknown_family(name, capabilities):
+    """The message for a scene family the engine lacks, with the nearest names it has.
+
+    ``"engine lacks scene 'paralel' (did you mean 'parallel'?)"``. An outside engine
+    may lack a family on purpose, and its claim is skipped; for hrbench itself the same
+    message is an error for the hrbench of this release, which offers every family.
+    """
+    close = difflib.get_close_matches(name, capabilities.family_names, n=2)
+    hint = f" (did you mean {' or '.join(map(repr, close))}?)" if close else ""
+    return f"engine lacks scene {name!r}{hint}"
 
 
 def engine_refusals(claim, data):
@@ -563,9 +588,15 @@ def _main(argv):
     except OSError as exc:
         raise AnalysisError(f"--results {args.results}: cannot write the report "
                             f"({exc.strerror or exc}: {exc.filename or ''})") from None
+    if not args.no_pictures:
+        try:
+            write_explorer(args.results, setup.engine)
+        except (EngineError, ResultFormatError, OSError) as exc:
+            print(f"warning: no explorer page: {one_line(exc)}", file=sys.stderr)
     print_claims_table(get_claims_table(outcomes))
     print(f"\nreport: {paths['markdown']}, {paths['html']}, {paths['json']} "
           f"({wall:.1f} s)")
+    print(verdict_tally(outcomes))
     refuted = [o.claim.id for o in outcomes
                if o.claim.expected_to_hold and o.assessment.verdict == "refuted"]
     if refuted:

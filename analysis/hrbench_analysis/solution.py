@@ -14,7 +14,8 @@ from .loader import ResultFormatError
 from .render import plot_radiosity_profile, read_solution, render_figure
 from .report import ReportFigure
 
-__all__ = ["PROFILE", "CORNELL", "solution_figures", "profile_figure", "cornell_figures"]
+__all__ = ["PROFILE", "CORNELL", "solution_figures", "profile_figure", "cornell_figures",
+           "solve_to_csv"]
 
 #: The profile: scene, parameters, options, and (oracle, eps) per panel, the three
 #: oracles at thresholds that give a few thousand links each.
@@ -26,10 +27,16 @@ PROFILE = ("parallel", {"l": 4, "d": 1}, {"emission": 1, "reference": 10},
 CORNELL = ("cornell", {}, 0.02, "garmann", 0.002, {"visibility": "fraction"})
 
 
-def _solve(engine, scene, params, eps, oracle, options, csv_path, min_area=None):
-    # Run one solve that writes its leaves to csv_path; return its JSON record.
+def solve_to_csv(engine, scene, params, eps, oracle, options, csv_path, min_area=None,
+                 max_depth=None):
+    """Run one solve that writes its leaves to `csv_path`; return its JSON record (a dict).
+
+    The arguments are those of :func:`hrbench_analysis.engine.solve_argv`. Raises
+    EngineError if the solve fails (its exit code and message), ResultFormatError if it
+    prints no JSON.
+    """
     argv = solve_argv(engine, scene, params, eps, oracle, min_area=min_area,
-                      options=options) + ["--out", str(csv_path)]
+                      max_depth=max_depth, options=options) + ["--out", str(csv_path)]
     run = run_engine(argv)
     if run.exit_code != 0:
         raise EngineError(f"{' '.join(run.argv[1:])} failed with exit code {run.exit_code}: "
@@ -59,7 +66,7 @@ def profile_figure(engine, results):
     axes = fig.subplots(1, len(panels), sharey=True)
     for ax, (oracle, eps) in zip(axes, panels, strict=True):
         path = results / f"solution-{scene}-{oracle}.csv"
-        record = _solve(engine, scene, params, eps, oracle, options, path)
+        record = solve_to_csv(engine, scene, params, eps, oracle, options, path)
         plot_radiosity_profile(ax, read_solution(path), record["reference_radiosity"],
                                record["reference_depth"])
         ax.set_title(f"{oracle}, eps = {eps:g}: {record['links']} links, "
@@ -102,8 +109,8 @@ def cornell_figures(engine, results, jobs=1):
     """
     scene, params, eps, oracle, min_area, options = CORNELL
     path = results / "solution-cornell.csv"
-    record = _solve(engine, scene, params, eps, oracle, options | {"threads": jobs}, path,
-                    min_area=min_area)
+    record = solve_to_csv(engine, scene, params, eps, oracle, options | {"threads": jobs},
+                          path, min_area=min_area)
     solution = read_solution(path)
     facts = (f"{scene}, {oracle}, eps {eps:g}, min-area {min_area:g}, visibility "
              f"{options['visibility']}\n{record['leaves']} leaves, {record['links']} links")

@@ -1,5 +1,6 @@
 """Engine options in claims, per-mode overrides, exact binary grids, and skipped claims."""
 
+import dataclasses
 import json
 import math
 import sqlite3
@@ -8,6 +9,7 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
+from hrbench_analysis import __version__
 from hrbench_analysis.claimfile import ClaimsFileError, SweepRange, load_claims
 from hrbench_analysis.engine import (
     engine_version,
@@ -17,7 +19,7 @@ from hrbench_analysis.engine import (
     option_argv,
 )
 from hrbench_analysis.plots import PowerLawSeries, plot_power_law_comparison
-from hrbench_analysis.reproduce import main
+from hrbench_analysis.reproduce import check_claims, main
 from hrbench_analysis.store import PointKey, ResultStore, StoredPoint
 from hrbench_analysis.sweep import expand_claim, get_claim_data, run_points
 
@@ -185,6 +187,20 @@ def test_missing_scene_or_option_is_a_reason_to_skip(tmp_path, fake_hrbench):
     assert missing_capability(load_one(tmp_path, ""), "quick", caps) is None
 
 
+def test_a_misspelt_scene_is_an_error_for_this_hrbench_and_a_hint_for_others(
+        tmp_path, fake_hrbench):
+    claim = load_one(tmp_path, "")
+    claim.scene = "paralel"
+    older = get_capabilities(fake_hrbench)   # an hrbench of another release
+    errors, skipped = check_claims([claim], "quick", older)
+    assert errors == []
+    assert skipped == {"O1": "engine lacks scene 'paralel' (did you mean 'parallel'?)"}
+    current = dataclasses.replace(older, version=__version__)
+    errors, skipped = check_claims([claim], "quick", current)
+    assert errors == [f"{claim.path}:{claim.line}: claim 'O1': engine lacks scene "
+                      "'paralel' (did you mean 'parallel'?)"] and skipped == {}
+
+
 def test_claims_the_engine_cannot_run_are_skipped_not_failed(tmp_path, fake_hrbench,
                                                             capsys):
     extra = HEADER.split("[[claim]]", 1)[1]
@@ -199,7 +215,7 @@ def test_claims_the_engine_cannot_run_are_skipped_not_failed(tmp_path, fake_hrbe
     assert "O3: skipped: engine lacks option --visibility" in out
     assert "O1: reproduced" in out
     md = (tmp_path / "results" / "report.md").read_text()
-    assert "| O2 |" in md and "**skipped**: engine lacks scene 'parallel3d'" in md
+    assert "| [O2](#claim-o2) |" in md and "**skipped**: engine lacks scene 'parallel3d'" in md
     claims = json.loads((tmp_path / "results" / "claims.json").read_text())["claims"]
     by_id = {c["id"]: c for c in claims}
     assert by_id["O2"]["verdict"] == "skipped" and by_id["O2"]["as_expected"] is None

@@ -1,9 +1,11 @@
 import io
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 from matplotlib.figure import Figure
+from matplotlib.image import imread
 
 from hrbench_analysis.loader import ResultFormatError
 from hrbench_analysis.render import (
@@ -13,11 +15,15 @@ from hrbench_analysis.render import (
     MESH_SHADE,
     Camera,
     plot_radiosity_profile,
+    plot_solution_3d,
+    radiosity_scale,
     rasterise,
     read_solution,
     render_figure,
     render_image,
+    view_direction,
 )
+from hrbench_analysis.render import main as render_main
 
 HEADER_2D = ("element,root,depth,position,x,y,measure,radiosity,irradiance,reflectance,"
              "emission,red,green,blue,x0,y0,x1,y1")
@@ -416,3 +422,140 @@ def test_large_triangles_are_filled_without_seams(tmp_path):
     assert ids.shape == (300, 700)
     # x < 0 (the near leaf) is the image's right half.
     assert (ids[:, :350] == 0).all() and (ids[:, 350:] == 1).all()
+
+
+# ---------------------------------------------------------------------------------------
+# mplot3d polygons and the command hrbench-render
+
+
+def test_radiosity_scale_leaves_out_emitters(tmp_path):
+    path = tmp_path / "s.csv"
+    path.write_text("\n".join([HEADER_3D,
+                               leaf_3d(0, square(0, 1, 0, 1, 0), b=1.0),
+                               leaf_3d(1, square(1, 2, 0, 1, 0), b=2.0),
+                               leaf_3d(2, square(0, 1, 0, 1, 1), b=50.0, emission=50.0)]))
+    # The 99th percentile of 1 and 2, by linear interpolation: 1 + 0.99.
+    assert radiosity_scale(read_solution(path)) == pytest.approx(1.99)
+
+
+def test_plot_solution_3d_colours_by_radiosity_and_culls_back_faces(tmp_path):
+    # A floor facing +z (corners counter-clockwise from above) and a ceiling facing -z.
+    path = tmp_path / "s.csv"
+    path.write_text("\n".join([HEADER_3D,
+                               leaf_3d(0, square(0, 2, 0, 1, 0), b=0.25),
+                               leaf_3d(1, square(0, 2, 0, 1, 1)[::-1], b=0.75)]))
+    solution = read_solution(path)
+    fig = Figure()
+    ax = fig.add_subplot(projection="3d")
+    both = plot_solution_3d(ax, solution)
+    assert list(both.get_array()) == [0.25, 0.75]
+    assert (both.norm.vmin, both.norm.vmax) == (0.0, radiosity_scale(solution))
+    assert ax.get_xlim() == (0, 2) and ax.get_ylim() == (0, 1) and ax.get_zlim() == (0, 1)
+    from_above = plot_solution_3d(fig.add_subplot(projection="3d"), solution,
+                                  facing=(0.1, 0.2, 1.0))
+    assert list(from_above.get_array()) == [0.25]
+    from_below = plot_solution_3d(fig.add_subplot(projection="3d"), solution,
+                                  facing=(0.0, 0.0, -1.0))
+    assert list(from_below.get_array()) == [0.75]
+
+
+@pytest.mark.parametrize("elev, azim, up", [(30, -60, "z"), (15, 155, "y"), (-20, 40, "x"),
+                                            (0, 180, "y")])
+def test_view_direction_is_mplot3d_s_line_of_sight(elev, azim, up):
+    # In an orthographic view, a point and the point moved along the direction to the
+    # eye fall on the same spot of the screen.
+    ax = Figure().add_subplot(projection="3d", proj_type="ortho")
+    ax.set(xlim=(0, 1), ylim=(0, 1), zlim=(0, 1))
+    ax.set_box_aspect((1, 1, 1))
+    ax.view_init(elev=elev, azim=azim, vertical_axis=up)
+    matrix = ax.get_proj()
+    direction = view_direction(elev, azim, up)
+    screen = [matrix @ np.append(p, 1.0) for p in (np.full(3, 0.5), 0.5 + 0.3 * direction)]
+    (x0, y0), (x1, y1) = ((s[0] / s[3], s[1] / s[3]) for s in screen)
+    assert (x1, y1) == pytest.approx((x0, y0), abs=1e-12)
+    assert np.linalg.norm(direction) == pytest.approx(1.0)
+
+
+def test_view_direction_looks_down_the_up_axis_from_above():
+    assert view_direction(90, 0, "z") == pytest.approx([0, 0, 1], abs=1e-12)
+    assert view_direction(90, 0, "y") == pytest.approx([0, 1, 0], abs=1e-12)
+    assert view_direction(0, 0, "z") == pytest.approx([1, 0, 0], abs=1e-12)
+
+
+HRBENCH = Path(__file__).resolve().parents[2] / "build" / "hrbench"
+needs_engine = pytest.mark.skipif(not HRBENCH.exists(), reason="build/hrbench not built")
+
+
+def render(argv, capsys):
+    # The exit code, standard output and error of hrbench-render (argparse exits).
+    try:
+        code = render_main([*argv, "--hrbench", str(HRBENCH)])
+    except SystemExit as exc:
+        code = exc.code
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@needs_engine
+def test_render_a_3d_solve_to_png(tmp_path, capsys):
+    out, leaves = tmp_path / "plates.png", tmp_path / "leaves.csv"
+    code, printed, err = render(["parallel3d", "d=1", "--eps", "0.5", "--emission", "1",
+                                 "--size", "400", "300", "--csv", str(leaves), "--out",
+                                 str(out)], capsys)
+    assert code == 0, err
+    assert imread(out).shape == (300, 400, 4)
+    solution = read_solution(leaves)
+    assert solution.dimension == 3
+    assert f": {len(solution)} leaves, " in printed
+
+
+@needs_engine
+def test_render_the_cornell_box_from_its_open_side(tmp_path, capsys):
+    out = tmp_path / "room.png"
+    code, printed, err = render(["cornell", "--eps", "0.5", "--min-area", "0.05", "--out",
+                                 str(out)], capsys)
+    assert code == 0, err
+    assert imread(out).shape == (750, 900, 4)
+    assert printed.startswith(f"{out}: cornell, garmann, eps 0.5: ")
+
+
+@needs_engine
+def test_render_a_mesh_file(tmp_path, capsys):
+    out = tmp_path / "room.png"
+    mesh = Path(__file__).resolve().parents[1] / "data" / "room_box.obj"
+    code, printed, err = render(["--mesh", str(mesh), "--eps", "0.3", "--min-area", "0.05",
+                                 "--size", "300", "300", "--out", str(out)], capsys)
+    assert code == 0, err
+    assert imread(out).shape == (300, 300, 4)
+    assert printed.startswith(f"{out}: room_box.obj, garmann, eps 0.3: ")
+
+
+@needs_engine
+def test_render_a_flatland_solve_as_its_profile(tmp_path, capsys):
+    out = tmp_path / "plates.png"
+    code, _, err = render(["parallel", "l=4", "d=1", "--eps", "0.5", "--emission", "1",
+                           "--size", "500", "300", "--out", str(out)], capsys)
+    assert code == 0, err
+    assert imread(out).shape == (300, 500, 4)
+
+
+@needs_engine
+@pytest.mark.parametrize("argv, words", [
+    (["--eps", "1"], "give either SCENE [key=value ...] or --mesh F"),
+    (["cornell", "--mesh", "room.obj", "--eps", "1"], "give either SCENE"),
+    (["cornell", "--eps", "-1"], "'-1' is not a finite number > 0"),
+    (["cornell", "--eps", "1", "--size", "0", "10"], "'0' is not an integer >= 1"),
+    (["cornell", "--eps", "1", "--view", "up", "0"], "invalid float value: 'up'"),
+    (["cornell", "--eps", "1", "--triangulate"], "apply to --mesh only"),
+    (["cornell", "--eps", "1", "--csv", "no/such/folder/x.csv"], "does not exist"),
+    (["cornell", "--eps", "0.5"], "touch, so refinement cannot terminate"),
+    (["parallel3d", "--eps", "0.5"], "nothing emits"),
+    (["--mesh", "no-such.obj", "--eps", "0.5"], "cannot read mesh file"),
+])
+def test_render_bad_input_is_one_line_and_exit_2(tmp_path, capsys, argv, words):
+    out = tmp_path / "x.png"
+    code, _, err = render([*argv, "--out", str(out)], capsys)
+    assert code == 2
+    assert len(err.strip().splitlines()) == 1 and err.startswith("hrbench-render: error: ")
+    assert words in err
+    assert not out.exists()

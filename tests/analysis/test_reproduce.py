@@ -17,8 +17,13 @@ def test_report_is_written_and_claim_reproduced(tmp_path, data_dir, fake_hrbench
                           str(fake_hrbench), "--results", str(results), "--jobs", "2"], capsys)
     assert code == 0, err
     assert "T-elements" in out and "reproduced" in out
+    # The tally closes the output; the table and the reasons fit 100 columns.
+    lines = out.splitlines()
+    assert lines[-1] == ("1 claim: reproduced 1, refuted 0, inconclusive 0, measured 0; "
+                         "not as expected: none")
+    assert all(len(line) <= 100 for line in lines if not line.startswith("report: "))
     for name in ("report.md", "report.html", "claims.json", "hrbench.sqlite",
-                 "plots/tiling.png"):
+                 "plots/tiling.png", "explorer.html"):
         assert (results / name).exists(), name
     claims = json.loads((results / "claims.json").read_text())["claims"]
     (obj,) = claims
@@ -29,6 +34,8 @@ def test_report_is_written_and_claim_reproduced(tmp_path, data_dir, fake_hrbench
     assert obj["interval_low"] <= obj["measured_exponent"] <= obj["interval_high"]
     html = (results / "report.html").read_text()
     assert html.count("data:image/png;base64,") >= 3
+    assert f"<b>{lines[-1]}</b>" in html
+    assert f"**{lines[-1]}**" in (results / "report.md").read_text()
 
 
 def test_refuted_claim_expected_to_hold_exits_1(tmp_path, data_dir, fake_hrbench, capsys):

@@ -1,0 +1,150 @@
+"""What the drawing commands share: one-line usage errors, the engine, the scene words.
+
+``hrbench-tiling``, ``hrbench-render`` and ``hrbench-explorer`` find the engine as
+``hrbench-reproduce`` does (``--engine CMD``, ``--hrbench PATH``, ``$HRBENCH_ENGINE``,
+``build/hrbench``, ``hrbench`` on the ``PATH``), and end every error of input or
+environment with one line on standard error and exit code 2.
+"""
+
+import argparse
+import math
+import sys
+import traceback
+from pathlib import Path
+
+from .errors import AnalysisError, one_line
+
+__all__ = ["USAGE_ERROR", "INTERNAL_ERROR", "INTERRUPTED", "Parser", "add_engine_options",
+           "engine_of", "positive_number", "positive_int", "output_file", "scene_params",
+           "run_command", "save_figure"]
+
+#: Exit codes, as ``hrbench-reproduce``'s: bad input or environment, a bug, an interrupt.
+USAGE_ERROR = 2
+INTERNAL_ERROR = 70
+INTERRUPTED = 130
+
+
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line (``prog: error: ...``), exit 2."""
+
+    def error(self, message):
+        self.exit(USAGE_ERROR, f"{self.prog}: error: {one_line(message)}\n")
+
+
+def add_engine_options(parser):
+    """Add ``--engine CMD`` and ``--hrbench PATH`` (as ``hrbench-reproduce`` has them)."""
+    # Imported here: reproduce imports the explorer, which imports this module.
+    from .reproduce import _engine_arg
+
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--engine", type=_engine_arg, default=None, metavar="CMD",
+                       help="the engine command, split into words like a shell (default: "
+                       "$HRBENCH_ENGINE, else build/hrbench under the current directory, "
+                       "else hrbench on the PATH)")
+    group.add_argument("--hrbench", dest="engine", type=Path, metavar="PATH",
+                       help="the engine as the path of one executable (never split)")
+
+
+def engine_of(args):
+    """The engine the options name, else :func:`hrbench_analysis.reproduce.default_engine`."""
+    from .reproduce import default_engine
+
+    return args.engine if args.engine is not None else default_engine()
+
+
+def positive_number(text):
+    """argparse type: a finite number > 0 (an eps, a length)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number > 0")
+    return value
+
+
+def output_file(text):
+    """argparse type: a file to write, in a folder that exists (checked before any run)."""
+    path = Path(text)
+    if not path.parent.is_dir():
+        raise argparse.ArgumentTypeError(f"{text}: folder {path.parent} does not exist")
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text} is a folder")
+    return path
+
+
+def positive_int(text):
+    """argparse type: an integer >= 1 (a count)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer >= 1")
+    return value
+
+
+def scene_params(parser, words):
+    """The scene family and its parameters of ``SCENE key=value ...``.
+
+    Parameters
+    ----------
+    parser : Parser
+        Reports a malformed word as a usage error.
+    words : list of str
+        E.g. ``["parallel", "l=8", "d=1"]``.
+
+    Returns
+    -------
+    scene : str
+    params : dict of str to float
+        The engine checks the names and ranges itself (its message is passed on).
+    """
+    scene, *pairs = words
+    if "=" in scene:
+        parser.error(f"the scene family comes first, got {scene!r}")
+    params = {}
+    for pair in pairs:
+        name, sep, text = pair.partition("=")
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not sep or not name or not math.isfinite(value):
+            parser.error(f"scene parameter {pair!r} is not name=number")
+        params[name] = value
+    return scene, params
+
+
+def run_command(prog, body, argv):
+    """Run a command's body; return its exit code.
+
+    Bad input or environment (:class:`~hrbench_analysis.errors.AnalysisError`, a file that
+    cannot be read or written) is one line and exit code 2; an interrupt exit code 130;
+    any other exception is a bug: its traceback and exit code 70.
+    """
+    try:
+        return body(argv)
+    except AnalysisError as exc:
+        print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
+    except OSError as exc:
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"{prog}: error: {one_line(where + (exc.strerror or str(exc)))}",
+              file=sys.stderr)
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return INTERRUPTED
+    except Exception:
+        traceback.print_exc()
+        print(f"{prog}: internal error (a bug, please report it with the traceback above)",
+              file=sys.stderr)
+        return INTERNAL_ERROR
+    return USAGE_ERROR
+
+
+def save_figure(fig, out, dpi=100):
+    """Write a figure as PNG to `out`, or raise AnalysisError naming ``--out``."""
+    try:
+        fig.savefig(out, dpi=dpi, format="png")
+    except OSError as exc:
+        raise AnalysisError(f"--out {out}: cannot write ({exc.strerror or exc})") from None
