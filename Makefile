@@ -2,39 +2,67 @@
 PYTHON := .venv/bin/python
 CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: setup build build-asan build-fuzz test test-cpp test-asan test-python reproduce \
-        reproduce-full bench bench-naive history gates baseline examples python-package fuzz fuzz-smoke \
-        lint format clean
+.PHONY: setup build build-cli build-tests build-asan build-fuzz test test-cpp test-asan \
+        test-asan-core test-python test-browser reproduce reproduce-full bench bench-naive history gates \
+        baseline examples python-package fuzz fuzz-smoke lint format clean
+JOBS := $(shell nproc)
+CONFIGURE := cmake -S . -B build $(CMAKE_FLAGS) >/dev/null
 
 setup:
 	@bash scripts/setup.sh
 
+# Everything: the engine, the CLI, the tests, the examples' kernel and the benchmarks.
 build: setup
-	@cmake -S . -B build $(CMAKE_FLAGS) >/dev/null
+	@$(CONFIGURE)
 	@cmake --build build
 
-# Debug build with AddressSanitizer and UndefinedBehaviorSanitizer.
+# Only what a target runs: the CLI (reproduce, the Python tests), or the CLI with the
+# C++ tests (test-cpp).
+build-cli: setup
+	@$(CONFIGURE)
+	@cmake --build build --target hrbench
+
+build-tests: setup
+	@$(CONFIGURE)
+	@cmake --build build --target hrbench_tests
+
+# AddressSanitizer and UndefinedBehaviorSanitizer, with assertions on; -O1 and line
+# tables only, so that it builds and runs in a few minutes and still names file and line.
 build-asan: setup
-	@cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DHRBENCH_SANITIZE=ON \
-	  -DHRBENCH_BUILD_BENCH=OFF >/dev/null
+	@cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" \
+	  -DHRBENCH_SANITIZE=ON -DHRBENCH_BUILD_BENCH=OFF >/dev/null
 	@cmake --build build-asan
 
-test-cpp: build
-	ctest --test-dir build --output-on-failure
+# CTest runs each Catch2 case as its own test, JOBS at a time, and prints each as it ends.
+test-cpp: build-tests
+	ctest --test-dir build -j $(JOBS) --output-on-failure
+
+# The sanitizer build on the cases of the input parsers and the refinement kernel (the
+# CTest label `core`); `test-asan` on every case (CI runs both).
+test-asan-core: build-asan
+	ctest --test-dir build-asan -L core -j $(JOBS) --output-on-failure
 
 test-asan: build-asan
-	ctest --test-dir build-asan --output-on-failure
+	ctest --test-dir build-asan -j $(JOBS) --output-on-failure
 
-test-python: build
-	$(PYTHON) -m pytest tests/analysis tests/tools -q
+test-python: build-cli
+	$(PYTHON) -m pytest tests/analysis tests/tools -q -m "not browser"
 
-# Every test: the C++ tests in the release and the sanitizer build, then the analysis tests.
-test: test-cpp test-asan test-python
+# The explorer page of `make reproduce` (results/explorer.html) in headless Chromium
+# (installed by `scripts/setup.sh --browser`): sliders moved, the counts it shows checked
+# against the engine's. The tests marked `browser`, which `make test-python` leaves out.
+test-browser: build-cli
+	@bash scripts/setup.sh --browser
+	$(PYTHON) -m pytest tests/analysis -q -m browser
 
-reproduce: build
+# Every test of the release build, the sanitizer build on the parsers and the kernel,
+# and the analysis tests: about 10 minutes on 2 cores from a fresh clone.
+test: test-cpp test-asan-core test-python
+
+reproduce: build-cli
 	$(PYTHON) -m hrbench_analysis.reproduce --quick
 
-reproduce-full: build
+reproduce-full: build-cli
 	$(PYTHON) -m hrbench_analysis.reproduce --full
 
 # The Google Benchmark suites, merged into results/bench.json: 9 repetitions of each
@@ -80,8 +108,8 @@ examples: build
 	@bash examples/build_consumer.sh build
 
 # The analysis as another project installs it: `pip install .` into a fresh venv, then,
-# from /, its import, its four commands, and a reproduction on the external engine of
-# examples/external_engine/ (CI).
+# from /, its import, its commands, and a reproduction on the external engine of
+# examples/external_engine/ with its explorer page (CI).
 python-package: setup
 	@tmp=$$(mktemp -d) && python3 -m venv $$tmp/venv && $$tmp/venv/bin/python -m pip install -q . \
 	  && cd / && $$tmp/venv/bin/python -c "import hrbench_analysis" \
@@ -89,9 +117,13 @@ python-package: setup
 	  && $$tmp/venv/bin/hrbench-sweep --help >/dev/null \
 	  && $$tmp/venv/bin/hrbench-compare --help >/dev/null \
 	  && $$tmp/venv/bin/hrbench-history --help >/dev/null \
+	  && $$tmp/venv/bin/hrbench-tiling --help >/dev/null \
+	  && $$tmp/venv/bin/hrbench-render --help >/dev/null \
+	  && $$tmp/venv/bin/hrbench-explorer --help >/dev/null \
 	  && HRBENCH_ENGINE="python3 $(CURDIR)/examples/external_engine/engine.py" \
 	     $$tmp/venv/bin/hrbench-reproduce --claims $(CURDIR)/examples/external_engine/claims.toml \
-	     --results $$tmp/results >/dev/null 2>&1; status=$$?; rm -rf $$tmp; \
+	     --results $$tmp/results >/dev/null 2>&1 && test -s $$tmp/results/explorer.html; \
+	  status=$$?; rm -rf $$tmp; \
 	  if [ $$status -ne 0 ]; then echo "python-package: failed (exit code $$status)" >&2; exit 1; fi; \
 	  echo "python-package: installed, imported and run from /"
 

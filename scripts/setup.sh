@@ -12,6 +12,11 @@ packages=(cmake ninja-build g++ make git libeigen3-dev catch2 libcgal-dev libemb
 if [[ " $* " == *" --fuzz "* ]]; then
   packages+=(clang libclang-rt-14-dev llvm)
 fi
+# `setup.sh --browser` (make test-browser) adds Chromium, which the tests marked
+# `browser` run headless to drive the explorer page.
+if [[ " $* " == *" --browser "* ]]; then
+  packages+=(chromium)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -31,9 +36,11 @@ if [ ! -x .venv/bin/python ]; then
   python3 -m venv .venv
 fi
 if [ ! -f "$stamp" ] || ! cmp -s "$requirements" "$stamp"; then
-  echo "setup: installing Python packages from $requirements"
+  # pip prints what it collects and installs: on a fresh clone this is the slow step.
+  echo "setup: installing Python packages from $requirements (about a minute)"
   .venv/bin/python -m pip install -q --upgrade pip
-  .venv/bin/python -m pip install -q -r "$requirements"
+  .venv/bin/python -m pip install --progress-bar off -r "$requirements" \
+    | { grep --line-buffered -v '^Requirement already satisfied' || true; }
   cp "$requirements" "$stamp"
 fi
 # The analysis package itself, editable: `python -m hrbench_analysis.reproduce` runs the

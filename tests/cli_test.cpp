@@ -248,7 +248,7 @@ TEST_CASE("A --min-area far from the scene's size is warned about, on one line",
     CHECK(Cli("run cornell --eps 0.5 --min-area 1e-3").err.empty());
 }
 
-TEST_CASE("--scale and --triangulate are checked and apply to meshes only", "[cli][mesh]") {
+TEST_CASE("Option --scale and --triangulate are checked and apply to meshes only", "[cli][mesh]") {
     const std::string mesh = " --mesh " + kData + "/two_plates.obj --eps 0.5";
     CheckError("run" + mesh + " --scale 0", 2, "--scale must be a finite number greater than 0");
     CheckError("run" + mesh + " --scale -2", 2, "--scale must be a finite number greater than 0");

@@ -597,7 +597,7 @@ double TotalArea(const Patches<Polygon> &patches) {
 
 }  // namespace
 
-TEST_CASE("--triangulate splits a quad that is not planar along its shorter diagonal", "[mesh]") {
+TEST_CASE("Option --triangulate splits a quad that is not planar along its shorter diagonal", "[mesh]") {
     // A B C D with C lifted by 0.1: BD (length sqrt 5) is shorter than AC (sqrt 5.01), so
     // the fan from B: (B, C, D) of area |(0,1,0.1) x (-2,1,0)| / 2 = sqrt(4.05) / 2, and
     // (B, D, A) of area 1. The face's colour (255 0 0: reflectance 1/3) goes to both.
@@ -630,7 +630,7 @@ TEST_CASE("--triangulate splits a quad that is not planar along its shorter diag
           "--triangulate splits it into triangles");
 }
 
-TEST_CASE("--triangulate keeps triangles and valid quads, and splits n-gons", "[mesh]") {
+TEST_CASE("Option --triangulate keeps triangles and valid quads, and splits n-gons", "[mesh]") {
     // A planar convex quad and a triangle stay as they are.
     Scene plates = LoadMesh(kData + "/two_plates.obj");
     CheckSameFaces(LoadMesh(kData + "/two_plates.obj", kDefaultMaxInputBytes, kTriangulate),
@@ -706,7 +706,7 @@ TEST_CASE("--triangulate keeps triangles and valid quads, and splits n-gons", "[
     }
 }
 
-TEST_CASE("--scale multiplies every coordinate, within double precision", "[mesh]") {
+TEST_CASE("Option --scale multiplies every coordinate, within double precision", "[mesh]") {
     Scene scaled = ParseWith("v 1000 0 0\nv 0 1000 0\nv 0 0 0\nf 3 1 2\n", MeshFormat::Obj,
                              MeshOptions{false, 0.001});
     const Polygon &t = scaled.Get<Polygon>()[0].shape;

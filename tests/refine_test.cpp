@@ -315,7 +315,7 @@ TEST_CASE("The angled example of docs/conventions.md: Q first, one deeper tie de
     CheckInvariants(scene, r, GarmannOracle<Segment>(0.231, scene.Get<Segment>()));
 }
 
-TEST_CASE("--min-area compares A = sqrt(A^2) with the bound, exactly, on A^2", "[refine]") {
+TEST_CASE("Option --min-area compares A = sqrt(A^2) with the bound, exactly, on A^2", "[refine]") {
     // SquaredSizeBound(m) is the least s with sqrt(s) >= m: s < bound iff sqrt(s) < m.
     CHECK(SquaredSizeBound(0) == 0);
     CHECK(SquaredSizeBound(1) == 1);

@@ -54,7 +54,7 @@ std::string EpsDifferences(const Scene &scene, const RefineOptions &options,
 
 }  // namespace
 
-TEST_CASE("--sweep min_area counts each recursion limit as a separate run would", "[sweep]") {
+TEST_CASE("Option --sweep min_area counts each recursion limit as a separate run would", "[sweep]") {
     SECTION("by hand: two unit segments at distance 1 that the oracle always rejects") {
         // Above 1 the root pair is linked by force; at 0.6 each plate is halved once and
         // the 4 half-pairs are forced; at 0.3 once more: 16 forced links, 2 L - 1 calls.
@@ -108,7 +108,7 @@ TEST_CASE("--sweep min_area counts each recursion limit as a separate run would"
     }
 }
 
-TEST_CASE("--sweep eps counts each threshold as a separate run would", "[sweep]") {
+TEST_CASE("Option --sweep eps counts each threshold as a separate run would", "[sweep]") {
     SECTION("by hand: parallel plates l=8 d=1, whose counts other tests fix") {
         // eps = 1: 30 elements (two trees of depth 3); eps = 0.01: 4094.
         Scene plates = MakeScene("parallel", {{"l", 8}, {"d", 1}});
@@ -155,7 +155,7 @@ TEST_CASE("--sweep eps counts each threshold as a separate run would", "[sweep]"
     }
 }
 
-TEST_CASE("--sweep refuses what it cannot count", "[sweep][errors]") {
+TEST_CASE("Option --sweep refuses what it cannot count", "[sweep][errors]") {
     Scene plates = MakeScene("parallel", {{"l", 8}, {"d", 1}});
     RefineOptions stored = CountOnly(0.1);
     stored.storeLinks = true;
