@@ -54,7 +54,7 @@ std::string EpsDifferences(const Scene &scene, const RefineOptions &options,
 
 }  // namespace
 
-TEST_CASE("Option --sweep min_area counts each recursion limit as a separate run would", "[sweep]") {
+TEST_CASE("Option --sweep min_area counts each recursion limit as a separate run does", "[sweep]") {
     SECTION("by hand: two unit segments at distance 1 that the oracle always rejects") {
         // Above 1 the root pair is linked by force; at 0.6 each plate is halved once and
         // the 4 half-pairs are forced; at 0.3 once more: 16 forced links, 2 L - 1 calls.
