@@ -1,5 +1,6 @@
 #include "hrbench/culling.h"
 
+#include <cstdio>
 #include <string>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -58,6 +59,100 @@ PairRelation ClassifyPair(const Polygon &p, const Polygon &q) {
             if (CGAL::do_intersect(tp[a], tq[b]))
                 return PairRelation::Touching;
     return PairRelation::Interacting;
+}
+
+// ---------------------------------------------------------------------------------------
+// The whole scene: occlusion and orientation
+
+namespace {
+
+// A patch's corners and, for each line or plane it blocks light with (2D: its line; 3D:
+// the plane of each triangle Occluders cuts it into), the side of a point: 1 in front,
+// -1 behind, 0 in it.
+int NumCorners(const Segment &) { return 2; }
+int NumCorners(const Polygon &p) { return p.n; }
+Vec2 Corner(const Segment &s, int c) { return c == 0 ? s.a : s.b; }
+Vec3 Corner(const Polygon &p, int c) { return p.v[size_t(c)]; }
+int NumPlanes(const Segment &) { return 1; }
+int NumPlanes(const Polygon &p) { return p.n == 4 ? 2 : 1; }
+
+int SideOf(const Segment &s, int, const Vec2 &v) {
+    return int(CGAL::orientation(ToPoint(s.a), ToPoint(s.b), ToPoint(v)));
+}
+
+int SideOf(const Polygon &p, int plane, const Vec3 &v) {
+    return int(CGAL::orientation(ToPoint(p.v[0]), ToPoint(p.v[plane + 1]), ToPoint(p.v[plane + 2]),
+                                 ToPoint(v)));
+}
+
+// Whether the other patches have corners strictly on both sides of a line or plane of
+// patch _r_.
+template <typename Shape>
+bool Separates(const Patches<Shape> &patches, size_t r) {
+    const Shape &shape = patches[r].shape;
+    for (int plane = 0; plane < NumPlanes(shape); ++plane) {
+        bool front = false, back = false;
+        for (size_t k = 0; k < patches.size() && !(front && back); ++k)
+            for (int c = 0; k != r && c < NumCorners(patches[k].shape); ++c) {
+                int side = SideOf(shape, plane, Corner(patches[k].shape, c));
+                front |= side > 0, back |= side < 0;
+            }
+        if (front && back)
+            return true;
+    }
+    return false;
+}
+
+// Whether patch _r_ has every other patch behind or in its line or plane, some corner
+// strictly behind: then every root pair of _r_ is culled, and it exchanges no light.
+template <typename Shape>
+bool FacesOut(const Patches<Shape> &patches, size_t r) {
+    bool behind = false;
+    for (size_t k = 0; k < patches.size(); ++k)
+        for (int c = 0; k != r && c < NumCorners(patches[k].shape); ++c) {
+            int side = SideOf(patches[r].shape, 0, Corner(patches[k].shape, c));
+            if (side > 0)
+                return false;
+            behind |= side < 0;
+        }
+    return behind;
+}
+
+}  // namespace
+
+bool CanOcclude(const Scene &scene) {
+    return std::visit(
+        [](const auto &patches) {
+            if (patches.size() <= 2)
+                return false;  // no third patch to stand between two others
+            for (size_t r = 0; r < patches.size(); ++r)
+                if (Separates(patches, r))
+                    return true;
+            return false;
+        },
+        scene.patches);
+}
+
+std::string FacingAwayHint(const Scene &scene) {
+    if (scene.family != "mesh")
+        return "";
+    const Patches<Polygon> &patches = scene.Get<Polygon>();
+    double area = 0, outArea = 0;
+    size_t out = 0;
+    for (size_t r = 0; r < patches.size(); ++r) {
+        area += patches[r].shape.Area();
+        if (FacesOut(patches, r))
+            ++out, outArea += patches[r].shape.Area();
+    }
+    if (!(2 * outArea > area))
+        return "";
+    char percent[16];
+    std::snprintf(percent, sizeof percent, "%.0f%%", 100 * outArea / area);
+    return "faces holding " + std::string(percent) + " of the mesh's area (" + std::to_string(out) +
+           " of " + std::to_string(patches.size()) +
+           " faces) have every other face behind them and exchange no light; faces are "
+           "counter-clockwise seen from their front (docs/3d.md): a room seen from inside may "
+           "have its faces the wrong way round";
 }
 
 bool RefinesRootPair(PairRelation relation, uint32_t p, uint32_t q, const RefineOptions &options) {

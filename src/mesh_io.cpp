@@ -12,6 +12,7 @@
 #include <fstream>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <string_view>
 #include <utility>
@@ -32,7 +33,7 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point3 = Kernel::Point_3;
 using PolygonIndices = std::vector<std::size_t>;
-using LibraryReader = std::function<std::string(const std::string &mtlName)>;
+using LibraryReader = std::function<std::optional<std::string>(const std::string &mtlName)>;
 
 const Material kDefaultMaterial{kMeshDefaultReflectance, kMeshDefaultEmission};
 
@@ -132,7 +133,12 @@ class Lines {
 
     [[noreturn]] void Fail(const std::string &what) const { FailAt(number_, what); }
     [[noreturn]] void FailAt(size_t line, const std::string &what) const {
-        throw InputError(file_ + ", line " + std::to_string(line) + ": " + what);
+        throw InputError(At(line, what));
+    }
+    // A warning about the current line, worded as an error is.
+    std::string Warning(const std::string &what) const { return At(number_, what); }
+    std::string At(size_t line, const std::string &what) const {
+        return file_ + ", line " + std::to_string(line) + ": " + what;
     }
     // Fails at the line after the last one (line 1 of an empty file): where a truncated
     // file ends. Call once Next() has returned false.
@@ -292,6 +298,7 @@ Vec3 ReadPoint(const Lines &lines, Words &words, double scale) {
 struct MeshPatches {
     Patches<Polygon> patches;
     std::vector<std::pair<size_t, size_t>> origins;  // line, face
+    std::vector<std::string> warnings;               // Scene::warnings
 
     void Add(const Polygon &shape, const Material &material, size_t line, size_t face) {
         patches.push_back({shape, material});
@@ -877,7 +884,9 @@ class ObjReader {
         return negative ? defined - magnitude : magnitude - 1;
     }
 
-    // Reads `usemtl NAME`: the material of the libraries read so far, or the defaults.
+    // Reads `usemtl NAME`: the material of the libraries read so far, or the defaults,
+    // with a warning the first time a name is not found, unless a missing library (warned
+    // about) may be what defines it.
     void UseMaterial(Words &words) {
         if (words.Left() != 1)
             lines_.Fail("usemtl needs one material name (one word)");
@@ -885,10 +894,20 @@ class ObjReader {
         words.Next(name);
         auto it = materials_.find(name);
         current_ = it != materials_.end() ? it->second.material : kDefaultMaterial;
+        if (it == materials_.end() && readLibrary_ && !libraryMissing_ &&
+            undefinedNames_.insert(std::string(name)).second)
+            patches_.warnings.push_back(lines_.Warning(
+                "material " + Quoted(name) + " is not defined by the material libraries read " +
+                "so far: its faces get the default reflectance " + DefaultSurface()));
+    }
+
+    static std::string DefaultSurface() {
+        return FormatDouble(kMeshDefaultReflectance) + " and emission " +
+               FormatDouble(kMeshDefaultEmission);
     }
 
     // Reads `mtllib FILE...`: each library once; a library that cannot be read ends the
-    // run with this line named.
+    // run with this line named, one that does not exist is a warning.
     void ReadLibraries(Words &words) {
         if (words.Left() == 0)
             lines_.Fail("mtllib needs at least one file name");
@@ -897,13 +916,23 @@ class ObjReader {
             std::string file(name);
             if (!readLibrary_ || !librariesRead_.insert(file).second)
                 continue;
-            std::string text;
+            std::optional<std::string> text;
+            std::string library = "material library '" + Directory(source_) + file + "'";
             try {
                 text = readLibrary_(file);
             } catch (const InputError &e) {
                 lines_.Fail(e.what());
             }
-            ReadMaterials(text, "material library '" + Directory(source_) + file + "'", materials_);
+            if (!text) {
+                libraryMissing_ = true;
+                patches_.warnings.push_back(
+                    lines_.Warning(library +
+                                   " does not exist: the faces of its materials get "
+                                   "the default reflectance " +
+                                   DefaultSurface()));
+                continue;
+            }
+            ReadMaterials(*text, library, materials_);
         }
     }
 
@@ -919,6 +948,8 @@ class ObjReader {
     size_t numTextures_ = 0;
     size_t numNormals_ = 0;
     std::set<std::string> librariesRead_;
+    bool libraryMissing_ = false;           // a library named does not exist
+    std::set<std::string> undefinedNames_;  // usemtl names warned about
     Materials materials_;
     Material current_ = kDefaultMaterial;
     MeshPatches patches_;
@@ -942,6 +973,7 @@ Scene ParseMesh(const std::string &text, MeshFormat format, const std::string &s
     if (options.triangulate)
         scene.params["triangulate"] = 1;
     scene.patches = read.patches;
+    scene.warnings = read.warnings;
     // The readers check each face where they read it; this keeps the scene contract
     // should ValidateScene come to check more, naming the face's line.
     try {
@@ -969,12 +1001,12 @@ Scene ParseMesh(const std::string &text, MeshFormat format, const std::string &s
 Scene LoadMesh(const std::string &path, size_t maxInputBytes, const MeshOptions &options) {
     MeshFormat format = FormatOf(path);
     std::string text = ReadInputFile(path, "mesh file", maxInputBytes);
-    auto readLibrary = [&](const std::string &name) -> std::string {
+    auto readLibrary = [&](const std::string &name) -> std::optional<std::string> {
         std::string libraryPath = Directory(path) + name;
         std::error_code error;
         if (std::filesystem::status(libraryPath, error).type() ==
             std::filesystem::file_type::not_found)
-            return "";  // a missing library leaves its faces at the defaults (docs/3d.md)
+            return std::nullopt;  // its faces get the defaults, with a warning (docs/3d.md)
         return ReadInputFile(libraryPath, "material library", maxInputBytes);
     };
     return ParseMesh(text, format, path, readLibrary, options);

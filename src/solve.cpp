@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hrbench/culling.h"
 #include "hrbench/radiosity_estimate.h"
 #include "hrbench/refine.h"
 #include "hrbench/util/error.h"
@@ -377,7 +378,33 @@ SolveResult Solve(const Scene &scene, const RefineOptions &refine, const SolveOp
             SolveShape<Shape>(scene, refine, options, materials, result);
         },
         scene.patches);
+    result.energyWarning = EnergyBalanceWarning(scene, refine, result);
     return result;
+}
+
+VisibilityMode DefaultSolveVisibility(const Scene &scene) {
+    return CanOcclude(scene) ? VisibilityMode::Fraction : VisibilityMode::None;
+}
+
+std::string EnergyBalanceWarning(const Scene &scene, const RefineOptions &refine,
+                                 const SolveResult &result) {
+    double excess = result.absorbedPower - result.emittedPower;
+    char change[32];
+    std::snprintf(change, sizeof change, "%+.3g%%", 100 * excess / result.emittedPower);
+    std::string powers = "absorbed power " + Short(result.absorbedPower) +
+                         " against emitted power " + Short(result.emittedPower) + " (" + change +
+                         ")";
+    if (refine.visibility == VisibilityMode::None && CanOcclude(scene))
+        return "--visibility none lets light pass through the patches between others, which "
+               "this scene has (without --visibility, solve weighs each link by its visible "
+               "fraction; docs/solve.md, Occlusion): " +
+               powers;
+    if (!(excess > kEnergyExcessAllowance * result.emittedPower))
+        return "";
+    return powers + ", beyond the " + Short(100 * kEnergyExcessAllowance) +
+           "% a discretisation may account for: refine further (a smaller eps or --min-area" +
+           (refine.visibility != VisibilityMode::None ? ", more --rays-per-side" : "") +
+           "; docs/solve.md, Energy balance)";
 }
 
 // ---------------------------------------------------------------------------------------
@@ -403,6 +430,8 @@ json SolveToJson(const Scene &scene, const RefineOptions &refine, const SolveOpt
     out["residual"] = result.residual;
     out["emitted_power"] = result.emittedPower;
     out["absorbed_power"] = result.absorbedPower;
+    out["energy_balance_warning"] =
+        result.energyWarning.empty() ? json(nullptr) : json(result.energyWarning);
     json radiosity = json::array();
     for (const ElementRadiosity &leaf : result.leaves)
         radiosity.push_back(leaf.radiosity);
@@ -443,7 +472,8 @@ void PrintSolveTable(const json &solve, std::ostream &out) {
     for (const auto &[key, value] : solve["params"].items())
         out << " " << key << "=" << FormatDouble(value.get<double>());
     out << "\noracle    " << solve["oracle"].get<std::string>() << "  eps "
-        << FormatDouble(solve["eps"].get<double>()) << "\nsolver    "
+        << FormatDouble(solve["eps"].get<double>()) << "  visibility "
+        << solve["visibility"].get<std::string>() << "\nsolver    "
         << solve["solver"].get<std::string>() << "  tolerance "
         << FormatDouble(solve["tolerance"].get<double>()) << "  gather "
         << solve["gather"].get<std::string>() << "\n\n";

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <fstream>
 #include <set>
 
 #include "cli_helpers.h"
@@ -85,6 +86,32 @@ TEST_CASE("The human table, the scene list with the oracles, and the help print"
     CHECK(Cli("--help").exitCode == 0);
     CHECK_THAT(Cli("run --help").out, Catch::Contains("--min-area"));
     CHECK_THAT(Cli("--version").out, Catch::StartsWith("hrbench "));
+}
+
+TEST_CASE("The help states the exit code that each outcome gives", "[cli][errors]") {
+    std::string help = Cli("--help").out;
+    std::replace(help.begin(), help.end(), '\n', ' ');
+    CHECK_THAT(help, Catch::Contains(
+                         "Exit codes (docs/limits.md): 0 success, warnings and hints on stderr "
+                         "included; 1 internal error (a bug); 2 usage or input error; 3 a limit "
+                         "was reached (memory budget or out of memory, safety depth, an element "
+                         "too small for double precision, a counter beyond 2^64, solve not "
+                         "converging or diverging); 4 check-links found a violation in the link "
+                         "dump."));
+    CHECK(Cli("run parallel --eps 0.5 --min-area 2").exitCode == 0);  // with a warning
+    CHECK(Cli("run parallel --eps 0").exitCode == 2);
+    CHECK(Cli("run parallel l=1024 --eps 0.01 --max-memory 1").exitCode == 3);
+    CHECK(Cli("solve room lamp=1 --eps 0.1 --min-area 0.01 --max-iterations 2").exitCode == 3);
+    // check-links: a dump with one link dropped leaves a pair uncovered.
+    std::string dump = Scratch("exit.dump");
+    REQUIRE(Cli("links parallel --eps 0.5 --format probe --out " + dump).exitCode == 0);
+    std::string text = ReadFile(dump);
+    size_t second = text.find('\n') + 1;  // the first link, after the format line
+    text.erase(second, text.find('\n', second) + 1 - second);
+    std::ofstream(dump, std::ios::binary) << text;
+    CliResult violation = Cli("check-links parallel --eps 0.5 --links " + dump);
+    CHECK(violation.exitCode == 4);
+    CHECK_THAT(violation.err, Catch::StartsWith("hrbench: error: " + dump));
 }
 
 TEST_CASE("links writes one CSV row per link that tiles the parameter square", "[cli]") {
@@ -231,14 +258,20 @@ TEST_CASE("A --min-area far from the scene's size is warned about, on one line",
                        "/meshes/cornell_box.obj --triangulate --eps 0.5 "
                        "--min-area 1e-3 --max-depth 2 --count-only --json");
     CHECK(mm.exitCode == 0);
-    CHECK(mm.err == "hrbench: warning: --min-area 0.001 is below 1e-08 of the largest patch's "
-                    "area, 3.11e+05: elements may be halved 29 times before it applies (are the "
-                    "scene and --min-area in the same units? --scale rescales a mesh)\n");
+    // Its material library was not published with it: a warning of its own comes first.
+    const std::string noLibrary = "hrbench: warning: mesh file '" + kData +
+                                  "/meshes/cornell_box.obj', line 8: material library '" + kData +
+                                  "/meshes/cornell_box.mtl' does not exist: the faces of its "
+                                  "materials get the default reflectance 0.5 and emission 0\n";
+    CHECK(mm.err == noLibrary +
+                        "hrbench: warning: --min-area 0.001 is below 1e-08 of the largest patch's "
+                        "area, 3.11e+05: elements may be halved 29 times before it applies (are "
+                        "the scene and --min-area in the same units? --scale rescales a mesh)\n");
     CHECK(json::parse(mm.out)["patches"] == 19);
     CHECK(Cli("run --mesh " + kData +
               "/meshes/cornell_box.obj --triangulate --scale 0.001 "
               "--eps 0.5 --min-area 1e-3 --max-depth 2 --count-only")
-              .err.empty());
+              .err == noLibrary);
     // Larger than every patch, for any scene source.
     CliResult big = Cli("links parallel l=1 --eps 0.5 --min-area 2 --out " + Scratch("big.csv"));
     CHECK(big.exitCode == 0);
@@ -246,6 +279,53 @@ TEST_CASE("A --min-area far from the scene's size is warned about, on one line",
                      "element will be split (are the scene and --min-area in the same units? "
                      "--scale rescales a mesh)\n");
     CHECK(Cli("run cornell --eps 0.5 --min-area 1e-3").err.empty());
+}
+
+TEST_CASE("A missing material library and an undefined material are warned about, on one "
+          "line each",
+          "[cli][mesh]") {
+    // Counting reads the geometry only: it runs, and says what the surfaces fell back to.
+    CliResult missing = Cli("run --mesh " + kData + "/missing_library.obj --eps 0.5 --json");
+    CHECK(missing.exitCode == 0);
+    CHECK(missing.err == "hrbench: warning: mesh file '" + kData +
+                             "/missing_library.obj', line 2: material library '" + kData +
+                             "/no_such_library.mtl' does not exist: the faces of its materials "
+                             "get the default reflectance 0.5 and emission 0\n");
+    CHECK(
+        json::parse(missing.out)["links"] ==
+        json::parse(Cli("run --mesh " + kData + "/two_plates.obj --eps 0.5 --json").out)["links"]);
+    // solve then finds nothing emitting: the warning before the error names the cause.
+    CliResult dark = Cli("solve --mesh " + kData + "/undefined_material.obj --eps 0.5");
+    CHECK(dark.exitCode == 2);
+    CHECK(dark.err == "hrbench: warning: mesh file '" + kData +
+                          "/undefined_material.obj', line 14: material 'lmap' is not defined by "
+                          "the material libraries read so far: its faces get the default "
+                          "reflectance 0.5 and emission 0\nhrbench: error: nothing emits: give "
+                          "--emission or a scene with an emitter\n");
+    CHECK(Cli("save --mesh " + kData + "/missing_library.obj --out " + Scratch("m.json"))
+              .err.find("does not exist") != std::string::npos);
+    CHECK(Cli("run --mesh " + kData + "/two_plates.obj --eps 0.5").err.empty());
+}
+
+TEST_CASE("A mesh whose faces mostly exchange no light draws a hint, on one line", "[cli][mesh]") {
+    // Every face reversed: the room's walls, 16 of the 17.5 units of area, now face out.
+    CliResult flipped = Cli("run --mesh " + kData +
+                            "/room_box_flipped.obj --eps 0.5 "
+                            "--min-area 0.05 --json");
+    CHECK(flipped.exitCode == 0);
+    CHECK(flipped.err == "hrbench: hint: faces holding 91% of the mesh's area (6 of 12 faces) "
+                         "have every other face behind them and exchange no light; faces are "
+                         "counter-clockwise seen from their front (docs/3d.md): a room seen from "
+                         "inside may have its faces the wrong way round\n");
+    // The walls' root pairs are all culled: 15 among them and 36 with the box.
+    CHECK(json::parse(flipped.out)["culled_pairs"] == 51);
+    CHECK_THAT(Cli("links --mesh " + kData +
+                   "/room_box_flipped.obj --eps 0.5 --min-area 0.05 "
+                   "--out " +
+                   Scratch("flipped.csv"))
+                   .err,
+               Catch::StartsWith("hrbench: hint: faces holding 91% of the mesh's area"));
+    CHECK(Cli("run --mesh " + kData + "/room_box.obj --eps 0.5 --min-area 0.05").err.empty());
 }
 
 TEST_CASE("Option --scale and --triangulate are checked and apply to meshes only", "[cli][mesh]") {

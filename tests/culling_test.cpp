@@ -65,3 +65,74 @@ TEST_CASE("3D root pairs are culled when coplanar or back-facing, and touching i
         CHECK(ClassifyPair(g[0].shape, g[1].shape) == PairRelation::Interacting);
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// The whole scene: whether a patch can stand between two others, and meshes facing away
+
+namespace {
+
+const std::string kData = HRBENCH_TEST_DATA;
+
+Scene Segments(const Patches<Segment> &patches) { return {"file", {}, "", patches}; }
+
+}  // namespace
+
+TEST_CASE("A scene can occlude when some patch has others strictly on both sides",
+          "[culling][occlusion]") {
+    // Convex rooms, plates facing each other, arrays: every patch sees all others from one
+    // side, so no segment between two of them can cross a third.
+    for (const char *family : {"parallel", "room", "enclosure", "array", "perpendicular", "angled",
+                               "parallel3d", "array3d", "perpendicular3d"}) {
+        INFO(family);
+        CHECK_FALSE(CanOcclude(MakeScene(family, {})));
+    }
+    CHECK_FALSE(CanOcclude(MakeScene("enclosure", {{"n", 7}})));
+    CHECK_FALSE(CanOcclude(MakeScene("array", {{"k", 5}})));  // collinear plates: in the line
+    // A blocker between plates, a box in a room, the Cornell box's blocks.
+    for (const char *family : {"occluded", "occluded3d", "cornell"}) {
+        INFO(family);
+        CHECK(CanOcclude(MakeScene(family, {})));
+    }
+    CHECK(CanOcclude(LoadScene(kData + "/room_box.json")));
+    CHECK(CanOcclude(LoadMesh(kData + "/room_box.obj")));
+    // Two patches cannot occlude, even crossing: there is no third to block.
+    CHECK_FALSE(CanOcclude(Segments({{S(-1, 0, 1, 0), {}}, {S(0, -1, 0, 1), {}}})));
+
+    // Exact: a third plate in the floor's line does not make it separate, one a rounding
+    // error below the line does.
+    Segment floor = S(0, 0, 1, 0), ceiling = S(1, 1, 0, 1);
+    CHECK_FALSE(CanOcclude(Segments({{floor, {}}, {ceiling, {}}, {S(2, 0, 3, 0), {}}})));
+    CHECK(CanOcclude(Segments({{floor, {}}, {ceiling, {}}, {S(2, -1e-300, 3, 0), {}}})));
+    // A patch both of whose sides others face: the plate between two facing plates.
+    CHECK(CanOcclude(Segments({{floor, {}}, {ceiling, {}}, {S(0.4, 0.5, 0.6, 0.5), {}}})));
+    // ... but not one off to the side, whatever it faces: the plates lie on one side of it.
+    CHECK_FALSE(CanOcclude(Segments({{floor, {}}, {ceiling, {}}, {S(2, 0, 2, 1), {}}})));
+}
+
+TEST_CASE("A mesh whose faces mostly have every other face behind them draws a hint",
+          "[culling][mesh]") {
+    CHECK(FacingAwayHint(LoadMesh(kData + "/room_box.obj")).empty());
+    // Every face reversed: the room's six walls (16 of the 17.5 units of area) have all
+    // else behind them; the box's faces now face each other.
+    CHECK(FacingAwayHint(LoadMesh(kData + "/room_box_flipped.obj")) ==
+          "faces holding 91% of the mesh's area (6 of 12 faces) have every other face behind "
+          "them and exchange no light; faces are counter-clockwise seen from their front "
+          "(docs/3d.md): a room seen from inside may have its faces the wrong way round");
+    // The published Cornell boxes: blocks seen from outside in a room seen from inside.
+    for (const char *file : {"/meshes/CornellBox-Original.obj", "/meshes/cornell_box.obj"}) {
+        INFO(file);
+        CHECK(FacingAwayHint(LoadMesh(kData + file, kDefaultMaxInputBytes, {true, 1})).empty());
+    }
+    // A convex object seen from outside, alone: rightly hinted, nothing lights anything.
+    std::string tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                        "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    CHECK_THAT(FacingAwayHint(ParseMesh(tetra, MeshFormat::Obj, "tetra.obj", {})),
+               Catch::StartsWith("faces holding 100% of the mesh's area (4 of 4 faces)"));
+    // A flat mesh: every face has the others in its plane, none behind; no hint.
+    CHECK(FacingAwayHint(ParseMesh("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\n"
+                                   "f 1 2 5 4\nf 2 3 6 5\n",
+                                   MeshFormat::Obj, "tiles.obj", {}))
+              .empty());
+    // Only meshes: a scene file or a family is written in hrbench's own convention.
+    CHECK(FacingAwayHint(Segments({{S(1, 0, 0, 0), {}}, {S(0, 1, 1, 1), {}}})).empty());
+}

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include <unistd.h>
 
@@ -59,9 +60,9 @@ const std::string kTriangleObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
 // _libraries_ by name (a name not there reads as a missing library).
 Scene Parse(const std::string &text, MeshFormat format,
             const std::map<std::string, std::string> &libraries = {}) {
-    auto read = [&](const std::string &name) {
+    auto read = [&](const std::string &name) -> std::optional<std::string> {
         auto it = libraries.find(name);
-        return it == libraries.end() ? std::string() : it->second;
+        return it == libraries.end() ? std::nullopt : std::optional(it->second);
     };
     return ParseMesh(text, format, format == MeshFormat::Off ? "t.off" : "t.obj", read);
 }
@@ -167,10 +168,65 @@ TEST_CASE("OFF face colours set the reflectance, capped below 1", "[mesh]") {
 
 TEST_CASE("A mesh without materials gets the documented defaults", "[mesh]") {
     ScratchFile file("plain.obj", std::string(kSquareObj) + "usemtl nowhere\nf 1 2 3 4\n");
-    Patches<Polygon> s = LoadMesh(file.path).Get<Polygon>();
+    Scene scene = LoadMesh(file.path);
+    Patches<Polygon> s = scene.Get<Polygon>();
     REQUIRE(s.size() == 1);
     CHECK(s[0].material.reflectance == 0.5);
     CHECK(s[0].material.emission == 0);
+    // A name no library defines is the defaults, with a warning on its line.
+    CHECK(scene.warnings ==
+          std::vector<std::string>{"mesh file '" + file.path +
+                                   "', line 5: material 'nowhere' is not defined by the material "
+                                   "libraries read so far: its faces get the default "
+                                   "reflectance 0.5 and emission 0"});
+    // No usemtl, or an OFF file: the defaults without a word.
+    CHECK(LoadMesh(kData + "/tetra_colours.off").warnings.empty());
+    CHECK(Parse(kTriangleObj + "f 1 2 3\n", MeshFormat::Obj).warnings.empty());
+}
+
+TEST_CASE("A missing material library or an undefined material is a warning naming the line",
+          "[mesh]") {
+    // The data files, as the command line reads them.
+    Scene missing = LoadMesh(kData + "/missing_library.obj");
+    CHECK(missing.warnings ==
+          std::vector<std::string>{"mesh file '" + kData +
+                                   "/missing_library.obj', line 2: material library '" + kData +
+                                   "/no_such_library.mtl' does not exist: the faces of its "
+                                   "materials get the default reflectance 0.5 and emission 0"});
+    for (const Patch<Polygon> &p : missing.Get<Polygon>())
+        CHECK((p.material.reflectance == 0.5 && p.material.emission == 0));
+    Scene misspelt = LoadMesh(kData + "/undefined_material.obj");
+    CHECK(misspelt.warnings ==
+          std::vector<std::string>{"mesh file '" + kData +
+                                   "/undefined_material.obj', line 14: material 'lmap' is not "
+                                   "defined by the material libraries read so far: its faces "
+                                   "get the default reflectance 0.5 and emission 0"});
+    const Patches<Polygon> &faces = misspelt.Get<Polygon>();
+    CHECK_THAT(faces[0].material.reflectance, Catch::Matchers::WithinRel(0.5, 1e-15));  // floor
+    CHECK(faces[1].material.emission == 0);  // the lamp that was meant emits 4
+    CHECK(LoadMesh(kData + "/two_plates.obj").warnings.empty());
+
+    // Each name once; a name defined only by a later library is still undefined where used.
+    const std::string square = std::string(kSquareObj) + "f 1 2 3 4\n";
+    CHECK(Parse("mtllib a.mtl\nusemtl red\nusemtl blue\nusemtl red\n" + square, MeshFormat::Obj,
+                {{"a.mtl", "newmtl green\n"}})
+              .warnings.size() == 2);
+    CHECK(Parse("usemtl red\nmtllib a.mtl\nusemtl red\n" + square, MeshFormat::Obj,
+                {{"a.mtl", "newmtl red\n"}})
+              .warnings == std::vector<std::string>{
+                               "mesh file 't.obj', line 1: material 'red' is not defined by the "
+                               "material libraries read so far: its faces get the default "
+                               "reflectance 0.5 and emission 0"});
+    // A missing library, named once however often: its line explains the names after it.
+    CHECK(Parse("mtllib a.mtl\nmtllib a.mtl b.mtl\nusemtl red\n" + square, MeshFormat::Obj,
+                {{"b.mtl", "newmtl green\n"}})
+              .warnings ==
+          std::vector<std::string>{"mesh file 't.obj', line 1: material library 'a.mtl' does not "
+                                   "exist: the faces of its materials get the default reflectance "
+                                   "0.5 and emission 0"});
+    // Without a library reader, materials are not read and nothing is warned about.
+    CHECK(ParseMesh("mtllib a.mtl\nusemtl red\n" + square, MeshFormat::Obj, "t.obj", {})
+              .warnings.empty());
 }
 
 TEST_CASE("Bad mesh files are rejected with one line naming the file", "[mesh]") {
@@ -597,7 +653,8 @@ double TotalArea(const Patches<Polygon> &patches) {
 
 }  // namespace
 
-TEST_CASE("Option --triangulate splits a quad that is not planar along its shorter diagonal", "[mesh]") {
+TEST_CASE("Option --triangulate splits a quad that is not planar along its shorter diagonal",
+          "[mesh]") {
     // A B C D with C lifted by 0.1: BD (length sqrt 5) is shorter than AC (sqrt 5.01), so
     // the fan from B: (B, C, D) of area |(0,1,0.1) x (-2,1,0)| / 2 = sqrt(4.05) / 2, and
     // (B, D, A) of area 1. The face's colour (255 0 0: reflectance 1/3) goes to both.
@@ -775,5 +832,10 @@ TEST_CASE("The published Cornell box OBJ files load with --triangulate only", "[
         CHECK(p[0].shape.v[3] == Vec3(549.6 * 0.001, 0, 559.2 * 0.001));  // mm read as metres
         for (const Patch<Polygon> &patch : p)
             CHECK(patch.material.reflectance == kMeshDefaultReflectance);
+        CHECK(scene.warnings == std::vector<std::string>{
+                                    "mesh file '" + path + "', line 8: material library '" + dir +
+                                    "cornell_box.mtl' does not exist: the faces of its "
+                                    "materials get the default reflectance 0.5 and emission "
+                                    "0"});
     }
 }

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "hrbench/scene.h"
@@ -36,8 +37,8 @@ struct MeshOptions {
 
 // Reads the OFF or OBJ file at _path_ (chosen by its extension, .off or .obj) as a 3D
 // scene: the file and its OBJ material libraries (relative to the OBJ's folder, a missing
-// one meaning defaults) are read with ReadInputFile within _maxInputBytes_ each, then
-// parsed by ParseMesh. Throws InputError with one line.
+// one meaning defaults and a warning) are read with ReadInputFile within _maxInputBytes_
+// each, then parsed by ParseMesh. Throws InputError with one line.
 Scene LoadMesh(const std::string &path, size_t maxInputBytes = kDefaultMaxInputBytes,
                const MeshOptions &options = {});
 
@@ -52,13 +53,17 @@ Scene LoadMesh(const std::string &path, size_t maxInputBytes = kDefaultMaxInputB
 //    reflectance mean(Kd), emission mean(Ke);
 // reflectance capped at kMeshMaxReflectance; defaults otherwise (0.5 and 0, also for an
 // unknown material name). _source_ names the file in messages and in Scene::file.
-// _readMaterialLibrary_ returns the text of the library an OBJ's `mtllib` names ("" for
-// none); an empty function reads no library. Throws InputError with one line,
+// _readMaterialLibrary_ returns the text of the library an OBJ's `mtllib` names, or
+// std::nullopt when it does not exist; an empty function reads no library. A library
+// that does not exist, and a `usemtl` name that the libraries read so far do not define
+// (where none was missing), are read as the defaults and each adds one line to
+// Scene::warnings, naming the file and line. Throws InputError with one line,
 // "mesh file 'SOURCE', line N: what is wrong", lines and faces counted from 1 (docs/3d.md
 // lists what is refused). A scale or triangulation other than the defaults is recorded in
 // Scene::params ("scale", "triangulate" = 1).
 Scene ParseMesh(const std::string &text, MeshFormat format, const std::string &source,
-                const std::function<std::string(const std::string &mtlName)> &readMaterialLibrary,
+                const std::function<std::optional<std::string>(const std::string &mtlName)>
+                    &readMaterialLibrary,
                 const MeshOptions &options = {});
 
 // Writes the geometry of the 3D _scene_ to _path_ as OFF or OBJ (by extension), with

@@ -56,6 +56,9 @@ struct Scene {
     ParamMap params;     // parameters after defaults
     std::string file;    // the scene or mesh file read, if any
     AnyPatches patches;  // root patches in scene order
+    // What the file's reader let pass but found doubtful, one line each naming the file
+    // and line (a missing material library, an undefined material): the CLI prints them.
+    std::vector<std::string> warnings{};
 
     // 2 for segments, 3 for polygons.
     int Dimension() const {

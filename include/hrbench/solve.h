@@ -174,7 +174,29 @@ struct SolveResult {
     std::vector<uint64_t> passLinks, passNodes;
     std::optional<UniformSolution> reference;  // with SolveOptions::referenceDepth
     std::optional<ReferenceComparison> comparison;
+    // EnergyBalanceWarning's line: occlusion ignored where the scene has some, or more
+    // energy absorbed than the discretisation explains; "" otherwise.
+    std::string energyWarning;
 };
+
+// `solve`'s visibility when none is given: VisibilityMode::Fraction when some patch can
+// block the light between two others (CanOcclude, culling.h), else VisibilityMode::None,
+// the papers' setting, which is then exact.
+VisibilityMode DefaultSolveVisibility(const Scene &scene);
+
+// The excess of absorbed over emitted power, relative to the emitted, that a solve may
+// show without a warning: the discretisation's own (the gathers' rows at a coarse eps,
+// up to 2.1% measured on closed rooms where nothing occludes; docs/solve.md).
+constexpr double kEnergyExcessAllowance = 0.05;
+
+// A warning (one line, "" for none) on a solve's energy balance, with its powers: when
+// --visibility none lets light pass through a scene that can occlude (CanOcclude), and
+// otherwise when the absorbed power exceeds the emitted power by more than
+// kEnergyExcessAllowance of it. The iteration never makes energy (B starts at E and
+// every coefficient is >= 0, so the absorbed power grows toward the solution's): an
+// excess is the coefficients'.
+std::string EnergyBalanceWarning(const Scene &scene, const RefineOptions &refine,
+                                 const SolveResult &result);
 
 // Refines _scene_ (storing links), computes the link coefficients and solves for the
 // radiosity of every leaf. With the bf oracle, repeats that with B from the solution

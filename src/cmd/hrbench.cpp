@@ -108,6 +108,10 @@ int Main(int argc, char **argv) {
         return kExitOk;
     }
     Scene scene = SceneOf(o);
+    for (const std::string &warning : scene.warnings)
+        std::cerr << "hrbench: warning: " << warning << std::endl;
+    if (o.command == "solve" && !o.visibility)
+        o.refine.visibility = DefaultSolveVisibility(scene);
     if (o.command == "save") {
         if (o.out.empty())
             std::cout << SceneToJson(scene);
@@ -136,6 +140,8 @@ int Main(int argc, char **argv) {
         for (const std::string &warning : warnings)
             if (!warning.empty())
                 std::cerr << "hrbench: warning: " << warning << std::endl;
+        if (std::string hint = FacingAwayHint(scene); !hint.empty())
+            std::cerr << "hrbench: hint: " << hint << std::endl;
         if (!o.json && !o.sweep && isatty(fileno(stderr))) {
             o.refine.progress = &progress;
             display.emplace(progress, stderr);
@@ -159,6 +165,8 @@ int Main(int argc, char **argv) {
     if (o.command == "solve") {
         SolveResult result = Solve(scene, o.refine, o.solve);
         display.reset();
+        if (!result.energyWarning.empty())
+            std::cerr << "hrbench: warning: " << result.energyWarning << std::endl;
         return PrintSolve(scene, o, result);
     }
     if (o.sweep)

@@ -236,10 +236,14 @@ const std::vector<OptionSpec> &OptionTable() {
          "V",
          {"none", "fraction", "refine"},
          kRefining,
-         "none (default): ignore occlusion, as the papers do;\nfraction: accept when the "
-         "oracle's error times the visible\nfraction is within eps; refine: split partially "
-         "visible pairs\ndown to the recursion limit (needs --min-area or --max-depth)",
-         [](Options &o, S v) { o.refine.visibility = ParseVisibility(v); }},
+         "none: ignore occlusion, as the papers do (run's and links'\ndefault); fraction: "
+         "accept when the oracle's error times the\nvisible fraction is within eps (solve: and "
+         "weigh each link's\nform factor by it); refine: split partially visible pairs down\n"
+         "to the recursion limit (needs --min-area or --max-depth).\nsolve's default: fraction "
+         "where, of 3 patches or more, one has\ncorners of the others strictly on both sides "
+         "of its line or\nplane (it may block light between them), else none, then exact\n"
+         "(docs/solve.md)",
+         [](Options &o, S v) { o.visibility = ParseVisibility(v); }},
         {"rays_per_side",
          "--rays-per-side",
          "K",
@@ -342,9 +346,11 @@ std::string Usage() {
     out << "\nGeneral:\n";
     row("--help", "print this text", 19);
     row("--version", "print the engine version", 19);
-    out << "\nExit codes: 0 success, 2 usage or input error, 3 a limit was reached (safety\n"
-           "depth, memory budget, solve iterations), 1 internal error or (check-links) a "
-           "violation.\n"
+    out << "\nExit codes (docs/limits.md): 0 success, warnings and hints on stderr included;\n"
+           "1 internal error (a bug); 2 usage or input error; 3 a limit was reached (memory\n"
+           "budget or out of memory, safety depth, an element too small for double precision,\n"
+           "a counter beyond 2^64, solve not converging or diverging); 4 check-links found a\n"
+           "violation in the link dump.\n"
            "Example: hrbench run parallel l=64 d=1 --eps 0.25 --json\n";
     return out.str();
 }
@@ -434,6 +440,7 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
     if (o.command == "capabilities" && !o.json)
         throw InputError("capabilities prints JSON only; add --json");
     o.refine.eps = o.eps.value_or(0);
+    o.refine.visibility = o.visibility.value_or(VisibilityMode::None);  // solve: see Main
     o.refine.storeLinks = o.command == "links" || !o.countOnly;
     return o;
 }

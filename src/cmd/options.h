@@ -28,6 +28,9 @@ struct Options {
     std::string linksFile;            // check-links --links: the dump to check
     std::optional<double> eps;
     RefineOptions refine;
+    // --visibility as given. Without it, refine.visibility is the papers' none, except for
+    // solve, whose default depends on the scene (DefaultSolveVisibility).
+    std::optional<VisibilityMode> visibility;
     bool json = false;
     bool countOnly = false;
     std::string method = "enumerate";  // run: how to count (Methods())
