@@ -24,14 +24,16 @@ build-cli: setup
 
 build-tests: setup
 	@$(CONFIGURE)
-	@cmake --build build --target hrbench_tests
+	@cmake --build build --target hrbench_core_tests hrbench_tests
 
 # AddressSanitizer and UndefinedBehaviorSanitizer, with assertions on; -O1 and line
 # tables only, so that it builds and runs in a few minutes and still names file and line.
+# `make test` builds the core tests only (ASAN_TARGETS), `make test-asan` everything.
+ASAN_TARGETS :=
 build-asan: setup
 	@cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" \
 	  -DHRBENCH_SANITIZE=ON -DHRBENCH_BUILD_BENCH=OFF >/dev/null
-	@cmake --build build-asan
+	@cmake --build build-asan $(if $(ASAN_TARGETS),--target $(ASAN_TARGETS))
 
 # CTest runs each Catch2 case as its own test, JOBS at a time, and prints each as it ends.
 test-cpp: build-tests
@@ -39,6 +41,7 @@ test-cpp: build-tests
 
 # The sanitizer build on the cases of the input parsers and the refinement kernel (the
 # CTest label `core`); `test-asan` on every case (CI runs both).
+test-asan-core: ASAN_TARGETS := hrbench_core_tests
 test-asan-core: build-asan
 	ctest --test-dir build-asan -L core -j $(JOBS) --output-on-failure
 
