@@ -16,7 +16,9 @@ runs.
 
 Exit codes: 0 every run matches (or the file was written); 1 a run differs or
 failed, or a baseline counter is no longer listed; 2 usage or input error (no
-engine, an engine without `capabilities --json`, unreadable baseline).
+engine, an engine without `capabilities --json`, a baseline that is unreadable, not a
+regular file of at most 64 MiB or malformed); 70 internal error (a bug; its traceback
+with --debug); 74 the report or the updated file could not be written.
 See docs/ci.md.
 """
 
@@ -43,11 +45,15 @@ from benchtools.baseline import (  # noqa: E402
     run_counts,
 )
 from hrbench_analysis.engine import EngineError, get_capabilities  # noqa: E402
+from hrbench_analysis.errors import run_main  # noqa: E402
+from hrbench_analysis.output import write_file  # noqa: E402
+
+PROG = "check_baseline.py"
 
 
 def _parse_args(argv):
     parser = argparse.ArgumentParser(
-        prog="check_baseline.py",
+        prog=PROG,
         description="Check (or --update) the exact count baseline of the hrbench engine.")
     parser.add_argument("--hrbench", default=os.path.join(_ROOT, "build", "hrbench"),
                         help="engine executable (default build/hrbench)")
@@ -58,6 +64,8 @@ def _parse_args(argv):
                         help="engine runs in parallel (default: number of cores)")
     parser.add_argument("--update", action="store_true",
                         help="rewrite the baseline from the current engine")
+    parser.add_argument("--debug", action="store_true",
+                        help="print the traceback of an internal error (exit code 70)")
     args = parser.parse_args(argv)
     if args.jobs < 1:
         parser.error("--jobs must be at least 1")
@@ -76,39 +84,33 @@ def _run_all(hrbench, runs, counters, jobs):
 
 
 def main(argv=None):
+    return run_main(PROG, _check, argv, input_errors=(EngineError,))
+
+
+def _check(argv):
     args = _parse_args(argv)
-    try:
-        capabilities = get_capabilities(args.hrbench)
-    except EngineError as e:
-        print(f"check_baseline.py: error: {e}", file=sys.stderr)
-        return 2
+    capabilities = get_capabilities(args.hrbench)
     counters = capabilities.scalar_counters + capabilities.histogram_counters
 
     # Read the runs of the baseline (or the default runs for a new file).
     if args.update and not os.path.exists(args.baseline):
         entries = [{"args": a} for a in DEFAULT_RUNS]
     else:
-        try:
-            entries = load_baseline(args.baseline)["runs"]
-        except RunError as e:
-            print(f"check_baseline.py: error: {e}", file=sys.stderr)
-            return 2
+        entries = load_baseline(args.baseline)["runs"]
     results = _run_all(args.hrbench, [e["args"] for e in entries], counters, args.jobs)
 
     if args.update:
         failed = [(e, r) for e, r in zip(entries, results, strict=True)
                   if isinstance(r, RunError)]
         for e, r in failed:
-            print(f"check_baseline.py: error: hrbench run {' '.join(e['args'])}: {r}",
+            print(f"{PROG}: error: hrbench run {' '.join(e['args'])}: {r}",
                   file=sys.stderr)
         if failed:
             return 1
         version = results[0][1] if results else "unknown"
         data = make_baseline([e["args"] for e in entries], [r[0] for r in results], version)
         os.makedirs(os.path.dirname(os.path.abspath(args.baseline)), exist_ok=True)
-        with open(args.baseline, "w", encoding="utf-8") as f:
-            json.dump(data, f, indent=1)
-            f.write("\n")
+        write_file(args.baseline, json.dumps(data, indent=1) + "\n")
         print(f"count baseline: wrote {len(entries)} runs to {args.baseline}")
         return 0
 

@@ -10,11 +10,13 @@ Both files come from a suite run with repetitions, e.g.
         --benchmark_out=new.json --benchmark_out_format=json
 
 Per benchmark it prints the median of the repetitions in each run, the relative
-change, and the one-sided Mann-Whitney U p-value for "the new run is slower".
+change, the two-sided p-value, the confidence interval and the noise of the ratio.
 
-Exit codes: 0 no significant slowdown beyond the threshold; 1 at least one;
-2 usage or input error (missing or malformed file, no benchmark in common).
-See docs/ci.md. The same command is ``hrbench-compare`` of the installed analysis
+Exit codes: 0 no regression, every benchmark resolved; 1 a benchmark significantly
+slower by more than the threshold; 2 usage or input error (a missing, oversized or
+malformed file, no benchmark in common); 3 inconclusive; 70 internal error (a bug; its
+traceback with --debug); 74 the report could not be written (standard output full or
+closed). See docs/ci.md. The same command is ``hrbench-compare`` of the installed analysis
 package (:mod:`hrbench_analysis.benchcompare`); this script runs it from a checkout,
 without installing the package (it needs numpy and scipy).
 """

@@ -4,7 +4,8 @@
 usage: merge_bench.py OUT.json IN.json [IN.json ...]
 
 Used by `make bench` to write results/bench.json from the suites under bench/.
-Exit codes: 0 success, 2 usage or input error.
+Exit codes: 0 success, 2 usage or input error, 70 internal error (a bug; its traceback
+with --debug), 74 OUT.json could not be written.
 """
 
 import json
@@ -16,27 +17,23 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
                                 "analysis"))
 
-from hrbench_analysis.gbench import (  # noqa: E402
-    InputError,
-    load_benchmark_file,
-    merge_benchmark_files,
-)
+from hrbench_analysis.errors import run_main  # noqa: E402
+from hrbench_analysis.gbench import load_benchmark_file, merge_benchmark_files  # noqa: E402
+from hrbench_analysis.output import write_file  # noqa: E402
 
 
 def main(argv=None):
-    argv = sys.argv[1:] if argv is None else argv
+    return run_main("merge_bench.py", _merge, argv)
+
+
+def _merge(argv):
+    argv = [a for a in argv if a != "--debug"]
     if len(argv) < 2 or any(a.startswith("-") for a in argv):
         print(__doc__.strip().splitlines()[2], file=sys.stderr)
         return 2
     out, inputs = argv[0], argv[1:]
-    try:
-        merged = merge_benchmark_files([load_benchmark_file(path) for path in inputs])
-    except InputError as e:
-        print(f"merge_bench.py: error: {e}", file=sys.stderr)
-        return 2
-    with open(out, "w", encoding="utf-8") as f:
-        json.dump(merged, f, indent=2)
-        f.write("\n")
+    merged = merge_benchmark_files([load_benchmark_file(path) for path in inputs])
+    write_file(out, json.dumps(merged, indent=2) + "\n")
     return 0
 
 

@@ -14,6 +14,8 @@ fit         power-law fits, bootstrap intervals, local slopes, Theta checks, mod
 verdict     the verdict of a claim
 plots       plotting functions (each draws on a given Axes)
 report      the Markdown, HTML and JSON report
+output      every output file written whole: a temporary file renamed over it, a
+            symlink's target, a device written through; a report set all or none
 render      read the leaves of ``hrbench solve --out``; render a 3D solution, draw a 2D profile;
             ``hrbench-render``, a solve drawn with mplot3d
 solution    the report's pictures of a solve: the profile on the plates, the Cornell box

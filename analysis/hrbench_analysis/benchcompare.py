@@ -30,9 +30,11 @@ The geometric mean of the ratios over the benchmarks (Google Benchmark's
 
 The command line (``hrbench-compare BASELINE.json NEW.json``, also
 ``tools/compare_bench.py``) is :func:`main`; its exit codes: 0 no regression and every
-benchmark resolved, 1 at least one regression, 2 usage or input error (a missing or
-malformed file, no per-repetition rows, no benchmark in common, unequal rounds with
-``--paired``), 3 no regression but at least one benchmark inconclusive. See docs/ci.md.
+benchmark resolved, 1 at least one regression, 2 usage or input error (a missing,
+oversized or malformed file, a time that is not a finite number >= 0, no per-repetition
+rows, no benchmark in common, unequal rounds with ``--paired``), 3 no regression but at
+least one benchmark inconclusive, 70 an internal error (a bug), 74 the report could not
+be written. See docs/ci.md.
 """
 
 import argparse
@@ -43,6 +45,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import run_main
 from .gbench import InputError, format_time, get_repetition_times, load_benchmark_file
 
 __all__ = ["TimingComparison", "get_timing_comparison", "get_comparison_report",
@@ -401,6 +404,8 @@ def _parse_args(argv, prog):
                         help="the k-th repetitions of both files ran in the same round "
                              "(interleaved rounds merged by merge_bench.py): compare round "
                              "by round, Wilcoxon signed-rank")
+    parser.add_argument("--debug", action="store_true",
+                        help="print the traceback of an internal error (exit code 70)")
     args = parser.parse_args(argv)
     if not (args.threshold >= 0 and args.threshold < float("inf")):
         parser.error("--threshold must be a finite number >= 0")
@@ -410,7 +415,7 @@ def _parse_args(argv, prog):
 
 
 def main(argv=None, prog="hrbench-compare"):
-    """Run the command line; return the exit code (0, 1, 2 or 3, see the module).
+    """Run the command line; return the exit code (0, 1, 2, 3, 70 or 74, see the module).
 
     Parameters
     ----------
@@ -419,28 +424,29 @@ def main(argv=None, prog="hrbench-compare"):
     prog : str, optional
         The command's name in its messages.
     """
+    return run_main(prog, lambda a: _compare(a, prog), argv)
+
+
+def _compare(argv, prog):
     args = _parse_args(argv, prog)
-    try:
-        baseline = get_repetition_times(load_benchmark_file(args.baseline), args.metric)
-        new = get_repetition_times(load_benchmark_file(args.new), args.metric)
-    except InputError as e:
-        print(f"{prog}: error: {e}", file=sys.stderr)
-        return 2
-    for path, times in ((args.baseline, baseline), (args.new, new)):
-        if not times:
-            print(f"{prog}: error: {path} has no per-repetition rows; run without "
-                  "--benchmark_report_aggregates_only", file=sys.stderr)
-            return 2
+    times = {}
+    for path in (args.baseline, args.new):
+        data = load_benchmark_file(path)
+        try:
+            times[path] = get_repetition_times(data, args.metric)
+        except InputError as e:
+            raise InputError(f"{path}: {e}") from None
+        if not times[path]:
+            raise InputError(f"{path} has no per-repetition rows; run without "
+                             "--benchmark_report_aggregates_only")
+    baseline, new = times[args.baseline], times[args.new]
     try:
         comparisons, only_baseline, only_new = get_comparison_report(
             baseline, new, args.threshold, args.alpha, args.paired)
     except ValueError as e:
-        print(f"{prog}: error: {e}", file=sys.stderr)
-        return 2
+        raise InputError(str(e)) from None
     if not comparisons:
-        print(f"{prog}: error: {args.baseline} and {args.new} have no benchmark "
-              "in common", file=sys.stderr)
-        return 2
+        raise InputError(f"{args.baseline} and {args.new} have no benchmark in common")
     print(f"baseline {args.baseline}, new {args.new}: {args.metric}, "
           + ("per-round ratios" if args.paired else "median of repetitions"))
     print_comparison_report(comparisons, only_baseline, only_new, args.threshold, args.alpha)

@@ -13,8 +13,9 @@ and the scene family, parameters and options (:func:`hrbench_analysis.engine.par
 
 The work a claims file can ask for is bounded when it is loaded: a file has at most
 :data:`MAX_FILE_BYTES` bytes of UTF-8 text, a sweep range at most :data:`MAX_PER_DECADE`
-points per decade and :data:`MAX_RANGE_POINTS` points, a formula the limits of
-:mod:`hrbench_analysis.expr`.
+points per decade and :data:`MAX_RANGE_POINTS` points, the claims loaded together at most
+:data:`MAX_SWEEP_POINTS` points (ranges times grids, in the larger mode), a mesh file at
+most :data:`MAX_MESH_BYTES` bytes, a formula the limits of :mod:`hrbench_analysis.expr`.
 """
 
 import hashlib
@@ -25,7 +26,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .engine import MESH_SCENE
-from .errors import AnalysisError
+from .errors import AnalysisError, InputFileError, open_bounded, read_bounded
 from .expr import Expression, ExpressionError
 from .lemmas import STATISTICS, claim_statistics
 from .loader import TIMES, environment_names
@@ -43,7 +44,11 @@ __all__ = [
     "MAX_FILE_BYTES",
     "MAX_PER_DECADE",
     "MAX_RANGE_POINTS",
+    "MAX_SWEEP_POINTS",
+    "MAX_MESH_BYTES",
+    "MAX_DEPTH_LIMIT",
     "MAX_ABS_EXPONENT",
+    "sweep_points",
     "MAX_PARAMS",
 ]
 
@@ -61,7 +66,16 @@ MAX_FILE_BYTES = 1 << 20
 MAX_PER_DECADE = 1000
 #: Most points of one sweep range (both ends included).
 MAX_RANGE_POINTS = 10_000
-#: Largest magnitude of a claim's expected exponent.
+#: Most points of all the claims loaded together (each claim's range times its grid, in
+#: the mode with more): what one sweep may plan before its first run. The package's claims
+#: have about 3,100 in the full mode; a point takes about 1 KiB while planned.
+MAX_SWEEP_POINTS = 100_000
+#: Largest mesh file a claim loads (hashed for the cache key): the engine's default
+#: ``--max-input`` of 256 MiB.
+MAX_MESH_BYTES = 256 << 20
+#: Largest ``max_depth`` of a claim: more levels than double precision resolves.
+MAX_DEPTH_LIMIT = 1024
+#: Largest magnitude of a claim's expected exponent, and largest tolerance.
 MAX_ABS_EXPONENT = 100
 #: Most scene parameters of one claim.
 MAX_PARAMS = 64
@@ -126,6 +140,12 @@ class SweepRange:
     def decades(self):
         """float: decades (factors 10) between `start` and `stop`."""
         return _decades(self.start, self.stop)
+
+    @property
+    def max_points(self):
+        """int: how many values :meth:`values` gives at most (rounding may merge some),
+        computed without generating them."""
+        return _range_points(self.start, self.stop, self.per_decade)
 
     def values(self):
         """The swept values, log-spaced from `start` to `stop` inclusive.
@@ -193,12 +213,43 @@ def range_problem(start, stop, per_decade):
         return "'from' and 'to' must differ"
     if per_decade > MAX_PER_DECADE:
         return f"'per_decade' must be at most {MAX_PER_DECADE}, got {per_decade!r}"
-    decades = _decades(start, stop)
-    points = math.floor(decades * per_decade + 1e-9) + 2
+    points = _range_points(start, stop, per_decade)
     if points > MAX_RANGE_POINTS + 1:
-        return (f"the range has {points - 1} points ({decades:.3g} decades at {per_decade:g} "
-                f"per decade); at most {MAX_RANGE_POINTS} are allowed")
+        return (f"the range has {points - 1} points ({_decades(start, stop):.3g} decades at "
+                f"{per_decade:g} per decade); at most {MAX_RANGE_POINTS} are allowed")
     return None
+
+
+def _range_points(start, stop, per_decade):
+    # Values of a range at most: the log-spaced steps, both ends included.
+    return math.floor(_decades(start, stop) * per_decade + 1e-9) + 2
+
+
+def sweep_points(claim):
+    """The points a claim's sweep may plan: in the mode with more, its range's values
+    (at most) times the combinations of its grid.
+
+    Parameters
+    ----------
+    claim : Claim
+
+    Returns
+    -------
+    points : int
+    """
+    combinations = math.prod(len(values) for values in claim.grid.values())
+    return combinations * max(r.max_points for r in claim.ranges.values())
+
+
+def _check_total(claims, path):
+    # Refuse claims that together plan more than MAX_SWEEP_POINTS points.
+    total = sum(sweep_points(c) for c in claims)
+    if total > MAX_SWEEP_POINTS:
+        largest = max(claims, key=sweep_points)
+        raise ClaimsFileError(path, f"the claims plan {total} points in all (ranges times "
+                              f"grids; claim {largest.id!r} alone {sweep_points(largest)}); "
+                              f"at most {MAX_SWEEP_POINTS} are allowed in one sweep",
+                              line=largest.line, claim_id=largest.id)
 
 
 @dataclass
@@ -389,6 +440,7 @@ MAX_GRID_VALUES = 32
 _RANGE_KEYS = {"from", "to", "per_decade"}
 _RANGE_OPTIONAL = {"binary_digits"}
 _REGIME_KEYS = {"x_min", "x_max"}
+_SOURCE_KEYS = {"key", "citation"}
 _MODE_KEYS = {"options"}
 
 
@@ -402,6 +454,14 @@ class _Locator:
 
     def claim_line(self, index):
         return self.headers[index] if index < len(self.headers) else None
+
+    def source_line(self, key):
+        # The line of `key` in the [source] table (or of source.key), else None.
+        stop = self.headers[0] - 1 if self.headers else len(self.lines)
+        for n in range(stop):
+            if re.match(rf"\s*(source\s*\.\s*)?{re.escape(key)}\s*=", self.lines[n]):
+                return n + 1
+        return None
 
     def key_line(self, index, key):
         start = self.claim_line(index)
@@ -471,8 +531,17 @@ def load_claims(path):
     source = data.get("source", {})
     if not isinstance(source, dict):
         raise ClaimsFileError(path, "[source] must be a table with 'key' and 'citation'")
-    source_key = str(source.get("key", path.stem))
-    citation = str(source.get("citation", source_key))
+    for key in sorted(source):
+        line = loc.source_line(key)
+        if key not in _SOURCE_KEYS:
+            raise ClaimsFileError(path, f"unknown key 'source.{key}'; allowed: "
+                                  f"{', '.join(sorted(_SOURCE_KEYS))}", line=line,
+                                  key=f"source.{key}")
+        if not (isinstance(source[key], str) and source[key].strip()):
+            raise ClaimsFileError(path, f"key 'source.{key}' must be a non-empty string, "
+                                  f"got {source[key]!r}", line=line, key=f"source.{key}")
+    source_key = source.get("key", path.stem)
+    citation = source.get("citation", source_key)
     raw_claims = data.get("claim", [])
     if not isinstance(raw_claims, list) or not raw_claims:
         raise ClaimsFileError(path, "no claims: add at least one [[claim]] table")
@@ -488,19 +557,18 @@ def load_claims(path):
                                   line=claim.line, claim_id=claim.id, key="id")
         seen[claim.id] = claim.line
         claims.append(claim)
+    _check_total(claims, path)
     return claims
 
 
 def _read_text(path):
     # The file as text: at most MAX_FILE_BYTES bytes of UTF-8.
     try:
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_FILE_BYTES + 1)
-    except OSError as exc:
-        raise ClaimsFileError(path, f"cannot read: {exc.strerror or exc}") from None
-    if len(data) > MAX_FILE_BYTES:
-        raise ClaimsFileError(path, f"file is larger than {MAX_FILE_BYTES} bytes; a claims "
-                              "file is a short TOML text")
+        data = read_bounded(path, MAX_FILE_BYTES, "claims file")
+    except InputFileError as exc:
+        raise ClaimsFileError(exc.path or path, exc.reason
+                              + ("; a claims file is a short TOML text"
+                                 if "bytes" in exc.reason else "")) from None
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -632,6 +700,8 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
         fail(f"key 'expected_exponent' must lie within +/-{MAX_ABS_EXPONENT}, got {k:g}",
              "expected_exponent")
     tol = float(want("tolerance", "pos"))
+    if tol > MAX_ABS_EXPONENT:
+        fail(f"key 'tolerance' must be at most {MAX_ABS_EXPONENT}, got {tol:g}", "tolerance")
     regime = raw.get("regime", {})
     if not isinstance(regime, dict) or set(regime) - _REGIME_KEYS:
         fail("key 'regime' must be a table with optional x_min and x_max", "regime")
@@ -660,8 +730,10 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
     for key in ("min_area", "max_depth"):
         if key in raw:
             want(key, "pos")
-    if "max_depth" in raw and raw["max_depth"] != int(raw["max_depth"]):
-        fail(f"key 'max_depth' must be an integer, got {raw['max_depth']!r}", "max_depth")
+    if "max_depth" in raw and not (raw["max_depth"] == int(raw["max_depth"])
+                                   and raw["max_depth"] <= MAX_DEPTH_LIMIT):
+        fail(f"key 'max_depth' must be an integer from 1 to {MAX_DEPTH_LIMIT}, got "
+             f"{raw['max_depth']!r}", "max_depth")
     base_options = _options_iv(raw.get("options", {}), "options", fail)
     mode_options = {}
     for mode in MODES:
@@ -719,12 +791,23 @@ def _mesh_iv(raw, path, want, fail):
         fail(f"key 'mesh' needs scene = {MESH_SCENE!r}, got scene = {raw['scene']!r}", "mesh")
     if raw["params"]:
         fail("a mesh has no scene parameters: 'params' must be {}", "params")
+    if "\0" in name:
+        fail(f"key 'mesh' holds a NUL byte: {name!r}", "mesh")
     file = (Path(path).parent / name).resolve()
+    digest = hashlib.sha256()
     try:
-        data = file.read_bytes()
+        # Hashed in blocks: never more than MAX_MESH_BYTES read, nor held at once.
+        with open_bounded(file, MAX_MESH_BYTES, "mesh file") as fh:
+            while block := fh.read(1 << 20):
+                digest.update(block)
+                if fh.tell() > MAX_MESH_BYTES:
+                    raise InputFileError(file, f"the mesh file has more than "
+                                         f"{MAX_MESH_BYTES} bytes")
+    except InputFileError as exc:
+        fail(f"mesh file {name!r}: {exc.reason} ({file})", "mesh")
     except OSError as exc:
         fail(f"mesh file {name!r} cannot be read ({file}): {exc.strerror or exc}", "mesh")
-    return str(file), hashlib.sha256(data).hexdigest()
+    return str(file), digest.hexdigest()
 
 
 def _grid_iv(grid, params, sweep_param, fail):
@@ -854,4 +937,5 @@ def load_claims_dir(directory):
                                       line=claim.line, claim_id=claim.id, key="id")
             seen[claim.id] = claim.path
             claims.append(claim)
+    _check_total(claims, directory)
     return claims

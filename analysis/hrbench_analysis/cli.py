@@ -2,33 +2,34 @@
 
 ``hrbench-tiling``, ``hrbench-render`` and ``hrbench-explorer`` find the engine as
 ``hrbench-reproduce`` does (``--engine CMD``, ``--hrbench PATH``, ``$HRBENCH_ENGINE``,
-``build/hrbench``, ``hrbench`` on the ``PATH``), and end every error of input or
-environment with one line on standard error and exit code 2.
+``build/hrbench``, ``hrbench`` on the ``PATH``), end every error of input or
+environment with one line on standard error and exit code 2, and write their files
+through :mod:`hrbench_analysis.output` (exit code 74 when one cannot be written).
 """
 
 import argparse
+import io
 import math
-import sys
-import traceback
 from pathlib import Path
 
-from .errors import AnalysisError, one_line
+from .errors import INPUT_ERROR, one_line
+from .output import write_file
 
-__all__ = ["USAGE_ERROR", "INTERNAL_ERROR", "INTERRUPTED", "Parser", "add_engine_options",
-           "engine_of", "positive_number", "positive_int", "output_file", "scene_params",
-           "run_command", "save_figure"]
-
-#: Exit codes, as ``hrbench-reproduce``'s: bad input or environment, a bug, an interrupt.
-USAGE_ERROR = 2
-INTERNAL_ERROR = 70
-INTERRUPTED = 130
+__all__ = ["Parser", "add_engine_options", "engine_of", "positive_number", "positive_int",
+           "output_file", "scene_params", "save_figure"]
 
 
 class Parser(argparse.ArgumentParser):
-    """An argument parser whose usage errors are one line (``prog: error: ...``), exit 2."""
+    """An argument parser whose usage errors are one line (``prog: error: ...``), exit 2,
+    with the option ``--debug`` of :func:`~hrbench_analysis.errors.run_main`."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.add_argument("--debug", action="store_true",
+                          help="print the traceback of an internal error (a bug)")
 
     def error(self, message):
-        self.exit(USAGE_ERROR, f"{self.prog}: error: {one_line(message)}\n")
+        self.exit(INPUT_ERROR, f"{self.prog}: error: {one_line(message)}\n")
 
 
 def add_engine_options(parser):
@@ -116,35 +117,8 @@ def scene_params(parser, words):
     return scene, params
 
 
-def run_command(prog, body, argv):
-    """Run a command's body; return its exit code.
-
-    Bad input or environment (:class:`~hrbench_analysis.errors.AnalysisError`, a file that
-    cannot be read or written) is one line and exit code 2; an interrupt exit code 130;
-    any other exception is a bug: its traceback and exit code 70.
-    """
-    try:
-        return body(argv)
-    except AnalysisError as exc:
-        print(f"{prog}: error: {one_line(exc)}", file=sys.stderr)
-    except OSError as exc:
-        where = f"{exc.filename}: " if exc.filename else ""
-        print(f"{prog}: error: {one_line(where + (exc.strerror or str(exc)))}",
-              file=sys.stderr)
-    except KeyboardInterrupt:
-        print(f"{prog}: interrupted", file=sys.stderr)
-        return INTERRUPTED
-    except Exception:
-        traceback.print_exc()
-        print(f"{prog}: internal error (a bug, please report it with the traceback above)",
-              file=sys.stderr)
-        return INTERNAL_ERROR
-    return USAGE_ERROR
-
-
 def save_figure(fig, out, dpi=100):
-    """Write a figure as PNG to `out`, or raise AnalysisError naming ``--out``."""
-    try:
-        fig.savefig(out, dpi=dpi, format="png")
-    except OSError as exc:
-        raise AnalysisError(f"--out {out}: cannot write ({exc.strerror or exc})") from None
+    """Write a figure as PNG to `out` (:func:`~hrbench_analysis.output.write_file`)."""
+    png = io.BytesIO()
+    fig.savefig(png, dpi=dpi, format="png")
+    write_file(out, png.getvalue())

@@ -20,8 +20,10 @@ import sys
 import tempfile
 from pathlib import Path
 
-from .cli import Parser, add_engine_options, engine_of, output_file, run_command
+from .cli import Parser, add_engine_options, engine_of, output_file
 from .engine import EngineError, engine_version, get_capabilities
+from .errors import run_main
+from .output import write_file
 from .tiling import count_run, refine_links
 
 __all__ = ["SCENE", "DISTANCE", "ORACLE", "EPS", "LENGTHS", "MAX_TILING_LINKS", "explorer_data",
@@ -148,12 +150,13 @@ def write_explorer(results, engine, name="explorer.html"):
     Raises
     ------
     EngineError, ResultFormatError
-        If a run fails; OSError if the page cannot be written.
+        If a run fails; OutputError if the page cannot be written (the previous page is
+        kept, :func:`~hrbench_analysis.output.write_file`).
     """
     path = Path(results) / name
     page = explorer_html(explorer_data(engine, max_links=tiling_limit(engine)))
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(page)
+    write_file(path, page)
     return path
 
 
@@ -174,14 +177,15 @@ def _main(argv):
     limit = tiling_limit(engine)
     if args.max_links is not None:
         limit = min(limit, args.max_links)
-    args.out.write_text(explorer_html(explorer_data(engine, max_links=limit)))
-    print(f"{args.out}: {args.out.stat().st_size // 1024} kB")
+    page = explorer_html(explorer_data(engine, max_links=limit))
+    write_file(args.out, page)
+    print(f"{args.out}: {len(page.encode()) // 1024} kB")
     return 0
 
 
 def main(argv=None):
     """Run the command; return its exit code (0, 2 for bad input or environment)."""
-    return run_command("hrbench-explorer", _main, argv)
+    return run_main("hrbench-explorer", _main, argv)
 
 
 if __name__ == "__main__":

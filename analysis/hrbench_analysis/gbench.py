@@ -1,15 +1,23 @@
 """Reading Google Benchmark JSON output (``--benchmark_out_format=json``).
 
 Standard library only, so that ``tools/merge_bench.py`` runs with any Python 3.11. The
-reader is tolerant: unknown fields are ignored, optional fields may be
-missing, and the schema version is checked when the file states one
-(``context.json_schema_version``; Google Benchmark 1.7 does not write it).
+reader is tolerant of what it does not use: unknown fields are ignored, optional fields
+may be missing, and the schema version is checked when the file states one
+(``context.json_schema_version``; Google Benchmark 1.7 does not write it). It is strict
+about what it reads: a regular file of at most :data:`MAX_FILE_BYTES` bytes, strict JSON
+(no ``NaN``, no key given twice), times that are finite numbers ``>= 0``.
 """
 
-import json
+import math
 
-__all__ = ["InputError", "load_benchmark_file", "get_repetition_times",
+from .errors import AnalysisError, InputFileError, parse_json, read_bounded
+
+__all__ = ["InputError", "MAX_FILE_BYTES", "load_benchmark_file", "get_repetition_times",
            "merge_benchmark_files", "time_unit", "format_time"]
+
+#: Largest benchmark file read, in bytes: a suite of thousands of benchmarks with 100
+#: repetitions each writes a few MiB.
+MAX_FILE_BYTES = 256 << 20
 
 # Schema versions of the Google Benchmark JSON format this reader understands.
 _SUPPORTED_SCHEMA_VERSIONS = (1,)
@@ -34,8 +42,8 @@ def format_time(ns):
     return f"{ns / scale:.4g} {unit}"
 
 
-class InputError(Exception):
-    """An input file is missing, unreadable or not what the tool expects."""
+class InputError(AnalysisError, ValueError):
+    """An input file is missing, unreadable or not what the tool expects (exit code 2)."""
 
 
 def load_benchmark_file(path):
@@ -55,16 +63,15 @@ def load_benchmark_file(path):
     Raises
     ------
     InputError
-        If the file cannot be read, is not JSON, has no ``benchmarks`` list or
+        If the file cannot be read, is not a regular file of at most
+        :data:`MAX_FILE_BYTES` bytes, is not strict JSON, has no ``benchmarks`` list or
         states an unsupported schema version.
     """
     try:
-        with open(path, encoding="utf-8") as f:
-            data = json.load(f)
-    except OSError as e:
-        raise InputError(f"cannot read {path}: {e.strerror}") from None
-    except json.JSONDecodeError as e:
-        raise InputError(f"{path} is not valid JSON: {e}") from None
+        data = parse_json(read_bounded(path, MAX_FILE_BYTES, "benchmark file"), str(path),
+                          InputError)
+    except InputFileError as e:
+        raise InputError(str(e)) from None
     if not isinstance(data, dict) or not isinstance(data.get("benchmarks"), list):
         raise InputError(f"{path} is not Google Benchmark JSON: no 'benchmarks' list")
     context = data.setdefault("context", {})
@@ -91,6 +98,12 @@ def get_repetition_times(data, metric="real_time"):
         For each benchmark (its ``run_name``, or ``name``), the times of its
         iteration rows in file order, in nanoseconds per iteration. Aggregate
         rows (mean, median, stddev, BigO, RMS, ...) are skipped.
+
+    Raises
+    ------
+    InputError
+        If a time is not a finite number ``>= 0`` (naming the benchmark), or its
+        ``time_unit`` is not one of ns, us, ms, s.
     """
     if metric not in ("real_time", "cpu_time"):
         raise ValueError(f"metric must be 'real_time' or 'cpu_time', not {metric!r}")
@@ -102,11 +115,30 @@ def get_repetition_times(data, metric="real_time"):
             continue
         name = row.get("run_name", row.get("name"))
         value = row.get(metric)
-        unit = _NS_PER_UNIT.get(row.get("time_unit", "ns"))
-        if name is None or not isinstance(value, (int, float)) or unit is None:
+        if not isinstance(name, str) or value is None:
             continue
-        times.setdefault(name, []).append(float(value) * unit)
+        unit = _NS_PER_UNIT.get(row.get("time_unit", "ns"))
+        if unit is None:
+            raise InputError(f"benchmark {name}: time_unit {_short(row.get('time_unit'))} is "
+                             f"not one of {', '.join(_NS_PER_UNIT)}")
+        try:
+            ns = float(value) * unit if _is_number(value) else math.nan
+        except OverflowError:  # an integer beyond float64
+            ns = math.inf
+        if not (math.isfinite(ns) and ns >= 0):
+            raise InputError(f"benchmark {name}: {metric} {_short(value)} is not a finite "
+                             "time >= 0")
+        times.setdefault(name, []).append(ns)
     return times
+
+
+def _is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _short(value):
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
 
 
 def merge_benchmark_files(files):

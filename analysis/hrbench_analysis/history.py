@@ -34,7 +34,8 @@ range this machine did not measure are listed (git is asked in ``--repo``).
 
 Exit codes of the command: 0 success (also a run that was already recorded), 1
 ``measure`` could not build or run some commit (the others are recorded), 2 usage or
-input error (one line on standard error).
+input error, 74 the page could not be written (the previous page is kept): one line on
+standard error for each error.
 """
 
 import argparse
@@ -63,8 +64,25 @@ from .builds import (
     resolve_ref,
     run_benchmarks,
 )
-from .errors import AnalysisError, one_line
-from .gbench import InputError, format_time, get_repetition_times, load_benchmark_file, time_unit
+from .engine import run_engine
+from .errors import (
+    AnalysisError,
+    InputFileError,
+    OutputError,
+    one_line,
+    parse_json,
+    read_bounded,
+    run_main,
+)
+from .gbench import (
+    MAX_FILE_BYTES,
+    InputError,
+    format_time,
+    get_repetition_times,
+    load_benchmark_file,
+    time_unit,
+)
+from .output import write_file
 
 __all__ = [
     "HistoryError",
@@ -326,13 +344,10 @@ def _cpu_model():
 def _engine_info(path):
     """Version and build of the engine at `path`: ``--version`` and a tiny run's context."""
     def call(args):
-        try:
-            r = subprocess.run([str(path), *args], capture_output=True, text=True, timeout=60)
-        except (OSError, subprocess.SubprocessError) as e:
-            raise HistoryError(f"cannot run the engine {path}: {e}") from None
-        if r.returncode != 0:
-            raise HistoryError(f"{path} {' '.join(args)} failed (exit code {r.returncode}): "
-                               f"{one_line(r.stderr.strip(), 200)}")
+        r = run_engine([path, *args], timeout=60)
+        if r.exit_code != 0:
+            raise HistoryError(f"{path} {' '.join(args)} failed (exit code {r.exit_code}): "
+                               f"{one_line(r.message, 200)}")
         return r.stdout
     info = {"path": str(path), "version": call(["--version"]).strip()}
     out = call(["run", "parallel", "l=16", "d=1", "--eps", "0.5", "--json", "--count-only"])
@@ -391,11 +406,11 @@ def record_run(history, bench_path, commit=None, date=None, subject=None, machin
         A malformed benchmark file, an unknown commit date, the same measurement
         already recorded under another commit, an engine that cannot be run.
     """
+    data = load_benchmark_file(bench_path)
     try:
-        data = load_benchmark_file(bench_path)
+        times = get_repetition_times(data)
     except InputError as e:
-        raise HistoryError(str(e)) from None
-    times = get_repetition_times(data)
+        raise HistoryError(f"{bench_path}: {e}") from None
     if not times:
         raise HistoryError(f"{bench_path} has no per-repetition benchmark rows (empty, or "
                            "written with --benchmark_report_aggregates_only)")
@@ -452,16 +467,22 @@ def record_run(history, bench_path, commit=None, date=None, subject=None, machin
                 f"{bench_path} is already recorded for commit {old['commit']['sha'][:12]} "
                 f"({other.name}); one measurement cannot be a point of two commits")
     tmp = history / f".{name}.{os.getpid()}.tmp"
-    with open(tmp, "w", encoding="utf-8") as f:
-        json.dump(record, f, indent=1)
-        f.write("\n")
     try:
-        os.link(tmp, target)
-        created = True
-    except FileExistsError:
-        created = False
+        with open(tmp, "w", encoding="utf-8") as f:
+            json.dump(record, f, indent=1)
+            f.write("\n")
+            f.flush()
+            os.fsync(f.fileno())  # on the disk before its name is
+        try:
+            os.link(tmp, target)
+            created = True
+        except FileExistsError:
+            created = False
+    except OSError as e:
+        raise OutputError(f"{target}: cannot write ({e.strerror or e}); nothing "
+                          "recorded") from None
     finally:
-        tmp.unlink()
+        tmp.unlink(missing_ok=True)
     return target, created, record
 
 
@@ -488,13 +509,12 @@ class Run:
 
 
 def _read_run_file(path):
+    # A run file holds one benchmark file and a page of metadata.
     try:
-        with open(path, encoding="utf-8") as f:
-            record = json.load(f)
-    except OSError as e:
-        raise HistoryError(f"cannot read {path}: {e.strerror}") from None
-    except json.JSONDecodeError as e:
-        raise HistoryError(f"{path} is not a history run file: not valid JSON ({e})") from None
+        record = parse_json(read_bounded(path, MAX_FILE_BYTES + (1 << 20), "history run file"),
+                            f"{path} is not a history run file:", HistoryError)
+    except InputFileError as e:
+        raise HistoryError(str(e)) from None
     if not isinstance(record, dict) or record.get("hrbench_history") != HISTORY_FORMAT:
         raise HistoryError(f"{path} is not a history run file of format {HISTORY_FORMAT} "
                            "(key 'hrbench_history')")
@@ -568,10 +588,13 @@ def load_history(history, metric="real_time"):
         if not c.get("sha") or not c.get("date"):
             raise HistoryError(f"{path}: history run file without a commit hash or date")
         data = record["benchmark"]
+        try:
+            times = get_repetition_times(data, metric)
+        except InputError as e:
+            raise HistoryError(f"{path}: {e}") from None
         runs.append(Run(path, content, str(c["sha"]), _parse_date(c["date"]),
                         c.get("subject") or "", str(record.get("recorded_at", "")),
-                        m, record["build"], get_repetition_times(data, metric),
-                        _get_counters(data)))
+                        m, record["build"], times, _get_counters(data)))
     first_seen = {}
     for r in sorted(runs, key=lambda r: r.recorded_at):
         first_seen.setdefault(r.sha, (r.date, r.recorded_at))
@@ -880,7 +903,9 @@ def write_html(out, runs, notes, commits, series, *, metric="real_time",
     Parameters
     ----------
     out : path-like
-        The HTML file to write.
+        The HTML file to write (:func:`~hrbench_analysis.output.write_file`: a regular
+        file replaced whole, a symbolic link's target written, a device written
+        through; OutputError if the write fails, the previous page kept).
     runs, notes : as returned by `load_history` (runs already filtered by machine).
     commits, series : as returned by `get_series`.
     metric : str, optional
@@ -1003,9 +1028,7 @@ def write_html(out, runs, notes, commits, series, *, metric="real_time",
     parts.append("</body></html>\n")
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
-    tmp.write_text("\n".join(parts), encoding="utf-8")
-    os.replace(tmp, out)
+    write_file(out, "\n".join(parts))  # a symlink's target, a device written through
     return steps, changes
 
 
@@ -1073,6 +1096,9 @@ def _parser(prog):
     mes.add_argument("--no-ccache", action="store_true", help="compile without ccache")
     mes.add_argument("--rerun", action="store_true", help="measure also the commits this "
                      "machine has measured already (their runs are pooled)")
+    for command in (rec, page, mes):
+        command.add_argument("--debug", action="store_true",
+                             help="print the traceback of an internal error (exit code 70)")
     return parser
 
 
@@ -1223,20 +1249,17 @@ def _main_html(args):
 
 def main(argv=None, prog="hrbench-history"):
     """Run the command line; return the exit code (0; 1 when `measure` could not build or
-    run a commit; 2 on a usage or input error)."""
-    args = _parser(prog).parse_args(argv)
-    try:
-        if args.command == "record":
-            return _main_record(args)
-        if args.command == "measure":
-            return _main_measure(args)
-        return _main_html(args)
-    except (AnalysisError, InputError) as e:
-        print(f"{prog}: error: {one_line(e)}", file=sys.stderr)
-        return 2
-    except OSError as e:
-        print(f"{prog}: error: {one_line(f'{e.filename}: {e.strerror}')}", file=sys.stderr)
-        return 2
+    run a commit; 2 on a usage or input error; 70 for a bug, its traceback with
+    ``--debug``; 74 when the page cannot be written)."""
+    return run_main(prog, lambda a: _run(_parser(prog).parse_args(a)), argv)
+
+
+def _run(args):
+    if args.command == "record":
+        return _main_record(args)
+    if args.command == "measure":
+        return _main_measure(args)
+    return _main_html(args)
 
 
 if __name__ == "__main__":

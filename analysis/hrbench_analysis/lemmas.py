@@ -24,6 +24,7 @@ The statistics are defined for 2D scenes (segments): an element's geometry is it
 interval ``[t0, t1]`` of arc length along its root segment.
 """
 
+import io
 import json
 import math
 import os
@@ -35,7 +36,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .engine import run_engine
-from .errors import AnalysisError
+from .errors import AnalysisError, InputFileError, one_line, open_bounded
+from .loader import MAX_LINKS_BYTES
 
 __all__ = [
     "STATISTICS",
@@ -136,28 +138,49 @@ def read_link_dump(path):
     Raises
     ------
     LinkDumpError
-        If a column is missing (a 3D link list has no ``t0``/``t1``) or a value is not a
-        number.
+        If the file is not a regular file of at most
+        :data:`hrbench_analysis.loader.MAX_LINKS_BYTES` bytes, a column is missing (a 3D
+        link list has no ``t0``/``t1``), or a value is not a finite number (an engine's
+        ``nan`` would otherwise make every bound hold or fail at random), a root index not
+        an integer ``>= 0`` or an element's ``t0`` above its ``t1``.
     """
-    with open(path) as fh:
-        header = [h.strip() for h in fh.readline().strip().split(",")]
-    missing = [c for c in _LINK_COLUMNS if c not in header]
-    if missing:
-        raise LinkDumpError(f"{path}: link list lacks column(s) {', '.join(missing)} "
-                            "(hierarchy statistics need the link list of a 2D scene)")
-    cols = [header.index(c) for c in _LINK_COLUMNS]
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # "input contained no data": no links
-            data = np.loadtxt(path, delimiter=",", skiprows=1, usecols=cols,
-                              dtype=np.float64, ndmin=2)
-    except ValueError as exc:
-        raise LinkDumpError(f"{path}: unreadable link list ({exc})") from None
+        with open_bounded(path, MAX_LINKS_BYTES, "link list") as raw, \
+                io.TextIOWrapper(raw, encoding="utf-8") as fh:
+            header = [h.strip() for h in fh.readline().strip().split(",")]
+            missing = [c for c in _LINK_COLUMNS if c not in header]
+            if missing:
+                raise LinkDumpError(f"{path}: link list lacks column(s) {', '.join(missing)} "
+                                    "(hierarchy statistics need the link list of a 2D scene)")
+            cols = [header.index(c) for c in _LINK_COLUMNS]
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # "input contained no data": no links
+                data = np.loadtxt(fh, delimiter=",", usecols=cols, dtype=np.float64, ndmin=2)
+    except InputFileError as exc:
+        raise LinkDumpError(str(exc)) from None
+    except (ValueError, IndexError) as exc:  # not numbers, too few columns, not UTF-8
+        raise LinkDumpError(f"{path}: unreadable link list ({one_line(exc, 200)})") from None
     data = data.reshape(-1, len(cols))
+    problem = _link_problem(data)
+    if problem:
+        raise LinkDumpError(f"{path}: link list {problem}")
     out = {name: data[:, n] for n, name in enumerate(_LINK_COLUMNS)}
     for name in ("root_i", "root_j"):
         out[name] = out[name].astype(np.int64)
     return out
+
+
+def _link_problem(data):
+    # Why the columns _LINK_COLUMNS of a link list cannot be measured, or None.
+    if not np.all(np.isfinite(data)):
+        row = int(np.flatnonzero(~np.all(np.isfinite(data), axis=1))[0])
+        return f"holds a value that is not a finite number in row {row + 1}"
+    roots = data[:, [0, 3]]
+    if np.any(roots < 0) or np.any(roots != np.floor(roots)) or np.any(roots >= 2 ** 53):
+        return "holds a root index that is not an integer >= 0"
+    if np.any(data[:, 1] > data[:, 2]) or np.any(data[:, 4] > data[:, 5]):
+        return "holds an element whose t0 exceeds its t1"
+    return None
 
 
 def read_scene_segments(text):
@@ -441,7 +464,7 @@ class Measurement:
     wall_seconds: float
 
 
-def measure(job, links=None):
+def measure(job, links=None, timeout=None, tag=None):
     """Dump the links of one point into a temporary file and measure its statistics.
 
     Parameters
@@ -450,6 +473,10 @@ def measure(job, links=None):
     links : int, optional
         The number of links the point's run counted: the link list must have as many
         rows.
+    timeout : float, optional
+        Seconds each of the two engine commands may take (default: no limit).
+    tag : str, optional
+        Names the two runs (:func:`hrbench_analysis.engine.run_engine`).
 
     Returns
     -------
@@ -461,12 +488,12 @@ def measure(job, links=None):
     def failed(code, message):
         return Measurement(None, code, message, time.perf_counter() - start)
 
-    save = run_engine(job.save_argv)
+    save = run_engine(job.save_argv, timeout, tag)
     if save.exit_code != 0:
         return failed(save.exit_code, f"hrbench save failed: {save.message or 'no message'}")
     with tempfile.TemporaryDirectory(prefix="hrbench-links-") as tmp:
         out = os.path.join(tmp, "links.csv")
-        dump = run_engine([*job.links_argv, "--out", out])
+        dump = run_engine([*job.links_argv, "--out", out], timeout, tag)
         if dump.exit_code != 0:
             return failed(dump.exit_code,
                           f"hrbench links failed: {dump.message or 'no message'}")

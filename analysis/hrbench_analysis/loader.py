@@ -11,13 +11,13 @@ the counters are the engine's own (``hrbench capabilities --json``, read by
 """
 
 import csv
-import json
+import io
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import AnalysisError
+from .errors import AnalysisError, InputFileError, parse_json, read_bounded
 
 __all__ = [
     "COUNTERS",
@@ -26,6 +26,8 @@ __all__ = [
     "TIMES",
     "ALIASES",
     "SCHEMA_VERSION",
+    "MAX_RECORD_BYTES",
+    "MAX_LINKS_BYTES",
     "RunResult",
     "ResultFormatError",
     "LinkTable",
@@ -37,6 +39,15 @@ __all__ = [
 
 #: JSON schema version of ``hrbench run --json`` that this module understands.
 SCHEMA_VERSION = 1
+
+#: Longest run record read, in bytes: a record holds a few hundred numbers (per-depth
+#: histograms of at most a few thousand entries), a few KiB.
+MAX_RECORD_BYTES = 16 << 20
+
+#: Largest link list read (``hrbench links --out``), in bytes: the figures draw a few
+#: thousand links, a sweep point's statistics up to a few hundred thousand (about 80 bytes
+#: a link).
+MAX_LINKS_BYTES = 1 << 30
 
 #: The counters the analysis itself reads by name, which every run record must hold:
 #: ``nodes`` and ``links`` (the aliases ``N`` and ``L``), ``leaves``, ``oracle_calls`` and
@@ -282,18 +293,17 @@ def parse_run_json(text, counters=None):
     Raises
     ------
     ResultFormatError
-        If the text is not a JSON object, its ``schema_version`` is not
-        :data:`SCHEMA_VERSION`, a field above is missing or of the wrong type, a counter
-        is not an integer, or a number does not fit in float64. The message names the
-        field. No other exception comes out of arbitrary text.
+        If the text is longer than :data:`MAX_RECORD_BYTES`, is not strict JSON (``NaN``,
+        ``Infinity`` and a key given twice are refused, where Python's reader would take
+        them, the last value of a key winning) or not a JSON object, its
+        ``schema_version`` is not :data:`SCHEMA_VERSION`, a field above is missing or of
+        the wrong type, a counter is not an integer, or a number does not fit in float64.
+        The message names the field. No other exception comes out of arbitrary text.
     """
-    try:
-        obj = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ResultFormatError(f"run output is not JSON: {exc}") from None
-    except (ValueError, RecursionError) as exc:   # 5000-digit integers, deep nesting
-        raise ResultFormatError(f"run output is not readable JSON: "
-                                f"{type(exc).__name__}") from None
+    if len(text) > MAX_RECORD_BYTES:
+        raise ResultFormatError(f"run output has {len(text)} characters; a run record has "
+                                f"at most {MAX_RECORD_BYTES}")
+    obj = parse_json(text, "run output", ResultFormatError)
     if not isinstance(obj, dict):
         raise ResultFormatError("run output is not a JSON object")
     if "schema_version" not in obj:
@@ -429,20 +439,61 @@ def read_links_csv(path):
     Raises
     ------
     ResultFormatError
-        If a required column is missing.
+        If the file is not a regular file of at most :data:`MAX_LINKS_BYTES` bytes, is
+        not UTF-8, lacks a required column, or a row holds a value that is not what the
+        column is: root indices and depths integers ``>= 0``, positions finite numbers
+        with ``t0 <= t1``. The message names the file, the line and the column.
     """
-    with open(path, newline="") as fh:
-        reader = csv.reader(fh)
+    try:
+        text = read_bounded(path, MAX_LINKS_BYTES, "link list").decode("utf-8")
+    except InputFileError as exc:
+        raise ResultFormatError(str(exc)) from None
+    except UnicodeDecodeError as exc:
+        raise ResultFormatError(f"{path}: link list is not UTF-8 text (byte {exc.start})"
+                                ) from None
+    try:
+        reader = csv.reader(io.StringIO(text, newline=""))
         header = [h.strip() for h in next(reader, [])]
         missing = [c for c in _LINK_COLUMNS if c not in header and c not in ("elem_i", "elem_j")]
         if missing:
             raise ResultFormatError(f"{path}: link list lacks column(s) {', '.join(missing)}")
-        rows = [row for row in reader if row]
-    col = {name: header.index(name) for name in header}
-    data = np.array([[float(row[col[c]]) for c in
-                      ("root_i", "t0_i", "t1_i", "depth_i", "root_j", "t0_j", "t1_j", "depth_j")]
-                     for row in rows], dtype=float).reshape(-1, 8)
+        col = {name: header.index(name) for name in _READ_COLUMNS}
+        rows = [_link_row(row, col, path, reader.line_num) for row in reader if row]
+    except csv.Error as exc:
+        raise ResultFormatError(f"{path}: link list is not CSV: {exc}") from None
+    data = np.array(rows, dtype=float).reshape(-1, len(_READ_COLUMNS))
     return LinkTable(
         root_i=data[:, 0].astype(int), t0_i=data[:, 1], t1_i=data[:, 2],
         depth_i=data[:, 3].astype(int), root_j=data[:, 4].astype(int), t0_j=data[:, 5],
         t1_j=data[:, 6], depth_j=data[:, 7].astype(int))
+
+
+# The columns a LinkTable holds, in its order; the integer ones.
+_READ_COLUMNS = ("root_i", "t0_i", "t1_i", "depth_i", "root_j", "t0_j", "t1_j", "depth_j")
+_INTEGER_COLUMNS = ("root_i", "depth_i", "root_j", "depth_j")
+
+
+def _link_row(row, col, path, line):
+    # One row of a link list as floats, checked.
+    values = []
+    for name in _READ_COLUMNS:
+        text = row[col[name]].strip() if col[name] < len(row) else ""
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        integer = name in _INTEGER_COLUMNS
+        if not (math.isfinite(value) and (not integer or value == int(value) and
+                                          0 <= value < 2 ** 53)):
+            raise ResultFormatError(
+                f"{path}:{line}: link list column {name} must be "
+                + ("an integer >= 0" if integer else "a finite number")
+                + f", got {text[:40]!r}")
+        values.append(value)
+    for side in ("i", "j"):
+        t0, t1 = values[_READ_COLUMNS.index(f"t0_{side}")], values[
+            _READ_COLUMNS.index(f"t1_{side}")]
+        if t0 > t1:
+            raise ResultFormatError(f"{path}:{line}: link list has t0_{side} {t0!r} > "
+                                    f"t1_{side} {t1!r}")
+    return values

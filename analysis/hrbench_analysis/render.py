@@ -42,12 +42,11 @@ from .cli import (
     output_file,
     positive_int,
     positive_number,
-    run_command,
     save_figure,
     scene_params,
 )
 from .engine import MESH_SCENE
-from .errors import one_line
+from .errors import one_line, run_main
 from .loader import ResultFormatError
 
 __all__ = [
@@ -975,7 +974,7 @@ def _render_main(argv):
 
 def main(argv=None):
     """Run ``hrbench-render``; return its exit code (0, 2 for bad input or environment)."""
-    return run_command("hrbench-render", _render_main, argv)
+    return run_main("hrbench-render", _render_main, argv)
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@ import json
 import math
 import multiprocessing
 import os
+import signal
 import sys
 import textwrap
 from dataclasses import dataclass
@@ -16,6 +17,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from .engine import option_argv, option_flag, option_text
+from .output import folder_lock, write_files
 from .plots import (
     PowerLawSeries,
     plot_link_tiling,
@@ -28,6 +30,7 @@ from .summary import (
     TIMED_MARK,
     claim_anchors,
     claim_group,
+    distinct_names,
     report_order,
     source_label,
     verdict_tally,
@@ -431,6 +434,11 @@ def get_figures(outcomes, links=None, links_title=""):
         key = (o.claim.chart if o.claim.chart is not None
                else (_symbol(o.claim.x.text), _symbol(o.claim.y.text)), o.dimension)
         groups.setdefault(key, []).append(o)
+    # File names: distinct for distinct claims, even ids that differ only in case or
+    # punctuation (R1 and r1); a chart's named by the JSON list of its ids, which no
+    # other list of ids gives.
+    chart_names = distinct_names([_id_list(m) for m in groups.values()], "chart")
+    slopes_names = distinct_names([o.claim.id for o in usable], "slopes")
     for members in groups.values():
         fig = Figure(figsize=(9, 8), layout="constrained")
         ax = fig.add_subplot()
@@ -476,7 +484,7 @@ def get_figures(outcomes, links=None, links_title=""):
                    "slopes drawn through the regime's points (their prefactor fitted with "
                    "the slope fixed). "
                    + " ".join(f"{o.claim.id}: {o.claim.description}" for o in members))
-        figures.append(ReportFigure(f"chart-{_slug(ids)}", title, caption, fig,
+        figures.append(ReportFigure(chart_names[_id_list(members)], title, caption, fig,
                                     tuple(o.claim.id for o in members)))
 
     # Draw per claim: local exponents and the bounded-ratio check.
@@ -503,7 +511,7 @@ def get_figures(outcomes, links=None, links_title=""):
                    "over sliding one-decade windows (blue), against the claimed exponent "
                    "and its tolerance (red). Right: the ratio y/x^k; the claim "
                    "y = Theta(x^k) holds when it stays between two constants (dashed).")
-        figures.append(ReportFigure(f"slopes-{_slug(c.id)}",
+        figures.append(ReportFigure(slopes_names[c.id],
                                     f"{c.id}: local exponents and Theta check", caption, fig,
                                     (c.id,)))
 
@@ -542,9 +550,8 @@ def _label_name(label):
     return label.split(" (")[0]
 
 
-def _slug(text):
-    words = "".join(ch if ch.isalnum() else " " for ch in text).split()
-    return "-".join(words).lower()
+def _id_list(outcomes):
+    return json.dumps([o.claim.id for o in outcomes])
 
 
 def _md_text(text):
@@ -700,14 +707,27 @@ def render_pngs(figures, jobs=1):
         return [f.png() for f in figures]
     _TO_RENDER = tuple(figures)
     try:
-        with multiprocessing.get_context("fork").Pool(min(jobs, len(figures))) as pool:
+        with multiprocessing.get_context("fork").Pool(min(jobs, len(figures)),
+                                                      initializer=_worker_signals) as pool:
             return pool.map(_render, range(len(figures)), chunksize=1)
     finally:
         _TO_RENDER = ()
 
 
+def _worker_signals():
+    # A forked worker inherits the command's handlers, which end engine runs and raise
+    # an interrupt: the pool ends its workers with SIGTERM, and Ctrl-C is the parent's.
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def write_report(outdir, outcomes, context, figures, jobs=1):
     """Write ``report.md``, ``report.html``, ``claims.json`` and ``plots/*.png``.
+
+    The files are written as one set (:func:`~hrbench_analysis.output.write_files`): a
+    failed write leaves the previous report as it was, and runs that share `outdir`
+    replace their sets one at a time (:func:`~hrbench_analysis.output.folder_lock`), each
+    removing the figures of earlier runs that its report does not show.
 
     Parameters
     ----------
@@ -725,29 +745,27 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
     -------
     paths : dict of str to pathlib.Path
         ``{"markdown": ..., "html": ..., "json": ...}``.
+
+    Raises
+    ------
+    AnalysisError, OutputError
+        If a file cannot be written (:mod:`hrbench_analysis.output`).
     """
     outdir.mkdir(parents=True, exist_ok=True)
     plots = outdir / "plots"
     plots.mkdir(exist_ok=True)
     every = [*figures, *(f.alternate for f in figures if f.alternate is not None)]
-    names = {f"{f.name}.png" for f in every}
-    for stale in [*plots.glob("chart-*.png"), *plots.glob("slopes-*.png")]:
-        if stale.name not in names:
-            stale.unlink()  # a figure of an earlier run whose claims have changed
     outcomes = report_order(outcomes)
     rows = get_claims_table(outcomes)
     pngs = dict(zip((f.name for f in every), render_pngs(every, jobs), strict=True))
-    for name, png in pngs.items():
-        (plots / f"{name}.png").write_bytes(png)
 
-    # Write the JSON summary.
+    # The JSON summary.
     json_path = outdir / "claims.json"
-    json_path.write_text(json.dumps({"context": context,
-                                               "claims": get_claims_json(
-                                                   outcomes, context.get("mode", "quick"))},
-                                    indent=2, default=_jsonable) + "\n")
+    json_text = json.dumps({"context": context,
+                            "claims": get_claims_json(outcomes, context.get("mode", "quick"))},
+                           indent=2, default=_jsonable) + "\n"
 
-    # Write the Markdown report: the tally, the contents, the run, the claims table, one
+    # The Markdown report: the tally, the contents, the run, the claims table, one
     # section per group of claims, the figures of no claim.
     placed = _place_figures(outcomes, figures)
     contents = _contents(rows, placed)
@@ -777,9 +795,8 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
             a = f.alternate
             md += [f"#### {a.title}", "", f"![{a.title}](plots/{a.name}.png)", ""]
     md_path = outdir / "report.md"
-    md_path.write_text("\n".join(md))
 
-    # Write the HTML report with the figures embedded.
+    # The HTML report with the figures embedded.
     esc = html.escape
     parts = ["<!DOCTYPE html><html><head><meta charset='utf-8'>",
              "<title>hrbench claims report</title><style>",
@@ -833,7 +850,17 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
     parts += [image(f, 3) for f in placed.get(None, [])]
     parts.append("</body></html>")
     html_path = outdir / "report.html"
-    html_path.write_text("\n".join(parts))
+
+    # The figures first, so that a report never names a figure not yet written.
+    files = [*((plots / f"{name}.png", png) for name, png in pngs.items()),
+             (json_path, json_text), (md_path, "\n".join(md)), (html_path, "\n".join(parts))]
+    with folder_lock(outdir):
+        write_files(files)
+        for stale in [*plots.glob("chart*.png"), *plots.glob("slopes*.png")]:
+            if stale.name not in {f"{name}.png" for name in pngs}:
+                # A figure of an earlier run whose claims have changed (another run on
+                # the folder may have removed it first).
+                stale.unlink(missing_ok=True)
     return {"markdown": md_path, "html": html_path, "json": json_path}
 
 

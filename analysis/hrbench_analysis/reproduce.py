@@ -24,22 +24,25 @@ bad input or environment: usage errors, unreadable or malformed claims files, ba
 formulas, absurd ranges, parameters out of the family's range, claims the engine can
 never run, an engine that cannot be run, lists no capabilities or refuses runs as input
 errors (its exit code 2), and a results cache that is not ours or is corrupt; 70 for an
-internal error of the analysis (a bug: the traceback is printed); 130 when interrupted
-(finished points stay cached). Every error but a bug is one line on standard error. See
-``docs/analysis.md``.
+internal error of the analysis (a bug: one line naming it, its traceback with
+``--debug``); 74 when an output
+cannot be written (a full disk: the previous report stays as it was); 130 when
+interrupted (SIGINT), 143 when terminated (SIGTERM): finished points stay cached and the
+engine runs under way end with their child processes. Every error but a bug is one line
+on standard error. See ``docs/analysis.md``.
 """
 
 import argparse
 import csv
 import datetime
 import difflib
+import io
 import os
 import platform
 import shlex
 import shutil
 import sys
 import time
-import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -48,6 +51,7 @@ import numpy as np
 
 from . import __version__
 from .claimfile import ClaimsFileError, check_names, load_claims, load_claims_dir
+from .cli import positive_number
 from .engine import (
     INPUT_ERROR,
     NOT_STARTED,
@@ -56,14 +60,16 @@ from .engine import (
     engine_version,
     format_number,
     get_capabilities,
+    interrupt_exit_code,
     missing_capability,
     oracle_error,
     param_errors,
     run_links,
 )
-from .errors import AnalysisError, one_line
+from .errors import OUTPUT_ERROR, AnalysisError, OutputError, one_line, run_main
 from .explorer import write_explorer
 from .loader import SCHEMA_VERSION, ResultFormatError, read_links_csv
+from .output import staged, write_file, write_stdout
 from .report import ClaimOutcome, get_claims_table, get_figures, print_claims_table, write_report
 from .schedulers import LOCAL, SchedulerError, check_scheduler, open_scheduler
 from .solution import solution_figures
@@ -74,7 +80,7 @@ from .verdict import assess_claim, skipped_assessment
 
 __all__ = ["main", "sweep_main", "default_engine", "check_claims", "engine_refusals",
            "EXIT_CODES", "AS_EXPECTED", "REFUTED", "USAGE_ERROR", "INTERNAL_ERROR",
-           "INTERRUPTED", "ENGINE_ENV"]
+           "OUTPUT_ERROR", "INTERRUPTED", "TERMINATED", "ENGINE_ENV"]
 
 #: The claims shipped with the package.
 CLAIMS_DIR = Path(__file__).resolve().parent / "claims"
@@ -147,10 +153,13 @@ REFUTED = 1
 #: :class:`~hrbench_analysis.errors.AnalysisError` ends the command with it.
 USAGE_ERROR = 2
 #: Exit code for an internal error of the analysis, a bug (``EX_SOFTWARE`` of
-#: sysexits.h); its traceback is printed.
+#: sysexits.h): one line naming it; its traceback with ``--debug``.
 INTERNAL_ERROR = 70
-#: Exit code when interrupted (Ctrl-C, SIGINT); finished points stay in the cache.
+#: Exit code when interrupted (Ctrl-C, SIGINT); finished points stay in the cache, and
+#: every engine run under way is ended with its child processes.
 INTERRUPTED = 130
+#: Exit code when terminated (SIGTERM), with the same effects as an interrupt.
+TERMINATED = 143
 
 #: Every exit code of the command and its meaning.
 EXIT_CODES = {
@@ -158,7 +167,9 @@ EXIT_CODES = {
     REFUTED: "a claim expected to hold was refuted",
     USAGE_ERROR: "bad input or environment",
     INTERNAL_ERROR: "internal error of the analysis (a bug)",
+    OUTPUT_ERROR: "an output could not be written (the previous one is kept)",
     INTERRUPTED: "interrupted",
+    TERMINATED: "terminated",
 }
 
 
@@ -173,6 +184,8 @@ def _parser(prog="hrbench-reproduce",
             description="Sweep the hrbench engine, fit exponents and judge the published "
                         "claims."):
     p = argparse.ArgumentParser(prog=prog, description=description)
+    p.add_argument("--debug", action="store_true",
+                   help="print the traceback of an internal error (a bug)")
     mode = p.add_mutually_exclusive_group()
     mode.add_argument("--quick", dest="mode", action="store_const", const="quick",
                       help="short sweeps, a few minutes on two cores (default)")
@@ -180,6 +193,9 @@ def _parser(prog="hrbench-reproduce",
                       help="longer sweeps over more decades")
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
                    help="concurrent engine runs (default: number of cores, %(default)s)")
+    p.add_argument("--run-timeout", type=positive_number, default=None, metavar="SECONDS",
+                   help="end an engine run, with its child processes, after this many "
+                   "seconds; the point fails and is run again next time (default: no limit)")
     p.add_argument("--scheduler", type=_scheduler_arg, default=LOCAL, metavar="S",
                    help="where the engine runs execute: 'local' (default: a pool of --jobs "
                    "threads), 'dask' (a dask.distributed LocalCluster of --jobs worker "
@@ -300,8 +316,9 @@ def engine_refusals(claim, data):
     is not a measurement that failed but bad input or environment: the command exits
     with code 2 instead of judging the claim. So is a run that succeeded but printed a
     record the analysis cannot read (a field missing or of the wrong type; the engine
-    breaks its contract, docs/engine-contract.md). Runs that reached a limit (exit code
-    3) or crashed stay failed points of the claim.
+    breaks its contract, docs/engine-contract.md), or that printed more than
+    :data:`~hrbench_analysis.engine.OUTPUT_LIMIT` bytes. Runs that reached a limit (exit
+    code 3), crashed or ran past ``--run-timeout`` stay failed points of the claim.
 
     Parameters
     ----------
@@ -316,7 +333,7 @@ def engine_refusals(claim, data):
     """
     total = data.x.size + len(data.failures) + data.missing
     unreadable = [f for f in data.failures
-                  if f["exit_code"] == 0 and f["stderr"].startswith(UNREADABLE_RECORD)]
+                  if f["stderr"].startswith(UNREADABLE_RECORD)]
     if unreadable:
         first = unreadable[0]
         return one_line(f"{claim.path}:{claim.line}: claim {claim.id!r}: the engine's run "
@@ -349,11 +366,12 @@ def main(argv=None):
     """Run the command line; return the exit code (see :data:`EXIT_CODES`).
 
     Any :class:`~hrbench_analysis.errors.AnalysisError` (bad input or environment) becomes one
-    line on standard error and exit code 2, an interrupt exit code 130, and any other
-    exception, a bug, its traceback and exit code 70. Usage errors of the options exit
-    with code 2 through :class:`SystemExit` (argparse).
+    line on standard error and exit code 2, an interrupt exit code 130 (143 for SIGTERM),
+    and any other exception, a bug, one line and exit code 70 (its traceback with
+    ``--debug``): :func:`~hrbench_analysis.errors.run_main`. Usage errors of the options
+    exit with code 2 through :class:`SystemExit` (argparse).
     """
-    return _guarded(_main, argv)
+    return _guarded("hrbench-reproduce", _main, argv)
 
 
 def sweep_main(argv=None):
@@ -367,25 +385,14 @@ def sweep_main(argv=None):
     errors), 2 for bad input or environment (as :func:`main`), 70 for a bug, 130 when
     interrupted.
     """
-    return _guarded(_sweep_main, argv)
+    return _guarded("hrbench-sweep", _sweep_main, argv)
 
 
-def _guarded(body, argv):
+def _guarded(prog, body, argv):
     # Run a command's body with the exit codes of EXIT_CODES for errors and interrupts.
-    try:
-        return body(argv)
-    except KeyboardInterrupt:
-        print("\ninterrupted: finished points are kept in the results cache; run again to "
-              "resume", file=sys.stderr)
-        return INTERRUPTED
-    except AnalysisError as exc:
-        print(f"error: {one_line(exc)}", file=sys.stderr)
-        return USAGE_ERROR
-    except Exception:
-        traceback.print_exc()
-        print("internal error of the analysis (a bug, please report it with the traceback "
-              f"above); exit code {INTERNAL_ERROR}", file=sys.stderr)
-        return INTERNAL_ERROR
+    return run_main(prog, body, argv, prefix="error: ",
+                    interrupted="\ninterrupted: finished points are kept in the results "
+                    "cache; run again to resume")
 
 
 @dataclass
@@ -436,7 +443,8 @@ def _prepare(args, parser):
 def _sweep(args, setup):
     # Run the sweeps, reusing the cache (shared with any other sweep running on it).
     # Returns (summary, {claim id: (points, ClaimData)} for the claims not skipped,
-    # error lines of claims whose runs the engine refused), or INTERRUPTED.
+    # error lines of claims whose runs the engine refused), or the exit code of an
+    # interrupt (INTERRUPTED, TERMINATED).
     try:
         args.results.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -451,11 +459,11 @@ def _sweep(args, setup):
         try:
             with open_scheduler(args.scheduler, args.jobs) as scheduler:
                 summary = run_points([p for ps in points.values() for p in ps], store,
-                                     scheduler=scheduler)
-        except KeyboardInterrupt:
+                                     scheduler=scheduler, timeout=args.run_timeout)
+        except KeyboardInterrupt as exc:
             print(f"\ninterrupted: finished points are kept in {store.path}; "
                   "run again to resume", file=sys.stderr)
-            return INTERRUPTED
+            return interrupt_exit_code(exc)
         measured, refusals = {}, []
         for c in setup.claims:
             if c.id in setup.skipped:
@@ -478,8 +486,8 @@ def _prepare_and_sweep(args, parser):
     if isinstance(setup, int):
         return setup
     swept = _sweep(args, setup)
-    if swept == INTERRUPTED:
-        return INTERRUPTED
+    if isinstance(swept, int):
+        return swept
     summary, measured, refusals = swept
     for line in refusals:
         print(f"error: {line}", file=sys.stderr)
@@ -508,17 +516,14 @@ def _sweep_main(argv):
             status = f"exit code {f['exit_code']}: {f['stderr'] or 'no message'}"
             rows.append((c.id, series.get(f["value"], ""), c.sweep_param,
                          format_number(f["value"]), "", "", one_line(status)))
-    try:
-        out = open(args.out, "w", newline="") if args.out is not None else sys.stdout
-    except OSError as exc:
-        raise AnalysisError(f"--out {args.out}: cannot write ({exc.strerror or exc})") from None
-    try:
-        writer = csv.writer(out, lineterminator="\n")
-        writer.writerow(("claim", "series", "param", "value", "x", "y", "status"))
-        writer.writerows(rows)
-    finally:
-        if out is not sys.stdout:
-            out.close()
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")
+    writer.writerow(("claim", "series", "param", "value", "x", "y", "status"))
+    writer.writerows(rows)
+    if args.out is None:
+        write_stdout(text.getvalue())
+    else:
+        write_file(args.out, text.getvalue())
     print(f"{summary['total']} points ({summary['cached']} cached, {summary['ran']} run, "
           f"{summary['failed']} failed)" + (f"; CSV in {args.out}" if args.out else ""),
           file=sys.stderr)
@@ -555,8 +560,9 @@ def _main(argv):
         csv_path = args.results / f"links-{scene}-{name}-eps{eps:g}.csv"
         try:
             _tiling_iv(capabilities)
-            run_links(setup.engine, scene, params, eps, csv_path, oracle)
-            links = read_links_csv(csv_path)
+            with staged(csv_path) as written:  # whole for another run reading it
+                run_links(setup.engine, scene, params, eps, written, oracle)
+                links = read_links_csv(written)
             links_title = (f"{scene} " + " ".join(f"{k}={v:g}" for k, v in params.items())
                            + f", eps={eps:g}, oracle {oracle}: {len(links)} links")
         except (EngineError, ResultFormatError, OSError) as exc:
@@ -585,9 +591,9 @@ def _main(argv):
                                     warn=lambda line: print(line, file=sys.stderr))
     try:
         paths = write_report(args.results, outcomes, context, figures, args.jobs)
-    except OSError as exc:
-        raise AnalysisError(f"--results {args.results}: cannot write the report "
-                            f"({exc.strerror or exc}: {exc.filename or ''})") from None
+    except OSError as exc:  # making plots/ or removing an old figure
+        raise OutputError(f"--results {args.results}: cannot write the report "
+                          f"({exc.strerror or exc}: {exc.filename or ''})") from None
     if not args.no_pictures:
         try:
             write_explorer(args.results, setup.engine)

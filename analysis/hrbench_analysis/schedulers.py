@@ -9,13 +9,16 @@ resumes from what is stored.
 each starting one engine process. ``--scheduler dask`` starts a ``dask.distributed``
 LocalCluster of ``--jobs`` single-threaded worker processes; ``--scheduler
 tcp://HOST:PORT`` uses an existing cluster (its workers need this package and the engine
-at the same path). A point whose worker dies is run again on another worker.
+at the same path). A point whose worker dies is run again on another worker. An
+interrupted sweep ends the engine runs under way on every worker, with their children.
 """
 
 import logging
 import re
+import uuid
 from concurrent.futures import CancelledError, ThreadPoolExecutor
 
+from .engine import kill_engine_runs
 from .errors import AnalysisError
 
 __all__ = ["LOCAL", "DASK", "SchedulerError", "check_scheduler", "open_scheduler", "Scheduler"]
@@ -74,17 +77,26 @@ class Scheduler:
     lost : tuple of type
         Exceptions of a future that mean its worker was lost, not that the point failed:
         the point is submitted again.
+    tag : str
+        Passed to every engine run of the points (:func:`hrbench_analysis.engine.run_engine`),
+        so that an interrupt ends this scheduler's runs on workers that others share.
     """
 
-    def __init__(self, name, executor, slots, lost=(), closers=()):
+    def __init__(self, name, executor, slots, lost=(), closers=(), cancel=None):
         self.name = name
+        self.tag = uuid.uuid4().hex
         self.executor = executor
         self.slots = max(1, int(slots))
         self.lost = tuple(lost)
         self._closers = list(closers)
+        self._cancel = cancel
 
     def close(self, cancel=False):
-        """Stop: wait for the running points, or with `cancel` start no new one."""
+        """Stop: wait for the running points, or with `cancel` start no new one and end
+        the engine runs under way (the local pool's end by themselves: an interrupt
+        of this process ends them, :func:`hrbench_analysis.engine.ending_engine_runs`)."""
+        if cancel and self._cancel is not None and self._closers:
+            self._cancel()
         if not self._closers:
             self.executor.shutdown(wait=True, cancel_futures=cancel)
         for close in self._closers:
@@ -152,4 +164,18 @@ def open_scheduler(name, jobs):
             close()
         raise SchedulerError(f"--scheduler {name}: the cluster has no workers")
     lost = (KilledWorker, FutureCancelledError, CancelledError)
-    return Scheduler(name, client.get_executor(pure=False), slots, lost, closers)
+    executor = client.get_executor(pure=False)
+
+    def cancel():
+        # Drop the points not started, and end the engine runs under way on every worker
+        # with their children: a worker's threads cannot be interrupted, and the engines
+        # run in process groups of their own that would outlive a closed worker.
+        executor.shutdown(wait=False)
+        try:
+            client.run(kill_engine_runs, scheduler.tag, on_error="ignore")
+        except Exception as exc:  # an unreachable worker: its runs end with it
+            logging.getLogger(__name__).warning("could not end the runs on the workers: %s",
+                                                exc)
+
+    scheduler = Scheduler(name, executor, slots, lost, closers, cancel)
+    return scheduler

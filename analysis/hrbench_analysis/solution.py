@@ -11,6 +11,7 @@ from matplotlib.figure import Figure
 
 from .engine import EngineError, run_engine, solve_argv
 from .loader import ResultFormatError
+from .output import staged
 from .render import plot_radiosity_profile, read_solution, render_figure
 from .report import ReportFigure
 
@@ -31,20 +32,25 @@ def solve_to_csv(engine, scene, params, eps, oracle, options, csv_path, min_area
                  max_depth=None):
     """Run one solve that writes its leaves to `csv_path`; return its JSON record (a dict).
 
-    The arguments are those of :func:`hrbench_analysis.engine.solve_argv`. Raises
-    EngineError if the solve fails (its exit code and message), ResultFormatError if it
-    prints no JSON.
+    The arguments are those of :func:`hrbench_analysis.engine.solve_argv`. The engine
+    writes a temporary file beside `csv_path`, which becomes `csv_path` once the solve
+    succeeded (:func:`hrbench_analysis.output.staged`): a run sharing the folder never
+    reads a part of it. Raises EngineError if the solve fails (its exit code and
+    message), ResultFormatError if it prints no JSON, OutputError if the file cannot be
+    written.
     """
-    argv = solve_argv(engine, scene, params, eps, oracle, min_area=min_area,
-                      max_depth=max_depth, options=options) + ["--out", str(csv_path)]
-    run = run_engine(argv)
-    if run.exit_code != 0:
-        raise EngineError(f"{' '.join(run.argv[1:])} failed with exit code {run.exit_code}: "
-                          f"{run.message or 'no message'}")
-    try:
-        return json.loads(run.stdout)
-    except json.JSONDecodeError as exc:
-        raise ResultFormatError(f"{' '.join(run.argv[1:])}: output is not JSON: {exc}") from None
+    with staged(csv_path) as written:
+        argv = solve_argv(engine, scene, params, eps, oracle, min_area=min_area,
+                          max_depth=max_depth, options=options) + ["--out", str(written)]
+        run = run_engine(argv)
+        command = " ".join(run.argv[1:]).replace(str(written), str(csv_path))
+        if run.exit_code != 0:
+            raise EngineError(f"{command} failed with exit code {run.exit_code}: "
+                              f"{run.message or 'no message'}")
+        try:
+            return json.loads(run.stdout)
+        except json.JSONDecodeError as exc:
+            raise ResultFormatError(f"{command}: output is not JSON: {exc}") from None
 
 
 def profile_figure(engine, results):

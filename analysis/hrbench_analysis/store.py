@@ -16,13 +16,17 @@ Several sweeps may share one cache at the same time and share its work: before r
 a point a sweep takes a *lease* on it (a row of the table ``leases``, written in a
 ``BEGIN IMMEDIATE`` transaction), other sweeps skip leased points and read their results
 when they are stored. A lease lapses when its owner, a process on the same host, is
-gone, or when its owner has not renewed it for :data:`LEASE_TIMEOUT` seconds (owners
-renew every :data:`LEASE_RENEW` seconds while the point runs); then another sweep takes
-the point over.
+gone (or its process id now belongs to a process started after the lease), when its
+owner has not renewed it for :data:`LEASE_TIMEOUT` seconds (owners renew every
+:data:`LEASE_RENEW` seconds while the point runs), or when it is dated more than
+:data:`LEASE_RENEW` seconds ahead of this host's clock; then another sweep takes the
+point over. So no lease outlives its process by more than :data:`LEASE_TIMEOUT`.
 """
 
 import json
+import math
 import os
+import re
 import socket
 import sqlite3
 import time
@@ -39,6 +43,7 @@ __all__ = [
     "ResultStore",
     "StoreError",
     "CACHED_FAILURES",
+    "is_verdict",
     "APPLICATION_ID",
     "STORE_SCHEMA_VERSION",
     "LEASE_TIMEOUT",
@@ -49,10 +54,56 @@ __all__ = [
     "BUSY",
 ]
 
-#: Exit codes of ``hrbench`` whose failures are deterministic and therefore cached:
-#: 2 (usage or input error) and 3 (a refinement limit was reached). Any other failure
-#: (a crash, a signal) is tried again on the next sweep.
+#: Exit codes of the engine's own verdicts on a run, the only failures that are cached
+#: (see :func:`is_verdict`): 2 (usage or input error) and 3 (a refinement limit was
+#: reached). Any other failure (a crash, a signal, a timeout, a program that could not
+#: be started) is tried again on the next sweep.
 CACHED_FAILURES = (2, 3)
+
+# The message of an interpreter or shell that could not open the engine's script
+# (python3, sh, perl): exit code 2, but no verdict of the engine.
+_SCRIPT_NOT_OPENED = re.compile(r": can't open file |^\S+: \d+: (?:can't|cannot) open |"
+                                r"^Can't open perl script ", re.IGNORECASE)
+# A limit that depends on the memory free at the moment of the run.
+_MEMORY_LIMIT = re.compile(r"memory budget|out of memory", re.IGNORECASE)
+
+
+def is_verdict(exit_code, message, options=()):
+    """Whether a failed run is the engine's own verdict on its point, so that it is cached.
+
+    The rule: exit code 2 or 3 (:data:`CACHED_FAILURES`) with a message (the last line
+    of standard error), except
+
+    - exit code 2 from an interpreter or a shell that could not open the engine's script
+      (``python3: can't open file ...``, ``sh: 0: cannot open ...``): the script missing
+      for a moment, not the engine refusing the run;
+    - exit code 3 for the memory budget or memory running out (``... exceed the memory
+      budget ...``, ``out of memory``), unless the run gave ``--max-memory`` and the
+      message names the budget: the default budget is a share of the memory free at
+      that moment, and memory running out depends on the machine's load.
+
+    Every other failure (exit code 1, 126, 127, a signal, a timeout, an unreadable
+    record, output beyond the analysis's bound) is not a verdict.
+
+    Parameters
+    ----------
+    exit_code : int
+    message : str
+        Last non-empty line of standard error.
+    options : sequence of (str, str), optional
+        The run's engine options (:attr:`PointKey.options`).
+
+    Returns
+    -------
+    verdict : bool
+    """
+    message = (message or "").strip()
+    if exit_code not in CACHED_FAILURES or not message:
+        return False
+    if exit_code == 2:
+        return not _SCRIPT_NOT_OPENED.search(message)
+    budget_given = "max_memory" in dict(options) and "memory budget" in message.lower()
+    return budget_given or not _MEMORY_LIMIT.search(message)
 
 #: SQLite ``application_id`` of a results cache ("hrbc"). A cache written before the id
 #: existed has 0 and is recognised by its tables.
@@ -184,9 +235,9 @@ class StoredPoint:
 
     @property
     def final(self):
-        """bool: whether the point needs no new run (it succeeded, or failed
-        deterministically, see :data:`CACHED_FAILURES`)."""
-        return self.ok or self.exit_code in CACHED_FAILURES
+        """bool: whether the point needs no new run: it succeeded, or its failure is the
+        engine's own verdict (:func:`is_verdict`)."""
+        return self.ok or is_verdict(self.exit_code, self.stderr, self.key.options)
 
 
 @dataclass(frozen=True)
@@ -253,22 +304,73 @@ _LEASE_COLUMNS = ("key", "host", "pid", "token", "started_at", "renewed_at")
 _TABLES = ("points", "leases")
 
 
-def _pid_alive(pid):
-    # Whether a process of this host with id `pid` still runs (a zombie does not).
-    if not isinstance(pid, int) or pid <= 0:
+def _is_real(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and \
+        math.isfinite(value)
+
+
+#: What each cell of the points table read back must be.
+_CELL_TYPES = {
+    "key": lambda v: isinstance(v, str),
+    "ok": lambda v: v in (0, 1) and isinstance(v, int),
+    "exit_code": lambda v: isinstance(v, int) and not isinstance(v, bool),
+    "stderr": lambda v: isinstance(v, str),
+    "output": lambda v: isinstance(v, str),
+    "options": lambda v: v is None or isinstance(v, str),
+    "wall_seconds": lambda v: _is_real(v) and v >= 0,
+    "finished_at": _is_real,
+}
+
+
+def _options_of(text):
+    # The options column as (name, text) pairs; a cell that is not a JSON object as none.
+    try:
+        options = json.loads(text)
+    except (TypeError, ValueError):
+        return ()
+    return tuple(options.items()) if isinstance(options, dict) else ()
+
+
+def _boot_time():
+    # Seconds since the epoch at which this host booted (Linux), or None.
+    try:
+        with open("/proc/stat", "rb") as fh:
+            for line in fh:
+                if line.startswith(b"btime "):
+                    return float(line.split()[1])
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def _pid_alive(pid, since=None):
+    # Whether a process of this host with id `pid` still runs (a zombie does not) and,
+    # given `since` (seconds since the epoch), started before then: a process started
+    # later has only inherited the id of the lease's owner.
+    if not isinstance(pid, int) or isinstance(pid, bool) or not 0 < pid < 2**31:
         return False
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
         return False
     except OSError:
-        return True  # exists, owned by someone else
+        pass  # exists, owned by someone else
     try:
         with open(f"/proc/{pid}/stat", "rb") as fh:
-            state = fh.read().rsplit(b")", 1)[1].split()[0]
-        return state != b"Z"
-    except (OSError, IndexError):
+            fields = fh.read().rsplit(b")", 1)[1].split()
+    except OSError:
+        return True  # no /proc: the id is all there is to go by
+    if fields[:1] == [b"Z"]:
+        return False
+    boot = _boot_time()
+    if since is None or boot is None:
         return True
+    try:
+        # Field 22 of stat: the start time in clock ticks after boot (20th after the name).
+        started = boot + int(fields[19]) / os.sysconf("SC_CLK_TCK")
+    except (IndexError, ValueError, OSError):
+        return True
+    return started <= since + 1.0  # btime is whole seconds
 
 
 class ResultStore:
@@ -324,6 +426,16 @@ class ResultStore:
         advice = (f"; remove it (rm {self.path}) or pass another --results directory"
                   if remove else "")
         return StoreError(one_line(f"results cache {self.path} {what}{advice}"))
+
+    def _cells_iv(self, text, row, columns):
+        # The cells of a points row, or a StoreError naming the first of the wrong type
+        # (SQLite keeps any type in any column: a cache edited or written by a foreign
+        # program may hold text where a number is due).
+        for column, value in zip(columns, row, strict=True):
+            if not _CELL_TYPES[column](value):
+                raise self._fail(f"holds a cell of the wrong type: column {column} of point "
+                                 f"{one_line(text, 80)} is {one_line(repr(value), 40)}")
+        return row
 
     def _error(self, exc):
         # Translate a sqlite3 error into a StoreError with advice.
@@ -459,7 +571,11 @@ class ResultStore:
         with self._guard():
             rows = self._db.execute("SELECT key, wall_seconds FROM points WHERE ok = 1 "
                                     "ORDER BY finished_at").fetchall()
-        return {_without_version(key): float(seconds) for key, seconds in rows}
+        rows = [self._cells_iv(row[0], row, ("key", "wall_seconds")) for row in rows]
+        try:
+            return {_without_version(key): float(seconds) for key, seconds in rows}
+        except (ValueError, AttributeError):  # a key that is not a JSON object
+            raise self._fail("holds a point whose key is not a JSON object") from None
 
     def get(self, key):
         """The cached run for `key`, or ``None``.
@@ -478,6 +594,8 @@ class ResultStore:
                 "WHERE key = ?", (key.text(),)).fetchone()
         if row is None:
             return None
+        row = self._cells_iv(key.text(), row, ("ok", "exit_code", "stderr", "output",
+                                                "wall_seconds", "finished_at"))
         return StoredPoint(key, bool(row[0]), row[1], row[2], row[3], row[4], row[5])
 
     def is_final(self, key):
@@ -526,21 +644,29 @@ class ResultStore:
 
     def _settled(self, text, since):
         # Whether the point needs no run by this sweep: final, or stored since `since`.
-        row = self._db.execute("SELECT ok, exit_code, finished_at FROM points WHERE key = ?",
-                               (text,)).fetchone()
+        row = self._db.execute("SELECT ok, exit_code, stderr, options, finished_at FROM points "
+                               "WHERE key = ?", (text,)).fetchone()
         if row is None:
             return False
-        return bool(row[0]) or row[1] in CACHED_FAILURES or (
-            since is not None and row[2] >= since)
+        ok, code, message, options, finished_at = self._cells_iv(
+            text, row, ("ok", "exit_code", "stderr", "options", "finished_at"))
+        return bool(ok) or is_verdict(code, message, _options_of(options)) or (
+            since is not None and finished_at >= since)
 
     def _held(self, lease, now):
-        # Whether another sweep's lease still counts.
+        # Whether another sweep's lease still counts: renewed within lease_timeout, not
+        # dated ahead of this clock by more than a renewal (no live owner renews into
+        # the future; such a lease would otherwise hold for as long as it is ahead), and,
+        # on this host, owned by a live process that started before the lease.
         if lease is None or lease.token == self.token:
             return False
-        if now - lease.renewed_at > self.lease_timeout:
+        if not all(isinstance(t, (int, float)) and not isinstance(t, bool)
+                   for t in (lease.started_at, lease.renewed_at)):
+            return False  # a row no sweep of this analysis wrote
+        if not -LEASE_RENEW <= now - lease.renewed_at <= self.lease_timeout:
             return False
         return not (lease.host == self.host and lease.pid != self.pid
-                    and not _pid_alive(lease.pid))
+                    and not _pid_alive(lease.pid, lease.started_at))
 
     def acquire(self, key, since=None):
         """Take the lease on a point before running it.
@@ -558,8 +684,9 @@ class ResultStore:
             :data:`ACQUIRED`: the lease is this store's, run the point and :meth:`put`
             it. :data:`DONE`: the point is final or was stored since `since`.
             :data:`BUSY`: another live sweep holds the lease; ask again later. A lease
-            whose owner process on this host is gone, or that was not renewed for
-            `lease_timeout` seconds, is taken over.
+            whose owner process on this host is gone, that was not renewed for
+            `lease_timeout` seconds or that is dated ahead of this clock by more than
+            :data:`LEASE_RENEW` seconds is taken over.
         """
         text = key.text()
         with self._guard():

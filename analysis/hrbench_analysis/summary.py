@@ -1,5 +1,6 @@
 """How the report presents its claims as a whole: their order, groups, sources and tally."""
 
+import hashlib
 import re
 from collections import Counter
 
@@ -14,6 +15,7 @@ __all__ = [
     "report_order",
     "source_label",
     "claim_anchors",
+    "distinct_names",
     "verdict_tally",
 ]
 
@@ -122,20 +124,39 @@ def claim_anchors(claims):
     Returns
     -------
     anchors : dict of str to str
-        Claim id to an anchor of lower-case letters, digits and dashes, ``"claim-c1-3d"``
-        for ``"C1-3d"``; unique, a number added where two ids give the same one.
+        Claim id to its :func:`distinct_names` name with prefix ``claim``:
+        ``"claim-c1-3d"`` for ``"C1-3d"``.
     """
-    anchors, used = {}, set()
-    for claim in claims:
-        words = "".join(ch if ch.isalnum() else " " for ch in claim.id.lower()).split()
-        base = "-".join(["claim", *words])
-        anchor, n = base, 1
-        while anchor in used:
-            n += 1
-            anchor = f"{base}-{n}"
-        used.add(anchor)
-        anchors[claim.id] = anchor
-    return anchors
+    return distinct_names([claim.id for claim in claims], "claim")
+
+
+def distinct_names(texts, prefix):
+    """Names for texts (claim ids) as anchors and file names: distinct texts, distinct names.
+
+    A name is `prefix` and the text's words, in lower case, joined by dashes (a word a
+    run of letters and digits): ``"slopes-c1-3d"`` for ``"C1-3d"``. Where texts of one
+    call give the same name (``R1`` and ``r1``, ``R-1`` and ``R.1``), each of them gets
+    ``--`` and the first 8 hex digits of the SHA-256 of its text added, which no plain
+    name holds: so a name depends on its text and on the others that share it only, not
+    on their order.
+
+    Parameters
+    ----------
+    texts : iterable of str
+    prefix : str
+
+    Returns
+    -------
+    names : dict of str to str
+    """
+    plain = {}
+    for text in texts:
+        words = "".join(ch if ch.isalnum() else " " for ch in text.lower()).split()
+        plain[text] = "-".join([prefix, *words])
+    shared = Counter(plain.values())
+    return {text: name if shared[name] == 1 else
+            f"{name}--{hashlib.sha256(text.encode('utf-8', 'surrogatepass')).hexdigest()[:8]}"
+            for text, name in plain.items()}
 
 
 def verdict_tally(outcomes):

@@ -22,6 +22,7 @@ import numpy as np
 
 from .claimfile import ClaimsFileError
 from .engine import (
+    OUTPUT_EXCEEDED,
     format_number,
     links_argv,
     option_text,
@@ -195,12 +196,14 @@ def _with_statistics(claim, points, hrbench):
     return out
 
 
-def _execute(point):
+def _execute(point, timeout=None, tag=None):
     # Run one point in a worker thread; the caller stores the result.
-    run = run_engine(point.argv)
+    run = run_engine(point.argv, timeout, tag)
     ok = run.exit_code == 0
     last = run.message
-    if ok:
+    if run.stopped == OUTPUT_EXCEEDED:
+        last = f"{UNREADABLE_RECORD}{last}"
+    elif ok:
         try:
             result = parse_run_json(run.stdout)
         except ResultFormatError as exc:
@@ -213,7 +216,7 @@ def _execute(point):
     output, code, seconds = run.stdout, run.exit_code, run.wall_seconds
     if ok and point.statistics is not None:
         # Dump the links, measure the hierarchy statistics, add them to the record.
-        found = measure(point.statistics, result.counters.get("links"))
+        found = measure(point.statistics, result.counters.get("links"), timeout, tag)
         seconds += found.wall_seconds
         if found.statistics is None:
             ok, last, code = False, found.message, found.exit_code
@@ -222,7 +225,7 @@ def _execute(point):
     return StoredPoint(point.key, ok, code, "" if ok else last, output, seconds)
 
 
-def _execute_shared(points):
+def _execute_shared(points, timeout=None, tag=None):
     # Count several points of an eps or min_area sweep with one run (--sweep), one
     # record per point, each stored with its share of the run's wall time. If that run
     # fails or prints what the analysis cannot match to the points, each point runs
@@ -231,13 +234,13 @@ def _execute_shared(points):
     at = words.index("--sweep") + 1
     param = words[at]
     words[at] = f"{param}=" + ",".join(format_number(getattr(p.key, param)) for p in points)
-    run = run_engine(words)
+    run = run_engine(words, timeout, tag)
     lines = run.stdout.splitlines()
     if run.exit_code == 0 and len(lines) == len(points) and all(
             _record_of(point, line) for point, line in zip(points, lines, strict=True)):
         return [StoredPoint(point.key, True, 0, "", line + "\n", run.wall_seconds / len(points))
                 for point, line in zip(points, lines, strict=True)]
-    return [_execute(p) for p in points]
+    return [_execute(p, timeout, tag) for p in points]
 
 
 def _record_of(point, line):
@@ -325,7 +328,7 @@ def _point_text(key):
 
 
 def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
-               scheduler=None):
+               scheduler=None, timeout=None):
     """Run every point that the store does not hold yet, in parallel.
 
     Parameters
@@ -345,6 +348,10 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
         Where the runs execute (:func:`hrbench_analysis.schedulers.open_scheduler`): a
         Dask cluster, say. Default: a local pool of `jobs` threads, closed on return. A
         given scheduler is left open, and its ``slots`` replace `jobs`.
+    timeout : float, optional
+        Seconds each engine run may take (``--run-timeout``; default: no limit). A run
+        past it is ended with its child processes and stored as a failure that the next
+        sweep runs again.
 
     Returns
     -------
@@ -409,11 +416,11 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
                         else:
                             waiting.append(p)
                     if acquired:
-                        running[_submit(scheduler, acquired)] = acquired
+                        running[_submit(scheduler, acquired, timeout)] = acquired
                 if running:
                     bar.running = [p.key for ps in running.values() for p in ps]
-                    timeout = poll if waiting else LEASE_RENEW
-                    finished, _ = wait(running, timeout=timeout, return_when=FIRST_COMPLETED)
+                    finished, _ = wait(running, timeout=poll if waiting else LEASE_RENEW,
+                                       return_when=FIRST_COMPLETED)
                     for future in finished:
                         batch = running.pop(future)
                         try:
@@ -422,7 +429,7 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
                             first = batch[0].key
                             attempts[first] = attempts.get(first, 1) + 1
                             if attempts[first] <= MAX_ATTEMPTS:
-                                running[_submit(scheduler, batch)] = batch
+                                running[_submit(scheduler, batch, timeout)] = batch
                                 continue
                             results = [StoredPoint(
                                 p.key, False, WORKER_LOST,
@@ -460,16 +467,16 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
     return {"total": len(unique), "cached": cached, "ran": ran, "failed": failed}
 
 
-def _submit(scheduler, batch):
+def _submit(scheduler, batch, timeout):
     # One engine run for a batch of points: the point's own, or their shared run. The
     # future gives a list of StoredPoint either way.
     if len(batch) > 1:
-        return scheduler.executor.submit(_execute_shared, batch)
-    return scheduler.executor.submit(_execute_list, batch[0])
+        return scheduler.executor.submit(_execute_shared, batch, timeout, scheduler.tag)
+    return scheduler.executor.submit(_execute_list, batch[0], timeout, scheduler.tag)
 
 
-def _execute_list(point):
-    return [_execute(point)]
+def _execute_list(point, timeout=None, tag=None):
+    return [_execute(point, timeout, tag)]
 
 
 def order_by_cost(points, known_seconds):

@@ -31,12 +31,11 @@ from .cli import (
     output_file,
     positive_int,
     positive_number,
-    run_command,
     save_figure,
     scene_params,
 )
 from .engine import EngineError, format_number, run_argv, run_engine, run_links
-from .errors import AnalysisError
+from .errors import AnalysisError, run_main
 from .loader import parse_run_json, read_links_csv
 from .plots import plot_link_tiling
 
@@ -219,7 +218,7 @@ def _main(argv):
 
 def main(argv=None):
     """Run ``hrbench-tiling``; return its exit code (0, 2 for bad input or environment)."""
-    return run_command("hrbench-tiling", _main, argv)
+    return run_main("hrbench-tiling", _main, argv)
 
 
 if __name__ == "__main__":

@@ -29,9 +29,11 @@ Prints a Markdown summary and writes it to --summary FILE and, when set, appends
 $GITHUB_STEP_SUMMARY ($GITHUB_OUTPUT gets verdict= and summary=). Progress goes to
 stderr; so does a warning when BASE and HEAD are the same commit. Exit codes: 0 both
 gates pass; 1 a gate failed (or a build or a benchmark run failed); 2 usage or input
-error (unknown ref, missing build or executable, not a git repository), with one line on
-stderr; 3 no gate failed but the timing gate is inconclusive (too noisy, or too few
-rounds, to resolve the threshold). See examples/ci/README.md and docs/ci.md.
+error (unknown ref, missing build or executable, not a git repository, a malformed
+baseline file), with one line on stderr; 3 no gate failed but the timing gate is
+inconclusive (too noisy, or too few rounds, to resolve the threshold); 70 internal error
+(a bug of the gates or of check_baseline.py; its traceback with --debug); 74 the summary
+could not be written. See examples/ci/README.md and docs/ci.md.
 """
 
 import argparse
@@ -49,7 +51,7 @@ _ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__
 # standard library only; benchcompare needs numpy and scipy and is imported when timing).
 sys.path[:0] = [os.path.join(_ROOT, "tools"), os.path.join(_ROOT, "analysis")]
 
-from benchtools.baseline import RunError, get_counter_changes, load_baseline  # noqa: E402
+from benchtools.baseline import BaselineError, get_counter_changes, load_baseline  # noqa: E402
 from hrbench_analysis.builds import (  # noqa: E402
     DEFAULT_FILTER,
     BuildError,
@@ -60,6 +62,7 @@ from hrbench_analysis.builds import (  # noqa: E402
     resolve_ref,
     run_benchmarks,
 )
+from hrbench_analysis.errors import run_main  # noqa: E402
 from hrbench_analysis.gbench import (  # noqa: E402
     InputError,
     format_time,
@@ -75,6 +78,10 @@ DEFAULT_THRESHOLD = 0.10
 DEFAULT_ALPHA = 0.05
 DEFAULT_METRIC = "cpu_time"
 DEFAULT_MIN_TIME = 0.2
+# Bounds of --rounds and --min-time: a typo (--rounds 1000000, --min-time 1e9) would hold
+# a CI runner for days.
+MAX_ROUNDS = 1000
+MAX_MIN_TIME = 60.0
 BASELINE_PATH = "tests/baseline/counts.json"
 SIDES = ("base", "head")
 # Lines of a gate's console output kept in the Markdown summary (all are printed).
@@ -153,9 +160,11 @@ def parse_args(argv):
                    help="do not compile through ccache even if it is installed")
     p.add_argument("--skip-counts", action="store_true", help="run the timing gate only")
     p.add_argument("--skip-timing", action="store_true", help="run the count gate only")
+    p.add_argument("--debug", action="store_true",
+                   help="print the traceback of an internal error (exit code 70)")
     args = p.parse_args(argv)
-    if args.rounds < 1:
-        p.error("--rounds must be at least 1")
+    if not 1 <= args.rounds <= MAX_ROUNDS:
+        p.error(f"--rounds must be from 1 to {MAX_ROUNDS}")
     if not (math.isfinite(args.threshold) and args.threshold >= 0):
         p.error("--threshold must be a finite number >= 0")
     if not 0 < args.alpha < 1:
@@ -169,8 +178,8 @@ def parse_args(argv):
                         "--bench-cmd, put it in the command")
     args.filter = DEFAULT_FILTER if args.filter is None else args.filter
     args.min_time = DEFAULT_MIN_TIME if args.min_time is None else args.min_time
-    if not (math.isfinite(args.min_time) and args.min_time > 0):
-        p.error("--min-time must be a number > 0")
+    if not (math.isfinite(args.min_time) and 0 < args.min_time <= MAX_MIN_TIME):
+        p.error(f"--min-time must be a number of seconds > 0 and at most {MAX_MIN_TIME:g}")
     if args.jobs < 1:
         p.error("--jobs must be at least 1")
     if not args.filter.strip():
@@ -271,7 +280,7 @@ def count_gate(repo, prefix, base_sha, head_sha, head_build, results, jobs):
             f.write(base_text)
         try:
             gate["info"] = baseline_diff(load_baseline(base_file), load_baseline(head_file))
-        except RunError as e:
+        except BaselineError as e:
             gate["info"] = [f"(cannot compare with BASE's file: {e})"]
         gate["notes"].append(f"HEAD updates {rel} (on purpose): the counts below changed "
                              "relative to BASE; information, not a failure")
@@ -281,10 +290,15 @@ def count_gate(repo, prefix, base_sha, head_sha, head_build, results, jobs):
     log(f"counts: tools/check_baseline.py --hrbench {engine} (HEAD's {rel})")
     proc = subprocess.run(cmd, cwd=head_dir, capture_output=True, text=True)
     gate["output"] = (proc.stdout + proc.stderr).rstrip("\n").splitlines()
+    last_line = proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else ""
     if proc.returncode == 2:
-        raise UsageError(f"check_baseline.py: {proc.stderr.strip().splitlines()[-1]}"
-                         if proc.stderr.strip() else "check_baseline.py: usage or input error")
-    if proc.returncode != 0:
+        raise UsageError(f"check_baseline.py: {last_line or 'usage or input error'}")
+    if proc.returncode not in (0, 1):
+        # Only 1 is a count that changed: a crash (70), a failed write (74) or a signal is
+        # the tool's failure, never the change's.
+        raise RuntimeError(f"check_baseline.py ended with exit code {proc.returncode}"
+                           + (f": {last_line}" if last_line else ""))
+    if proc.returncode == 1:
         gate["status"] = "fail"
     last = [line for line in proc.stdout.splitlines() if line.startswith("count baseline:")]
     gate["line"] = last[0][len("count baseline: "):] if last else f"exit code {proc.returncode}"
@@ -654,12 +668,13 @@ def _write_failure_summary(args, message):
 
 
 def main(argv=None):
-    args = parse_args(sys.argv[1:] if argv is None else argv)
+    return run_main(PROG, _gates, argv)
+
+
+def _gates(argv):
+    args = parse_args(argv)
     try:
         return run(args)
-    except UsageError as e:
-        print(f"{PROG}: error: {e}", file=sys.stderr)
-        return 2
     except (GateFailure, BuildError) as e:
         print(f"{PROG}: failed: {e}", file=sys.stderr)
         _write_failure_summary(args, str(e))

@@ -76,7 +76,7 @@ def test_reader_is_tolerant_but_checks_schema_and_counters(data_dir):
         parse_run_json(json.dumps(dict(raw, schema_version=2)))
     with pytest.raises(ResultFormatError, match="'links'"):
         parse_run_json(json.dumps({k: v for k, v in raw.items() if k != "links"}))
-    with pytest.raises(ResultFormatError, match="not JSON"):
+    with pytest.raises(ResultFormatError, match="not valid JSON"):
         parse_run_json("hrbench: oops")
 
 

@@ -139,7 +139,7 @@ def _broken(change):
 
 
 @pytest.mark.parametrize("text, match", [
-    ("hrbench: usage", "did not print JSON"),
+    ("hrbench: usage", "'capabilities --json' is not valid JSON"),
     ("[1, 2]", "did not print a JSON object"),
     (_broken(lambda d: d.update(schema_version=2)), "schema_version 2; this analysis reads 1"),
     (_broken(lambda d: d.pop("counters")), "capabilities: missing key 'counters'"),
@@ -327,7 +327,7 @@ def test_unknown_formula_name_exits_2_before_any_run(tmp_path, data_dir, fake_hr
 
 @pytest.mark.parametrize("how, match", [
     ("missing", "has no usable 'capabilities --json' command (exit code 2"),
-    ("garbage", "'capabilities --json' did not print JSON"),
+    ("garbage", "'capabilities --json' is not valid JSON"),
 ])
 def test_engine_without_capabilities_exits_2_with_one_line(tmp_path, data_dir, fake_hrbench,
                                                            capsys, monkeypatch, run_log,

@@ -238,3 +238,101 @@ def test_run_records_raise_only_their_own_error(text):
         return
     env = run_environment(result)
     assert {"N", "L", "eps"} <= set(env)
+
+
+def _with_duplicate_key(text):
+    # The text of a JSON object with its first key given again (the last value winning in
+    # Python's reader).
+    key = text[1:].split(":", 1)[0]
+    return "{" + f"{key}: 0, " + text[1:] if text.startswith('{"') else text
+
+
+@quick(150)
+@given(st.dictionaries(st.sampled_from(["schema_version", "nodes", "leaves", "links",
+                                        "oracle_calls", "max_depth", "eps", "version",
+                                        "scene", "oracle", "params"]), _JSON, min_size=1)
+       .map(lambda d: _with_duplicate_key(json.dumps({"schema_version": 1, **d}))))
+def test_a_run_record_with_a_key_given_twice_is_never_read(text):
+    from hrbench_analysis.loader import ResultFormatError, parse_run_json
+    with pytest.raises(ResultFormatError, match="given twice|is not a JSON number"):
+        parse_run_json(text)
+
+
+# --- Google Benchmark files, count baselines, the claims' [source] ----------------------------
+
+_ROW_KEYS = ["name", "run_name", "run_type", "real_time", "cpu_time", "time_unit",
+             "iterations", "error_occurred", "repetitions"]
+_GBENCH_VALUES = st.one_of(
+    st.none(), st.booleans(), st.integers(-2**70, 2**70), st.floats(),
+    st.sampled_from(["iteration", "aggregate", "ns", "us", "ms", "s", "h", "BM_A", "BM_B"]),
+    st.text(max_size=8))
+_ROWS = st.lists(st.one_of(st.dictionaries(st.sampled_from(_ROW_KEYS), _GBENCH_VALUES,
+                                           max_size=7), _GBENCH_VALUES), max_size=6)
+
+
+@quick(200)
+@given(st.one_of(
+    st.fixed_dictionaries({"benchmarks": _ROWS},
+                          optional={"context": st.dictionaries(
+                              st.sampled_from(["json_schema_version", "host_name"]),
+                              _GBENCH_VALUES)}).map(json.dumps),   # NaN spelt as Python does
+    st.text(max_size=200), _JSON.map(json.dumps)))
+def test_benchmark_files_raise_only_their_own_error(scratch, text):
+    from hrbench_analysis.gbench import InputError, get_repetition_times, load_benchmark_file
+    path = scratch / "bench.json"
+    path.write_text(text, encoding="utf-8", errors="surrogatepass")
+    try:
+        data = load_benchmark_file(path)
+        for metric in ("real_time", "cpu_time"):
+            times = get_repetition_times(data, metric)
+    except InputError as exc:
+        assert "Traceback" not in str(exc)
+        return
+    for values in times.values():      # what is read is usable by the comparison
+        assert all(math.isfinite(t) and t >= 0 for t in values)
+
+
+_BASELINE_RUNS = st.lists(st.one_of(
+    st.fixed_dictionaries({"args": st.lists(st.one_of(st.text(max_size=6), st.integers()),
+                                            max_size=3)},
+                          optional={"counts": st.one_of(_JSON, st.dictionaries(
+                              st.sampled_from(["links", "nodes", "links_per_depth"]),
+                              st.one_of(st.integers(-5, 2**70), st.lists(st.integers(-1, 9),
+                                                                        max_size=3)),
+                              max_size=3))}),
+    _JSON), max_size=4)
+
+
+@quick(150)
+@given(st.one_of(st.fixed_dictionaries({"schema_version": st.sampled_from([1, 1, 2, "1"]),
+                                        "runs": _BASELINE_RUNS}).map(json.dumps),
+                 st.text(max_size=100)))
+def test_baseline_files_raise_only_their_own_error(scratch, text):
+    import os
+    import sys
+    tools = str(Path(__file__).resolve().parents[2] / "tools")
+    if tools not in sys.path:
+        sys.path.insert(0, tools)
+    from benchtools.baseline import BaselineError, get_counter_changes, load_baseline
+    path = scratch / "counts.json"
+    path.write_text(text, encoding="utf-8", errors="surrogatepass")
+    try:
+        data = load_baseline(os.fspath(path))
+    except BaselineError:
+        return
+    for run in data["runs"]:           # a loaded baseline can be compared with any record
+        assert all(isinstance(a, str) for a in run["args"])
+        get_counter_changes(run.get("counts") or {}, {"links": 1})
+
+
+@quick(150)
+@given(st.dictionaries(st.sampled_from(["key", "citation", "citaton", "url", "Key"]),
+                       _SCALARS, max_size=3))
+def test_claims_source_tables_raise_only_their_own_error(scratch, source):
+    text = (DATA / "small_claims.toml").read_text()
+    head, rest = text.split("[[claim]]", 1)
+    table = "[source]\n" + "".join(f"{json.dumps(k)} = {_toml(v)}\n" for k, v in source.items())
+    claims = _load(scratch, (table + "\n[[claim]]" + rest).encode("utf-8", "surrogatepass"))
+    if claims is not None:             # only the two keys, each a non-empty string
+        assert set(source) <= {"key", "citation"}
+        assert all(isinstance(v, str) and v.strip() for v in source.values())

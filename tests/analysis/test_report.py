@@ -142,8 +142,14 @@ def test_anchors_are_unique_and_plain():
             self.id = cid
 
     anchors = claim_anchors([Named(i) for i in ("C1-3d", "c1 3d", "C1.3D", "HO-N", "ü?")])
-    assert list(anchors.values()) == ["claim-c1-3d", "claim-c1-3d-2", "claim-c1-3d-3",
-                                      "claim-ho-n", "claim-ü"]
+    # Ids that share a plain anchor get the first 8 hex digits of their SHA-256
+    # (printf 'C1-3d' | sha256sum), whatever their order.
+    assert list(anchors.values()) == ["claim-c1-3d--279fd5a8", "claim-c1-3d--d3bad2b2",
+                                      "claim-c1-3d--f8b2a441", "claim-ho-n", "claim-ü"]
+    reversed_ids = claim_anchors([Named(i) for i in ("ü?", "HO-N", "C1.3D", "c1 3d")])
+    assert reversed_ids == {"ü?": "claim-ü", "HO-N": "claim-ho-n",
+                            "C1.3D": "claim-c1-3d--f8b2a441", "c1 3d": "claim-c1-3d--d3bad2b2"}
+    assert claim_anchors([Named("C1-3d")]) == {"C1-3d": "claim-c1-3d"}
 
 
 def test_terminal_table_fits_100_columns_and_marks_timed_claims(outcomes, capsys):

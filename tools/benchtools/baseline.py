@@ -14,16 +14,19 @@ no longer lists fails it. Scalars are compared exactly, histograms (lists) entry
 entry.
 """
 
-import json
 from dataclasses import dataclass, field
 
 from hrbench_analysis.engine import EngineError, run_engine
+from hrbench_analysis.errors import AnalysisError, InputFileError, parse_json, read_bounded
 
-__all__ = ["BASELINE_SCHEMA_VERSION", "DEFAULT_RUNS", "RunError", "CounterChange", "RunDiff",
+__all__ = ["BASELINE_SCHEMA_VERSION", "MAX_BASELINE_BYTES", "DEFAULT_RUNS", "BaselineError",
+           "RunError", "CounterChange", "RunDiff",
            "CounterCoverage", "load_baseline", "make_baseline", "run_counts",
            "get_counter_coverage", "get_counter_changes", "print_baseline_report"]
 
 BASELINE_SCHEMA_VERSION = 1
+#: Largest baseline file read, in bytes (the default runs' file has about 100 KiB).
+MAX_BASELINE_BYTES = 64 << 20
 
 
 def _runs(oracle, eps_scale):
@@ -87,6 +90,10 @@ DEFAULT_RUNS = ([
 
 class RunError(Exception):
     """The engine failed on a run, or its output was not the expected JSON."""
+
+
+class BaselineError(AnalysisError, ValueError):
+    """A baseline file that cannot be read or does not follow the format (exit code 2)."""
 
 
 @dataclass(frozen=True)
@@ -163,23 +170,53 @@ def load_baseline(path):
 
     Raises
     ------
-    RunError
-        If the file cannot be read, is not JSON or has an unknown schema version.
+    BaselineError
+        If the file is not a regular file of at most :data:`MAX_BASELINE_BYTES` bytes,
+        not strict JSON (no ``NaN``, no key given twice), of another schema version, or
+        a run's ``args`` is not a list of strings or its ``counts`` not an object of
+        integers ``>= 0`` and lists of them.
     """
     try:
-        with open(path, encoding="utf-8") as f:
-            data = json.load(f)
-    except OSError as e:
-        raise RunError(f"cannot read baseline {path}: {e.strerror}") from None
-    except json.JSONDecodeError as e:
-        raise RunError(f"baseline {path} is not valid JSON: {e}") from None
+        data = parse_json(read_bounded(path, MAX_BASELINE_BYTES, "baseline"),
+                          f"baseline {path}", BaselineError)
+    except InputFileError as e:
+        raise BaselineError(str(e)) from None
     if not isinstance(data, dict) or data.get("schema_version") != BASELINE_SCHEMA_VERSION:
-        raise RunError(f"baseline {path}: schema_version must be {BASELINE_SCHEMA_VERSION}")
+        raise BaselineError(f"baseline {path}: schema_version must be "
+                            f"{BASELINE_SCHEMA_VERSION}")
     runs = data.get("runs")
-    if not isinstance(runs, list) or not all(
-            isinstance(r, dict) and isinstance(r.get("args"), list) for r in runs):
-        raise RunError(f"baseline {path}: 'runs' must be a list of objects with 'args'")
+    if not isinstance(runs, list):
+        raise BaselineError(f"baseline {path}: 'runs' must be a list of objects with 'args'")
+    for n, run in enumerate(runs, 1):
+        problem = _run_problem(run)
+        if problem:
+            raise BaselineError(f"baseline {path}: run {n}: {problem}")
     return data
+
+
+def _is_count(value):
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
+
+
+def _run_problem(run):
+    # Why one entry of 'runs' does not follow the format, or None.
+    if not isinstance(run, dict):
+        return "must be an object with 'args'"
+    args = run.get("args")
+    if not (isinstance(args, list) and all(isinstance(a, str) and "\0" not in a
+                                           for a in args)):
+        return "'args' must be a list of strings"
+    counts = run.get("counts")
+    if counts is None:
+        return None
+    if not isinstance(counts, dict):
+        return "'counts' must be an object of counters"
+    for name, value in counts.items():
+        if not (_is_count(value) or isinstance(value, list)
+                and all(_is_count(v) for v in value)):
+            return (f"counter {name!r} must be an integer >= 0 or a list of them, got "
+                    f"{str(value)[:40]}")
+    return None
 
 
 def make_baseline(runs, counts, engine_version):
@@ -236,11 +273,8 @@ def run_counts(hrbench, args, counters, timeout=120):
     except EngineError as e:
         raise RunError(str(e)) from None
     if run.exit_code != 0:
-        raise RunError(f"exit code {run.exit_code}: {run.stderr.strip()}")
-    try:
-        record = json.loads(run.stdout)
-    except json.JSONDecodeError as e:
-        raise RunError(f"unexpected output (JSONDecodeError: {e})") from None
+        raise RunError(f"exit code {run.exit_code}: {run.message or 'no message'}")
+    record = parse_json(run.stdout, "the run's output", RunError)
     if not isinstance(record, dict):
         raise RunError("unexpected output: not a JSON object")
     missing = [name for name in counters if name not in record]

@@ -18,11 +18,20 @@ FAKE_HRBENCH_REFUSE_BELOW_EPS exit with code 2 (input error) when eps is below t
 FAKE_HRBENCH_REPORT_METHOD    report this method instead of the one asked for
 FAKE_HRBENCH_CAPABILITIES     "missing": no capabilities command (like hrbench 0.2);
                               "garbage": it prints text that is not JSON
+FAKE_HRBENCH_MEMORY_BELOW_EPS exit with code 3 and the engine's memory-budget message
+                              when eps is below this (as under the default budget, 90%
+                              of the memory free at that moment)
+FAKE_HRBENCH_CHILD            "hang": a run starts a child that sleeps holding standard
+                              output open, then hangs itself; "leave": it starts that
+                              child and finishes normally, leaving the child behind
+FAKE_HRBENCH_PIDS             file to which a run appends its pid and its child's
+FAKE_HRBENCH_FLOOD            bytes a run prints on standard output before its record
 """
 
 import json
 import math
 import os
+import subprocess
 import sys
 import time
 
@@ -154,6 +163,26 @@ def capabilities():
     return 0
 
 
+def misbehave():
+    # The hostile engines of FAKE_HRBENCH_CHILD and FAKE_HRBENCH_FLOOD.
+    child = os.environ.get("FAKE_HRBENCH_CHILD")
+    pids = [os.getpid()]
+    if child:
+        # The child inherits standard output and keeps it open while it sleeps.
+        sleeper = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(600)"])
+        pids.append(sleeper.pid)
+    if os.environ.get("FAKE_HRBENCH_PIDS"):
+        with open(os.environ["FAKE_HRBENCH_PIDS"], "a") as fh:
+            fh.write(" ".join(map(str, pids)) + "\n")
+    if child == "hang":
+        time.sleep(600)
+    flood = int(os.environ.get("FAKE_HRBENCH_FLOOD", "0"))
+    block = "x" * 65535 + "\n"
+    while flood > 0:
+        sys.stdout.write(block[:flood])
+        flood -= len(block)
+
+
 def main(argv):
     if argv[:1] == ["--version"]:
         print(VERSION)
@@ -195,6 +224,12 @@ def main(argv):
     params.setdefault("l2", params["l"])
     if os.environ.get("FAKE_HRBENCH_DELAY"):
         time.sleep(float(os.environ["FAKE_HRBENCH_DELAY"]))
+    misbehave()
+    memory = os.environ.get("FAKE_HRBENCH_MEMORY_BELOW_EPS")
+    if memory and eps < float(memory):
+        sys.stderr.write("hrbench: error: element trees would exceed the memory budget "
+                         "(1048576 elements); raise --max-memory or eps\n")
+        return 3
     refuse = os.environ.get("FAKE_HRBENCH_REFUSE_BELOW_EPS")
     if refuse and eps < float(refuse):
         usage(f"the patches touch at eps={eps}; give --min-area or --max-depth")
