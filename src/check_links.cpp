@@ -36,18 +36,24 @@ class Checker {
 
     LinkCheck Run() {
         LinkCheck check;
+        // The refined root pairs in scene order, classified as Refine() does (touching
+        // patches without a recursion limit refused first, as it refuses them). Each
+        // needs a link of its own, so a dump of L links tiles at most L of them: L + 1
+        // suffice to find the first it misses, and keep this check's memory, like its
+        // work, within the dump's size however large the scene's refinement.
         std::vector<std::pair<uint32_t, uint32_t>> refined;
-        CheckPatches();
-        SortByPair();
         const uint32_t n = uint32_t(patches_.size());
         for (uint32_t p = 0; p < n; ++p)
             for (uint32_t q = p + 1; q < n; ++q) {
                 ++check.rootPairs;
-                if (Culled(p, q))
+                PairRelation relation = ClassifyPair(patches_[p].shape, patches_[q].shape);
+                if (!RefinesRootPair(relation, p, q, options_))
                     ++check.culledPairs;
-                else
+                else if (refined.size() <= dump_.links.size())
                     refined.push_back({p, q});
             }
+        CheckPatches();
+        SortByPair();
         for (auto [p, q] : refined) {
             auto [lo, hi] = Range(p, q);
             std::string x, y;
@@ -104,6 +110,8 @@ class Checker {
         }
     }
 
+    // Whether the root pair of a dump link is culled, cached by pair: the dump's pairs
+    // only, so that the cache stays within the dump's size.
     bool Culled(uint32_t p, uint32_t q) {
         auto key = std::make_pair(p, q);
         auto it = culled_.find(key);
@@ -294,17 +302,19 @@ LinkCheck CheckLinks(const Scene &scene, const RefineOptions &options, const Lin
     if (options.visibility != VisibilityMode::None)
         throw InputError("check-links checks refinement without visibility: the links of a "
                          "root pair tile it only when no pair is occluded");
-    // hrbench's own refinement first: it validates the scene and options, and refuses
-    // what it cannot refine (touching patches without a limit) before any link is read.
     RefineOptions counting = options;
     counting.storeLinks = false;
     counting.threads = 1;
-    RunRecord engine =
-        std::visit([&](auto &&r) { return std::move(r.record); }, Refine(scene, counting));
-
+    ValidateScene(scene);
+    ValidateOptions(counting, scene.Dimension());
+    // The dump first: that check's work and memory grow with the dump (Checker::Run). A
+    // dump that passes it is ProjectKernel's refinement link for link, so hrbench's own
+    // refinement, run after it, makes as many links as the dump holds: a tiny dump
+    // before a refinement too large to finish fails quickly instead of waiting on it.
     LinkCheck check = scene.Dimension() == 2 ? CheckShape<Segment>(scene, options, dump)
                                              : CheckShape<Polygon>(scene, options, dump);
-    check.engine = engine.counters;
+    check.engine =
+        std::visit([&](auto &&r) { return std::move(r.record.counters); }, Refine(scene, counting));
     for (const auto &[name, field] : ComparedCounters()) {
         uint64_t fromLinks = check.fromLinks.*field;
         for (const auto &[key, value] : dump.counters)

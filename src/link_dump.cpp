@@ -1,6 +1,8 @@
 #include "hrbench/link_dump.h"
 
 #include <algorithm>
+#include <charconv>
+#include <system_error>
 
 #include "hrbench/probe.h"
 #include "hrbench/util/error.h"
@@ -87,14 +89,21 @@ class DumpReader {
                 Fail("unknown counter '" + key +
                      "' (the counters line takes links, "
                      "oracle_calls, nodes, forced_links, max_depth as NAME=VALUE)");
-            if (value.empty() || value.size() > 19 ||
-                !std::all_of(value.begin(), value.end(),
-                             [](char c) { return c >= '0' && c <= '9'; }))
+            // Digits only (std::from_chars alone would take a sign or leave a tail), then
+            // any value a counter can hold, up to 2^64 - 1.
+            uint64_t number = 0;
+            if (value.empty() || !std::all_of(value.begin(), value.end(),
+                                              [](char c) { return c >= '0' && c <= '9'; }))
                 Fail("counter " + key + " needs a whole number, as " + key + "=12");
+            if (std::from_chars(value.data(), value.data() + value.size(), number).ec !=
+                std::errc())
+                Fail("counter " + key + "=" + value.substr(0, 40) +
+                     (value.size() > 40 ? "..." : "") +
+                     " is beyond 2^64 - 1 = 18446744073709551615, the largest counter");
             for (const auto &kv : dump_.counters)
                 if (kv.first == key)
                     Fail("counter " + key + " is given twice");
-            dump_.counters.push_back({key, std::stoull(value)});
+            dump_.counters.push_back({key, number});
         }
     }
 

@@ -196,21 +196,26 @@ ReferenceComparison Compare(const Forest<Shape> &forest, const SolveResult &resu
                 power[base + k] = leaf.radiosity, area[base + k] = 1;
         }
     }
-    double largest = 0, sumError = 0, sumPower = 0, maxError = 0, sumSquaredError = 0,
-           sumSquaredPower = 0;
+    // Each element's error in units of the reference's largest |B|, taken before any sum
+    // or square so that none under- or overflows: the max, the area-weighted mean and the
+    // area-weighted root mean square of the same errors over the same elements.
+    double largest = 0;
     for (const ElementRadiosity &e : ref)
         largest = std::max(largest, std::abs(e.radiosity));
+    if (!(largest > 0))
+        return {};  // unreachable: SolveMaterials refuses a scene where nothing emits
+    double maxError = 0, sumError = 0, sumSquaredError = 0, sumMeasure = 0;
     for (size_t k = 0; k < ref.size(); ++k) {
-        double error = std::abs(power[k] / area[k] - ref[k].radiosity);
+        double error = std::abs(power[k] / area[k] - ref[k].radiosity) / largest;
         maxError = std::max(maxError, error);
         sumError += ref[k].measure * error;
-        sumPower += ref[k].measure * std::abs(ref[k].radiosity);
         sumSquaredError += ref[k].measure * error * error;
-        sumSquaredPower += ref[k].measure * ref[k].radiosity * ref[k].radiosity;
+        sumMeasure += ref[k].measure;
     }
-    auto ratio = [](double num, double den) { return den > 0 ? num / den : 0; };
-    return {ratio(maxError, largest), ratio(sumError, sumPower),
-            std::sqrt(ratio(sumSquaredError, sumSquaredPower))};
+    // The weighted means cannot exceed the largest term, nor the mean the root mean
+    // square (Cauchy-Schwarz); min() keeps that through the sums' rounding.
+    double l2Error = std::min(std::sqrt(sumSquaredError / sumMeasure), maxError);
+    return {maxError, std::min(sumError / sumMeasure, l2Error), l2Error};
 }
 
 template UniformSolution SolveReference(const Patches<Segment> &, int, const RefineOptions &,
@@ -232,9 +237,14 @@ UniformSolution SolveUniform(const Scene &scene, int depth, const RefineOptions 
         throw InputError("--subdivision quadtree applies to 3D scenes only (segments are halved)");
     std::vector<Material> materials = SolveMaterials(scene, options);
     CheckReferenceSize(scene, depth, refine);
-    return std::visit(
-        [&](const auto &patches) { return SolveUniformOf(patches, depth, refine, materials); },
+    double unit = EmissionUnit(materials);
+    UniformSolution solution = std::visit(
+        [&](const auto &patches) {
+            return SolveUniformOf(patches, depth, refine, InEmissionUnits(materials, unit));
+        },
         scene.patches);
+    ToEmissionScale(solution.elements, solution.emittedPower, solution.absorbedPower, unit);
+    return solution;
 }
 
 }  // namespace hrbench

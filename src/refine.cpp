@@ -22,11 +22,23 @@ namespace hrbench {
 
 namespace {
 
-// How many elements (per forest) and links a run may hold.
+// A run's memory budget in bytes, and how many elements (per forest) and links it may
+// hold: SplitBudget's shares of it.
 struct Budget {
+    size_t bytes;
     size_t maxElements;
     size_t maxLinks;
 };
+
+// Splits _bytes_ of memory: a quarter for the element trees (one copy per worker and
+// the merged one) when links are stored, the rest for links.
+template <typename Shape>
+Budget SplitBudget(size_t bytes, const RefineOptions &options) {
+    size_t forests = size_t(options.threads) + 1;
+    size_t elementBytes = Forest<Shape>::kBytesPerElement;
+    return {bytes, (options.storeLinks ? bytes / 4 : bytes) / elementBytes / forests,
+            bytes / 4 * 3 / sizeof(Link)};
+}
 
 // Grows the canonical forest, the union of the workers' forests, and maps each worker's
 // element ids to canonical ones. Every worker's forest began as a copy of the sequential
@@ -164,6 +176,15 @@ void CountUnion(const Forest &top, const std::vector<Forest> &forests, int threa
     }
 }
 
+// Bytes of _tasks_ at their array's capacity, and of what the second pass keeps for
+// each (RefineAllPairs: its links' end, links and calls, and its run of elements).
+template <typename F>
+size_t RecordBytes(const std::vector<Task> &tasks) {
+    constexpr size_t kPerTask =
+        sizeof(size_t) + 2 * sizeof(uint64_t) + sizeof(typename ForestUnion<F>::Run);
+    return tasks.capacity() * sizeof(Task) + tasks.size() * kPerTask;
+}
+
 // Runs the kernel over all root pairs in scene order: a sequential pass down to the
 // task depth, then the tasks on worker threads, each with its own copy of the trees.
 template <typename Shape, int kArity, typename Oracle, bool kStoreLinks, typename Visibility>
@@ -186,6 +207,24 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
         progress->rootPairs = uint64_t(numPatches) * (numPatches - 1) / 2;
         progress->StartPass(1);
     }
+    // Besides the trees and links, the budget counts what the run keeps per refined root
+    // pair and per task, at its arrays' capacity (RecordBytes); the pair records grow
+    // here, so that the old and the new array, held at once while growing, are counted
+    // before they are taken. A scene of many patches can hold more in them than in its
+    // trees (24 bytes per refined pair).
+    const size_t pairBytes = sizeof(PairTally) + (progress ? sizeof(uint64_t) : 0);
+    auto recordBytes = [&] {
+        return result.pairs.capacity() * sizeof(PairTally) +
+               pairOrdinal.capacity() * sizeof(uint64_t) + RecordBytes<F>(tasks);
+    };
+    auto check = [&](size_t growing) {
+        if (recordBytes() + growing + top.Size() * F::kBytesPerElement +
+                topLinks.size() * sizeof(Link) >
+            budget.bytes)
+            throw LimitError("the records of " + std::to_string(result.pairs.size()) +
+                             " refined root pairs and " + std::to_string(tasks.size()) +
+                             " tasks would exceed the memory budget; raise --max-memory or eps");
+    };
     for (uint32_t p = 0; p < numPatches; ++p) {
         for (uint32_t q = p + 1; q < numPatches; ++q) {
             ++counters.rootPairs;
@@ -196,18 +235,30 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
                 ++counters.culledPairs;
                 continue;
             }
+            if (result.pairs.size() == result.pairs.capacity()) {
+                size_t grown = std::max<size_t>(2 * result.pairs.capacity(), 1024);
+                check(grown * pairBytes);
+                result.pairs.reserve(grown);
+                if (progress)
+                    pairOrdinal.reserve(grown);
+            }
             Tally before = topKernel.tally;
             topKernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), topLinks, &tasks);
             result.pairs.push_back({p, q, topKernel.tally.Links() - before.Links(),
                                     topKernel.tally.oracleCalls - before.oracleCalls});
             if (progress)
                 pairOrdinal.push_back(counters.rootPairs);
+            check(0);
         }
     }
 
-    // Run the tasks: each worker takes the next task in order and refines it fully.
+    // Run the tasks: each worker takes the next task in order and refines it fully, its
+    // trees and links within what the records leave of the budget.
     size_t numWorkers = std::max<size_t>(1, std::min<size_t>(options.threads, tasks.size()));
+    const Budget left = SplitBudget<Shape>(budget.bytes - recordBytes(), options);
     std::vector<F> forests(numWorkers, top);
+    for (F &forest : forests)
+        forest.LimitBudget(left.maxElements);
     // Each worker appends its links to one buffer; a task's links are a range of it.
     // The first worker's buffer starts with the sequential pass's links, whose ids are
     // the same in every worker's forest.
@@ -226,7 +277,7 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
         progress->StartPass(2);
     auto work = [&](size_t w) {
         ProjectKernel<F, kArity, Oracle, kStoreLinks, false, Visibility> kernel(
-            forests[w], oracle, options, budget.maxLinks / numWorkers, visibility);
+            forests[w], oracle, options, left.maxLinks / numWorkers, visibility);
         LinkBuffer unused;
         LinkBuffer &links = kStoreLinks ? workerLinks[w] : unused;
         for (size_t t; !failed && (t = next++) < tasks.size();) {
@@ -381,17 +432,6 @@ void Dispatch(const Patches<Shape> &patches, const RefineOptions &options, const
         FindOracle(options.oracle);  // throws, listing the oracles
 }
 
-// Splits the memory budget: a quarter for the element trees (one copy per worker and
-// the merged one) when links are stored, the rest for links.
-template <typename Shape>
-Budget SplitBudget(const RefineOptions &options) {
-    size_t budget = EffectiveBudget(options);
-    size_t forests = size_t(options.threads) + 1;
-    size_t elementBytes = Forest<Shape>::kBytesPerElement;
-    return {(options.storeLinks ? budget / 4 : budget) / elementBytes / forests,
-            budget / 4 * 3 / sizeof(Link)};
-}
-
 }  // namespace
 
 template <typename Shape>
@@ -405,7 +445,7 @@ Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options) {
     Refinement<Shape> result{
         Forest<Shape>(patches, SIZE_MAX, options.subdivision), {}, {}, {"enumerate", {}, 0}};
     auto start = std::chrono::steady_clock::now();
-    Dispatch(patches, options, SplitBudget<Shape>(options), result);
+    Dispatch(patches, options, SplitBudget<Shape>(EffectiveBudget(options), options), result);
     result.record.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

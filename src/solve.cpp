@@ -199,6 +199,35 @@ class HierarchySolver {
     std::vector<double> radiosity_, gathered_, irradiance_;
 };
 
+}  // namespace
+
+double EmissionUnit(const std::vector<Material> &materials) {
+    double unit = 0;
+    for (const Material &m : materials)
+        unit = std::max(unit, m.emission);
+    return unit;
+}
+
+std::vector<Material> InEmissionUnits(const std::vector<Material> &materials, double unit) {
+    std::vector<Material> scaled = materials;
+    for (Material &m : scaled)
+        m.emission /= unit;
+    return scaled;
+}
+
+void ToEmissionScale(std::vector<ElementRadiosity> &elements, double &emittedPower,
+                     double &absorbedPower, double unit) {
+    bool finite = std::isfinite(emittedPower *= unit) && std::isfinite(absorbedPower *= unit);
+    for (ElementRadiosity &e : elements)
+        finite &= std::isfinite(e.radiosity *= unit) && std::isfinite(e.irradiance *= unit);
+    if (!finite)
+        throw LimitError("the radiosity or a power exceeds the largest double (1.8e308) at "
+                         "emission " +
+                         Short(unit) + "; lower the emission");
+}
+
+namespace {
+
 // _options_ less the _held_ bytes that an earlier bf pass's solution still holds. Only
 // an explicit budget: without one, the budget is read from the free memory, which already
 // excludes them. LimitError when they leave nothing of it.
@@ -217,6 +246,10 @@ template <typename Shape>
 void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOptions &options,
                 const std::vector<Material> &materials, SolveResult &result) {
     const Patches<Shape> &patches = scene.Get<Shape>();
+    // The solvers work in units of the largest emission (EmissionUnit); the refinement,
+    // whose bf oracle compares B F with eps, reads E and B at their own scale.
+    const double unit = EmissionUnit(materials);
+    const std::vector<Material> unitMaterials = InEmissionUnits(materials, unit);
     RefineOptions storing = refine;
     storing.storeLinks = true;
     // The first pass reads E after the overrides: the bf oracle would read the scene's.
@@ -250,7 +283,8 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
         // The solver's arrays within what the budget leaves after the refinement.
         size_t links = refinement.links.size(), elements = refinement.forest.Size();
         size_t used = passOptions.memoryBudget > 0
-                          ? links * sizeof(Link) + elements * Forest<Shape>::kBytesPerElement
+                          ? links * sizeof(Link) + elements * Forest<Shape>::kBytesPerElement +
+                                refinement.pairs.capacity() * sizeof(PairTally)
                           : 0;
         size_t budget = EffectiveBudget(passOptions);
         if (HierarchySolver<Shape>::Bytes(links, elements) > budget - std::min(budget, used))
@@ -275,10 +309,13 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
         std::vector<double> radiosity;
         {
             HierarchySolver<Shape> solver(refinement.forest, refinement.links, coefficients,
-                                          std::move(scale), materials);
+                                          std::move(scale), unitMaterials);
             solver.Run(options, result);
-            if (!last)
+            if (!last) {
                 radiosity = solver.Radiosity();
+                for (double &b : radiosity)
+                    b *= unit;
+            }
         }
         AddTime(result.solve, solveWatch.Elapsed());
 
@@ -289,9 +326,13 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
         }
         estimate.reset();  // no longer read: free it before the dense reference
         if (options.referenceDepth >= 0) {
-            result.reference = SolveReference(patches, options.referenceDepth, refine, materials);
+            result.reference =
+                SolveReference(patches, options.referenceDepth, refine, unitMaterials);
             result.comparison = Compare(refinement.forest, result, *result.reference);
+            UniformSolution &ref = *result.reference;
+            ToEmissionScale(ref.elements, ref.emittedPower, ref.absorbedPower, unit);
         }
+        ToEmissionScale(result.leaves, result.emittedPower, result.absorbedPower, unit);
         break;
     }
 }

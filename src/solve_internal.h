@@ -1,10 +1,12 @@
 // What the hierarchical solve (solve.cpp) and the dense reference (reference_solve.cpp)
-// share: timing a stage, and describing a solved element the same way for both.
+// share: timing a stage, describing a solved element the same way for both, and the
+// unit of emission they solve in.
 #pragma once
 
 #include <chrono>
 #include <cstdint>
 #include <ctime>
+#include <vector>
 
 #include "hrbench/forest.h"
 #include "hrbench/solve.h"
@@ -58,5 +60,20 @@ ElementRadiosity Describe(const Forest<Shape> &forest, uint32_t e, double b, dou
     }
     return r;
 }
+
+// The equation is linear in E: both solvers solve it in units of the largest emission
+// (materials after InEmissionUnits), so that no sum, square or norm of B under- or
+// overflows at any scale of E, and the errors against the reference are the same at
+// every scale; ToEmissionScale gives the solution back its scale (docs/solve.md, Scale).
+
+// The largest emission of _materials_ (> 0: SolveMaterials refuses a scene where nothing
+// emits), and _materials_ with every emission divided by it.
+double EmissionUnit(const std::vector<Material> &materials);
+std::vector<Material> InEmissionUnits(const std::vector<Material> &materials, double unit);
+
+// Multiplies _elements_' radiosity and irradiance and the powers by _unit_; LimitError
+// when one of them overflows (the solution lies beyond the largest double).
+void ToEmissionScale(std::vector<ElementRadiosity> &elements, double &emittedPower,
+                     double &absorbedPower, double unit);
 
 }  // namespace hrbench

@@ -3,8 +3,13 @@
 // missing, an overlapping and an unacceptable link, each with its line and exit code 4.
 #include <catch2/catch.hpp>
 
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
 #include <set>
 #include <sstream>
+
+#include <sys/stat.h>
 
 #include "cli_helpers.h"
 #include "hrbench/generators/generators.h"
@@ -124,6 +129,18 @@ TEST_CASE("a link dump is read with its line numbers", "[check-links]") {
                       Catch::Contains("d:2: unknown counter 'leaves'"));
     rejects(kHeader + "counters links=x\n", "d:2: counter links needs a whole number, as links=12");
     rejects(kHeader + "counters links=1 links=1\n", "d:2: counter links is given twice");
+    // Any counter a run can report, up to 2^64 - 1, and nothing beyond it.
+    hrbench::LinkDump largest = Parse(kHeader + "counters links=18446744073709551615 nodes=007\n");
+    CHECK(largest.counters ==
+          std::vector<std::pair<std::string, uint64_t>>{{"links", UINT64_MAX}, {"nodes", 7}});
+    rejects(kHeader + "counters links=18446744073709551616\n",
+            "d:2: counter links=18446744073709551616 is beyond 2^64 - 1 = "
+            "18446744073709551615, the largest counter");
+    rejects(kHeader + "counters nodes=" + std::string(30, '9') + "\n",
+            "d:2: counter nodes=" + std::string(30, '9') +
+                " is beyond 2^64 - 1 = 18446744073709551615, the largest counter");
+    rejects(kHeader + "counters links=+1\n",
+            "d:2: counter links needs a whole number, as links=12");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -296,4 +313,33 @@ TEST_CASE("check-links refuses malformed dumps and bad usage with exit code 2", 
     // What hrbench cannot refine, check-links cannot check: touching walls need a limit.
     path = WriteScratch("room.dump", kHeader + kQuarters);
     CheckError("check-links room --eps 0.5 --links " + path, 2, "touch");
+    // A dump is a regular file: a FIFO (which would wait for a writer) and a device are
+    // refused before anything is read.
+    std::string fifo = Scratch("links.fifo");
+    std::remove(fifo.c_str());
+    REQUIRE(mkfifo(fifo.c_str(), 0600) == 0);
+    CheckError(kSmall + fifo, 2,
+               "cannot read link dump '" + fifo + "': it is a FIFO, not a regular file");
+    CheckError(kSmall + "/dev/zero", 2,
+               "cannot read link dump '/dev/zero': it is a character device, not a regular file");
+    std::remove(fifo.c_str());
+}
+
+TEST_CASE("check-links on a small dump ends quickly however large the scene's refinement",
+          "[check-links]") {
+    // parallel l=1000 at eps 1e-6 refines to 5.8e15 links (--method translation): the
+    // dump is checked first, and its one link is refused at once.
+    std::string path = WriteScratch("one.dump", kHeader + "0 1\n");
+    auto start = std::chrono::steady_clock::now();
+    CheckError("check-links parallel l=1000 d=1 --eps 1e-6 --links " + path,
+               hrbench::kExitViolation,
+               "one.dump:2: unacceptable link: 0 1 is refused by the oracle garmann (eps 1e-06)");
+    // 9 million refined root pairs (3000 plates facing 3000) and a dump for the first: the
+    // second is missing, found without refining the scene or caching every pair's culling
+    // (refining it first takes 10 s and 1.2 GB).
+    path = WriteScratch("first.dump", kHeader + "0 3000\n");
+    CheckError("check-links array k=3000 --eps 100 --links " + path, hrbench::kExitViolation,
+               "first.dump: missing link: nothing covers the element pair 0 3001 of patches 0 "
+               "and 3001");
+    CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(8));
 }

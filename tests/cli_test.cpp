@@ -540,6 +540,9 @@ TEST_CASE("Hostile command lines and outputs give one line and exit code 2", "[c
 
 TEST_CASE("Limits reached during refinement give exit code 3", "[cli][errors]") {
     CheckError("run parallel l=1024 --eps 0.01 --max-memory 1", 3, "memory budget");
+    // The records of the refined root pairs count: 1.1 million pairs of 24 bytes.
+    CheckError("run random n=3000 size=100 --eps 0.5 --count-only --max-memory 5", 3,
+               "refined root pairs and ");
     CheckError("run parallel l=1024 --eps 1e-8 --count-only --method translation --max-memory 1", 3,
                "--method translation would exceed the memory budget");
     // A --min-area that small draws the warning of a scene and --min-area in other units.
@@ -551,4 +554,30 @@ TEST_CASE("Limits reached during refinement give exit code 3", "[cli][errors]") 
                              Catch::Contains("\nhrbench: error: ") &&
                              Catch::Contains("safety depth"));
     CHECK(std::count(deep.err.begin(), deep.err.end(), '\n') == 2);
+}
+
+TEST_CASE("Memory running out before the budget advises --count-only only where it applies",
+          "[cli][errors]") {
+    // A budget of 100 GB under an address-space limit of 400 MB: the system refuses first.
+    auto outOfMemory = [](const std::string &args) {
+        INFO("hrbench " << args);
+        std::string command = "ulimit -v 400000; " + std::string(HRBENCH_CLI) + " " + args +
+                              " --max-memory 100000 2>&1 >/dev/null";
+        FILE *pipe = popen(command.c_str(), "r");
+        REQUIRE(pipe);
+        std::string err;
+        char buffer[4096];
+        while (size_t n = fread(buffer, 1, sizeof buffer, pipe))
+            err.append(buffer, n);
+        int status = pclose(pipe);
+        CHECK(WIFEXITED(status));
+        CHECK(WEXITSTATUS(status) == 3);
+        return err;
+    };
+    CHECK(outOfMemory("run parallel l=100000 --eps 0.0001") ==
+          "hrbench: error: out of memory; use --count-only or a larger eps\n");
+    CHECK(outOfMemory("run parallel l=100000 --eps 0.0001 --count-only") ==
+          "hrbench: error: out of memory; use a larger eps\n");
+    CHECK(outOfMemory("solve parallel l=100000 --eps 0.0001 --emission 1") ==
+          "hrbench: error: out of memory; use a larger eps\n");
 }

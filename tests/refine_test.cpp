@@ -770,6 +770,62 @@ TEST_CASE("Refinement that cannot terminate is an error, not a hang", "[refine][
     }
 }
 
+TEST_CASE("The memory budget counts the records kept per refined root pair", "[refine][errors]") {
+    // Scenes of many patches, most pairs linked whole: their records (a PairTally of 24
+    // bytes per refined pair) outweigh the trees, and in count-only mode everything else.
+    struct Case {
+        const char *family;
+        ParamMap params;
+        bool store;
+        int threads;
+        bool progress;
+    };
+    std::vector<Case> cases = {
+        {"random", {{"n", 1500}, {"size", 50}}, false, 1, false},
+        {"random", {{"n", 1500}, {"size", 50}}, true, 2, true},
+        {"random3d", {{"n", 1500}, {"size", 30}}, false, 2, false},
+        {"random3d", {{"n", 1500}, {"size", 30}}, true, 1, true},
+    };
+    for (const Case &c : cases) {
+        INFO(c.family << (c.store ? " store" : " count-only") << ", " << c.threads << " threads"
+                      << (c.progress ? ", progress" : ""));
+        Scene scene = MakeScene(c.family, c.params);
+        RefineProgress progress;
+        RefineOptions o = Options(0.5, "garmann", c.store);
+        o.threads = c.threads;
+        o.progress = c.progress ? &progress : nullptr;
+        o.memoryBudget = size_t(1) << 32;
+        const size_t records =
+            std::visit([](const auto &r) { return r.pairs.size(); }, Refine(scene, o)) *
+            sizeof(PairTally);
+        REQUIRE(records > (size_t(3) << 20));
+        // Half the records' bytes: the records alone exceed it.
+        o.memoryBudget = records / 2;
+        CHECK_THROWS_WITH(Refine(scene, o), Catch::Contains("refined root pairs") &&
+                                                Catch::Contains("memory budget"));
+        // Where a run fits, what it keeps fits: records, trees and links.
+        int fitted = 0;
+        for (size_t budget : {records, 2 * records, 4 * records, 8 * records}) {
+            o.memoryBudget = budget;
+            try {
+                std::visit(
+                    [&](const auto &r) {
+                        using F = std::decay_t<decltype(r.forest)>;
+                        size_t kept = r.pairs.capacity() * sizeof(PairTally) +
+                                      r.links.size() * sizeof(Link) +
+                                      r.forest.Size() * F::kBytesPerElement;
+                        CHECK(kept <= budget);
+                    },
+                    Refine(scene, o));
+                ++fitted;
+            } catch (const LimitError &) {
+                CHECK(fitted == 0);  // a larger budget never fails where a smaller fits
+            }
+        }
+        CHECK(fitted >= 1);
+    }
+}
+
 TEST_CASE("Invalid refinement options are rejected with the option's name", "[refine][errors]") {
     Scene scene = MakeScene("parallel", {});
     double nan = std::numeric_limits<double>::quiet_NaN(),

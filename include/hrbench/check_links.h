@@ -33,8 +33,10 @@ struct LinkCheck {
 // LinkViolation for the first violation: links within one patch or between a culled
 // pair (dump order); the tiling of each refined root pair (scene order, depth first); the
 // oracle, recursion limits and preferred subdivision (scene order, depth first); the
-// counters line and hrbench's own counts. Throws InputError or LimitError where Refine()
-// does for the same scene and options.
+// counters line and hrbench's own counts. Throws InputError where Refine() does for the
+// same scene and options (touching patches without a recursion limit) before any of
+// these, and LimitError where Refine() does. Refine() runs last, once the dump has
+// passed, so that the work and memory of a check grow with the dump, not the scene.
 LinkCheck CheckLinks(const Scene &scene, const RefineOptions &options, const LinkDump &dump);
 
 // The summary of a passed check: one line, then the counters recomputed from the dump's

@@ -116,6 +116,9 @@ class Forest {
     // Lifts the memory budget: the union of several workers' forests grows past any
     // one worker's budget, and a run's forest carries none, whatever the thread count.
     void LiftBudget() { maxElements_ = SIZE_MAX; }
+    // Bounds the arena to _maxElements_ from now on: a worker's share of what a run's
+    // budget leaves after its first pass.
+    void LimitBudget(size_t maxElements) { maxElements_ = maxElements; }
 
     // Cold data, for output and tests. The shape of element _i_, made again from its
     // root's by subdividing down the path to _i_: the subdivision is deterministic, so

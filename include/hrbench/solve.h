@@ -149,13 +149,15 @@ struct UniformSolution {
     StageTime time;  // with _change_, of both solves
 };
 
-// The hierarchical solution against a reference, both relative to the reference's
-// largest radiosity: the hierarchy's leaves are averaged (area-weighted) onto the
-// reference's elements, exactly, since both trees split by the same rule.
+// The hierarchical solution against a reference: the hierarchy's leaves are averaged
+// (area-weighted) onto the reference's elements, exactly, since both trees split by the
+// same rule, and each element's error e = |B_h - B_ref| / max |B_ref| is relative to the
+// reference's largest radiosity. The three are norms of the same errors over the same
+// elements, so meanError <= l2Error <= maxError, and none depends on the scale of E.
 struct ReferenceComparison {
-    double maxError = 0;   // max over reference elements of |B_h - B_ref| / max B_ref
-    double meanError = 0;  // sum of A |B_h - B_ref| over sum of A B_ref (relative L1)
-    double l2Error = 0;    // sqrt(sum of A (B_h - B_ref)^2 over sum of A B_ref^2) (relative L2)
+    double maxError = 0;   // max over reference elements of e
+    double meanError = 0;  // sum of A e over sum of A (area-weighted mean)
+    double l2Error = 0;    // sqrt(sum of A e^2 over sum of A) (area-weighted root mean square)
 };
 
 struct SolveResult {

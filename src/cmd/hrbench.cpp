@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -65,7 +66,7 @@ int PrintSolve(const Scene &scene, const Options &o, const SolveResult &result) 
 
 // `hrbench check-links`: the summary on success; a violation is a LinkViolation.
 int CheckLinksCommand(const Scene &scene, const Options &o) {
-    std::istringstream text(ReadInputFile(o.linksFile, "link dump", o.maxInputBytes));
+    std::istringstream text(ReadRegularFile(o.linksFile, "link dump", o.maxInputBytes));
     LinkDump dump =
         ReadLinkDump(text, o.linksFile, SubdivisionArity(o.refine.subdivision), scene.NumPatches());
     PrintLinkCheck(CheckLinks(scene, o.refine, dump), dump, o.refine, std::cout);
@@ -180,6 +181,15 @@ int Main(int argc, char **argv) {
     return kExitOk;
 }
 
+// The advice of the out-of-memory line: --count-only only where it would help, a `run`
+// that stores its links. Allocates nothing: memory has just run out.
+const char *OutOfMemoryAdvice(int argc, char **argv) {
+    bool storing = argc > 1 && std::strcmp(argv[1], "run") == 0 &&
+                   std::none_of(argv + 2, argv + argc,
+                                [](const char *a) { return std::strcmp(a, "--count-only") == 0; });
+    return storing ? "use --count-only or a larger eps" : "use a larger eps";
+}
+
 // Runs a command and checks that everything it printed reached standard output.
 int MainChecked(int argc, char **argv) {
     int code = Main(argc, argv);
@@ -199,7 +209,8 @@ int main(int argc, char **argv) {
         std::cerr << "hrbench: error: " << e.what() << "\n";
         return e.ExitCode();
     } catch (const std::bad_alloc &) {
-        std::cerr << "hrbench: error: out of memory; use --count-only or a larger eps\n";
+        std::cerr << "hrbench: error: out of memory; " << hrbench::OutOfMemoryAdvice(argc, argv)
+                  << "\n";
         return hrbench::kExitLimit;
     } catch (const std::exception &e) {
         std::cerr << "hrbench: internal error: " << e.what() << "\n";

@@ -18,4 +18,9 @@ constexpr size_t kDefaultMaxInputBytes = size_t(256) << 20;
 std::string ReadInputFile(const std::string &path, const std::string &what,
                           size_t maxBytes = kDefaultMaxInputBytes);
 
+// The same for an input that must be a regular file (a link dump): a FIFO, a device or
+// a socket is refused with InputError before anything is read, and never waited on.
+std::string ReadRegularFile(const std::string &path, const std::string &what,
+                            size_t maxBytes = kDefaultMaxInputBytes);
+
 }  // namespace hrbench
