@@ -26,12 +26,13 @@ build-tests: setup
 	@$(CONFIGURE)
 	@cmake --build build --target hrbench_core_tests hrbench_tests
 
-# AddressSanitizer and UndefinedBehaviorSanitizer, with assertions on; -O1 and line
-# tables only, so that it builds and runs in a few minutes and still names file and line.
+# AddressSanitizer and UndefinedBehaviorSanitizer, with assertions on; -Og and line
+# tables only: it builds in a third of -O1's time (the kernel's file: 36 s against 105 s)
+# and still names file and line.
 # `make test` builds the core tests only (ASAN_TARGETS), `make test-asan` everything.
 ASAN_TARGETS :=
 build-asan: setup
-	@cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" \
+	@cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-Og -g1" \
 	  -DHRBENCH_SANITIZE=ON -DHRBENCH_BUILD_BENCH=OFF >/dev/null
 	@cmake --build build-asan $(if $(ASAN_TARGETS),--target $(ASAN_TARGETS))
 
@@ -49,7 +50,7 @@ test-asan: build-asan
 	ctest --test-dir build-asan -j $(JOBS) --output-on-failure
 
 test-python: build-cli
-	$(PYTHON) -m pytest tests/analysis tests/tools -q -m "not browser"
+	$(PYTHON) -m pytest tests/analysis tests/tools -q -m "not browser" -n $(JOBS)
 
 # The explorer page of `make reproduce` (results/explorer.html) in headless Chromium
 # (installed by `scripts/setup.sh --browser`): sliders moved, the counts it shows checked
