@@ -40,24 +40,23 @@ std::string Read(const std::string &path, const std::string &what, size_t maxByt
     // Refuse what cannot be a file before opening it: opening a FIFO without a writer
     // would wait for one.
     struct stat info;
+    auto checkKind = [&] {
+        if (S_ISDIR(info.st_mode))
+            throw InputError("cannot read " + name + ": it is a directory");
+        if (regularOnly && !S_ISREG(info.st_mode))
+            throw InputError("cannot read " + name + ": it is " + KindOf(info.st_mode) +
+                             ", not a regular file");
+    };
     if (stat(path.c_str(), &info) != 0)
         throw InputError("cannot read " + name + ": " + std::strerror(errno));
-    if (S_ISDIR(info.st_mode))
-        throw InputError("cannot read " + name + ": it is a directory");
-    if (regularOnly && !S_ISREG(info.st_mode))
-        throw InputError("cannot read " + name + ": it is " + KindOf(info.st_mode) +
-                         ", not a regular file");
+    checkKind();
 
     // Without blocking where only a regular file will do: the path may have become a FIFO
     // since; what was opened is checked again, and its size, before reading.
     FileDescriptor file{open(path.c_str(), O_RDONLY | O_CLOEXEC | (regularOnly ? O_NONBLOCK : 0))};
     if (file.fd < 0 || fstat(file.fd, &info) != 0)
         throw InputError("cannot read " + name + ": " + std::strerror(errno));
-    if (S_ISDIR(info.st_mode))
-        throw InputError("cannot read " + name + ": it is a directory");
-    if (regularOnly && !S_ISREG(info.st_mode))
-        throw InputError("cannot read " + name + ": it is " + KindOf(info.st_mode) +
-                         ", not a regular file");
+    checkKind();
     if (S_ISREG(info.st_mode) && size_t(info.st_size) > maxBytes)
         throw InputError(name + " has " + std::to_string(info.st_size) + " bytes, more than" +
                          limit);

@@ -153,8 +153,11 @@ def test_a_signal_to_the_analysis_alone_ends_hung_runs_and_their_children(
             str(data_dir / "small_claims.toml"), "--hrbench", str(fake_hrbench),
             "--results", str(tmp_path / "results"), "--jobs", "2", "--no-pictures",
             "--scheduler", scheduler]
+    # With SIGINT at its default even where the tests run as a background job (which
+    # ignores it, and so would the analysis, as it must).
     proc = subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True)
+                            text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         deadline = time.monotonic() + 60
         while len(pids_of(pids)) < 4 and time.monotonic() < deadline:   # 2 engines, 2 children
