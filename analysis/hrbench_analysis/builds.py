@@ -13,6 +13,7 @@ is installed); a finished build is reused. Standard library only, like
 
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -179,8 +180,12 @@ def build_commit(repo, prefix, sha, workdir, jobs, use_ccache, which, log):
     return build
 
 
+#: Seconds one benchmark run may take before it is ended with its child processes.
+BENCH_TIMEOUT = 1800
+
+
 def run_benchmarks(build, out, what, *, bench_cmd=None, bench_filter=DEFAULT_FILTER,
-                   min_time=0.2, repetitions=1, env=None):
+                   min_time=0.2, repetitions=1, env=None, timeout=BENCH_TIMEOUT):
     """Run the benchmarks of one build once, writing Google Benchmark JSON to _out_.
 
     Parameters
@@ -201,11 +206,14 @@ def run_benchmarks(build, out, what, *, bench_cmd=None, bench_filter=DEFAULT_FIL
         ``--benchmark_repetitions`` of refine_bench; unused with _bench_cmd_.
     env : dict, optional
         More environment variables for _bench_cmd_.
+    timeout : float, optional
+        Seconds the run may take (:data:`BENCH_TIMEOUT`); then its process group is
+        killed and the run fails.
 
     Raises
     ------
     BuildError
-        The command failed or wrote no file.
+        The command failed, ran out of time or wrote no file.
     """
     if bench_cmd:
         cmd = ["sh", "-c", bench_cmd]
@@ -220,9 +228,21 @@ def run_benchmarks(build, out, what, *, bench_cmd=None, bench_filter=DEFAULT_FIL
         run_env = None
     if os.path.exists(out):
         os.remove(out)  # a file left by an earlier run must not pass for this one's
-    proc = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                          env=run_env)
+    # In a process group of its own, so that a hung command ends with its children.
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            env=run_env, start_new_session=True)
+    try:
+        _, stderr = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
+        raise BuildError(f"{what} did not finish within {timeout:g} s; it was ended with "
+                         "its child processes") from None
+    finally:
+        if proc.poll() is None:   # an interrupt: end the group too
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
     if proc.returncode != 0 or not os.path.isfile(out):
         why = (f"exit code {proc.returncode}" if proc.returncode != 0
                else f"it wrote no {out}")
-        raise BuildError(f"{what} failed ({why}): {proc.stderr.strip()[-300:]}")
+        raise BuildError(f"{what} failed ({why}): {stderr.strip()[-300:]}")

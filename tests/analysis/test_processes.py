@@ -18,6 +18,7 @@ from pathlib import Path
 import pytest
 
 from hrbench_analysis import engine
+from hrbench_analysis.builds import BuildError, run_benchmarks
 from hrbench_analysis.engine import (
     OUTPUT_EXCEEDED,
     TIMED_OUT,
@@ -177,6 +178,17 @@ def test_a_signal_to_the_analysis_alone_ends_hung_runs_and_their_children(
     with sqlite3.connect(tmp_path / "results" / "hrbench.sqlite") as con:
         assert con.execute("SELECT COUNT(*) FROM leases").fetchone()[0] == 0
         assert con.execute("SELECT COUNT(*) FROM points").fetchone()[0] == 0
+
+
+def test_a_hung_benchmark_command_is_ended_with_its_children(tmp_path):
+    pids = tmp_path / "pids"
+    command = f"sleep 60 & echo $$ $! > {pids}; wait"
+    start = time.monotonic()
+    with pytest.raises(BuildError, match="did not finish within 1 s"):
+        run_benchmarks(str(tmp_path), str(tmp_path / "bench.json"), "the gate's benchmarks",
+                       bench_cmd=command, timeout=1)
+    assert time.monotonic() - start < 5
+    assert_all_ended(pids_of(pids))
 
 
 # --- Leases --------------------------------------------------------------------------------
