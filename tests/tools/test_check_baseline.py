@@ -2,8 +2,6 @@
 
 import json
 import os
-import stat
-import sys
 
 import pytest
 
@@ -20,16 +18,6 @@ from conftest import DATA
 COUNTS = {"nodes": 30, "leaves": 16, "links": 80, "oracle_calls": 159, "max_depth": 3,
           "forced_links": 0, "culled_pairs": 0, "root_pairs": 1,
           "nodes_per_depth": [2, 4, 8], "links_per_depth": [0, 0, 80]}
-
-
-@pytest.fixture
-def engine(tmp_path):
-    """An executable that behaves like `hrbench run ... --json` (tests/tools/data)."""
-    path = tmp_path / "hrbench"
-    path.write_text(f'#!/bin/sh\nexec "{sys.executable}" "{os.path.join(DATA, "fake_hrbench.py")}" '
-                    '"$@"\n')
-    path.chmod(path.stat().st_mode | stat.S_IXUSR)
-    return str(path)
 
 
 @pytest.fixture

@@ -6,7 +6,6 @@ output that cannot be written 74, a bug 70. No traceback without --debug.
 
 import json
 import os
-import stat
 import subprocess
 import sys
 
@@ -163,15 +162,6 @@ def test_a_bug_is_exit_70_never_1_and_its_traceback_needs_debug(monkeypatch, cap
 
 
 # --- check_baseline.py ----------------------------------------------------------------------
-
-
-@pytest.fixture
-def engine(tmp_path):
-    path = tmp_path / "hrbench"
-    path.write_text(f'#!/bin/sh\nexec "{sys.executable}" "{os.path.join(DATA, "fake_hrbench.py")}" '
-                    '"$@"\n')
-    path.chmod(path.stat().st_mode | stat.S_IXUSR)
-    return str(path)
 
 
 def baseline_file(tmp_path, runs, text=None):
