@@ -37,10 +37,11 @@ inline std::string ReadFile(const std::string &path) {
     return text.str();
 }
 
-// Runs `hrbench ARGS` through the shell and captures both streams and the exit code.
-inline CliResult Cli(const std::string &args) {
+// Runs `hrbench ARGS` through the shell, after the shell commands _before_ (a ulimit, say),
+// and captures both streams and the exit code.
+inline CliResult Cli(const std::string &args, const std::string &before = "") {
     std::string errPath = Scratch("stderr.txt");
-    std::string command = std::string(HRBENCH_CLI) + " " + args + " 2>" + errPath;
+    std::string command = before + std::string(HRBENCH_CLI) + " " + args + " 2>" + errPath;
     FILE *pipe = popen(command.c_str(), "r");
     REQUIRE(pipe);
     std::string out;

@@ -564,18 +564,9 @@ TEST_CASE("Memory running out before the budget advises --count-only only where 
     // A budget of 100 GB under an address-space limit of 400 MB: the system refuses first.
     auto outOfMemory = [](const std::string &args) {
         INFO("hrbench " << args);
-        std::string command = "ulimit -v 400000; " + std::string(HRBENCH_CLI) + " " + args +
-                              " --max-memory 100000 2>&1 >/dev/null";
-        FILE *pipe = popen(command.c_str(), "r");
-        REQUIRE(pipe);
-        std::string err;
-        char buffer[4096];
-        while (size_t n = fread(buffer, 1, sizeof buffer, pipe))
-            err.append(buffer, n);
-        int status = pclose(pipe);
-        CHECK(WIFEXITED(status));
-        CHECK(WEXITSTATUS(status) == 3);
-        return err;
+        CliResult r = Cli(args + " --max-memory 100000 >/dev/null", "ulimit -v 400000; ");
+        CHECK(r.exitCode == 3);
+        return r.err;
     };
     CHECK(outOfMemory("run parallel l=100000 --eps 0.0001") ==
           "hrbench: error: out of memory; use --count-only or a larger eps\n");
