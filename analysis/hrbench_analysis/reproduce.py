@@ -49,7 +49,7 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 
-from . import __version__
+from . import __version__, errors
 from .claimfile import ClaimsFileError, check_names, load_claims, load_claims_dir
 from .cli import positive_number
 from .engine import (
@@ -151,13 +151,13 @@ REFUTED = 1
 #: formulas or ranges, parameters out of range, claims the engine can never run, an
 #: engine that cannot be run or refuses runs as input errors, an unusable cache. Every
 #: :class:`~hrbench_analysis.errors.AnalysisError` ends the command with it.
-USAGE_ERROR = 2
+USAGE_ERROR = errors.INPUT_ERROR
 #: Exit code for an internal error of the analysis, a bug (``EX_SOFTWARE`` of
 #: sysexits.h): one line naming it; its traceback with ``--debug``.
-INTERNAL_ERROR = 70
+INTERNAL_ERROR = errors.INTERNAL_ERROR
 #: Exit code when interrupted (Ctrl-C, SIGINT); finished points stay in the cache, and
 #: every engine run under way is ended with its child processes.
-INTERRUPTED = 130
+INTERRUPTED = errors.INTERRUPTED
 #: Exit code when terminated (SIGTERM), with the same effects as an interrupt.
 TERMINATED = 143
 
