@@ -1,26 +1,102 @@
 // ComputeCoefficients: the form factor and visible fraction of every stored link;
+// MeasureLinkFormFactors: the links' exact form factors alone (run --link-form-factors);
 // ConsistencyScales: what makes each leaf's coefficients sum to its exact form factor.
 #include "link_coefficients.h"
 
+#include <algorithm>
+#include <atomic>
+#include <string>
+
+#include "hrbench/util/error.h"
 #include "hrbench/util/parallel_for.h"
 
 namespace hrbench {
 
+namespace {
+
+// Runs body(pair, k) for every link k on options.threads threads, each worker with its
+// own PairCoefficients, and takes the exact form factors both ways that each call
+// returns into the LinkFormFactors against options.eps. The largest value and the count
+// above eps do not depend on which worker saw which link, nor on the order.
+template <typename Shape, typename Body>
+LinkFormFactors ForEachLink(const std::vector<Shape> &shapes, const Occluders *occluders,
+                            const LinkBuffer &links, const RefineOptions &options, Body body) {
+    struct Tally {
+        double max = 0;
+        uint64_t above = 0;
+    };
+    struct Worker {
+        PairCoefficients<Shape> pair;
+        Tally *tally;
+    };
+    // One tally per worker, handed out as the workers start (at most options.threads).
+    std::vector<Tally> tallies(size_t(std::max(1, options.threads)));
+    std::atomic<size_t> started{0};
+    ParallelFor(
+        links.size(), 256, options.threads,
+        [&] {
+            return Worker{PairCoefficients<Shape>(shapes, occluders, options), &tallies[started++]};
+        },
+        [&](Worker &worker, size_t k) {
+            LinkCoefficients exact = body(worker.pair, k);
+            double larger = std::max(exact.ij, exact.ji);
+            worker.tally->max = std::max(worker.tally->max, larger);
+            worker.tally->above += larger > options.eps;
+        });
+    LinkFormFactors result;
+    uint64_t above = 0;
+    for (const Tally &t : tallies)
+        result.max = std::max(result.max, t.max), above += t.above;
+    result.aboveEps = links.size() > 0 ? double(above) / double(links.size()) : 0;
+    return result;
+}
+
+template <typename Shape>
+LinkFormFactors MeasureOf(const Refinement<Shape> &refinement, const RefineOptions &options) {
+    const Forest<Shape> &forest = refinement.forest;
+    const LinkBuffer &links = refinement.links;
+    // The shapes beside the refinement, within the budget it was given (without
+    // --max-memory the budget is read from the free memory, which excludes the refinement).
+    size_t used = options.memoryBudget > 0 ? links.size() * sizeof(Link) +
+                                                 forest.Size() * Forest<Shape>::kBytesPerElement
+                                           : 0;
+    size_t budget = EffectiveBudget(options);
+    if (forest.Size() * sizeof(Shape) > budget - std::min(budget, used))
+        throw LimitError("the form factors of " + std::to_string(links.size()) +
+                         " links would exceed the memory budget; raise --max-memory or eps");
+    std::vector<Shape> shapes = forest.AllShapes();
+    return ForEachLink(shapes, nullptr, links, options,
+                       [&](PairCoefficients<Shape> &pair, size_t k) {
+                           uint32_t i = links[k].i, j = links[k].j;
+                           return pair.Weighted(forest, i, j, pair.FormFactorOf(i, j), 1.0);
+                       });
+}
+
+}  // namespace
+
 template <typename Shape>
 std::vector<LinkCoefficients>
 ComputeCoefficients(const Patches<Shape> &patches, const Forest<Shape> &forest,
-                    const LinkBuffer &links, const RefineOptions &options) {
+                    const LinkBuffer &links, const RefineOptions &options,
+                    LinkFormFactors *formFactors) {
     std::vector<LinkCoefficients> coefficients(links.size());
     std::unique_ptr<Occluders> occluders = OccludersFor(patches, options);
     std::vector<Shape> shapes = forest.AllShapes();
-    ParallelFor(
-        links.size(), 256, options.threads,
-        [&] { return PairCoefficients<Shape>(shapes, occluders.get(), options); },
-        [&](PairCoefficients<Shape> &pair, size_t k) {
+    LinkFormFactors measured = ForEachLink(
+        shapes, occluders.get(), links, options, [&](PairCoefficients<Shape> &pair, size_t k) {
             uint32_t i = links[k].i, j = links[k].j;
-            coefficients[k] = pair(forest, i, j, pair.Visible(forest, i, j));
+            double ij = pair.FormFactorOf(i, j);
+            coefficients[k] = pair.Weighted(forest, i, j, ij, pair.Visible(forest, i, j));
+            return pair.Weighted(forest, i, j, ij, 1.0);
         });
+    if (formFactors)
+        *formFactors = measured;
     return coefficients;
+}
+
+LinkFormFactors MeasureLinkFormFactors(const AnyRefinement &refinement,
+                                       const RefineOptions &options) {
+    return std::visit([&](const auto &r) { return MeasureOf(r, options); }, refinement);
 }
 
 template <typename Shape>
@@ -65,13 +141,11 @@ template std::vector<double> ConsistencyScales(const Patches<Polygon> &, const F
                                                const std::vector<LinkCoefficients> &,
                                                const RefineOptions &);
 
-template std::vector<LinkCoefficients> ComputeCoefficients(const Patches<Segment> &,
-                                                           const Forest<Segment> &,
-                                                           const LinkBuffer &,
-                                                           const RefineOptions &);
-template std::vector<LinkCoefficients> ComputeCoefficients(const Patches<Polygon> &,
-                                                           const Forest<Polygon> &,
-                                                           const LinkBuffer &,
-                                                           const RefineOptions &);
+template std::vector<LinkCoefficients>
+ComputeCoefficients(const Patches<Segment> &, const Forest<Segment> &, const LinkBuffer &,
+                    const RefineOptions &, LinkFormFactors *);
+template std::vector<LinkCoefficients>
+ComputeCoefficients(const Patches<Polygon> &, const Forest<Polygon> &, const LinkBuffer &,
+                    const RefineOptions &, LinkFormFactors *);
 
 }  // namespace hrbench

@@ -43,8 +43,19 @@ class PairCoefficients {
     // and F_ji by reciprocity A_i F_ij / A_j.
     LinkCoefficients operator()(const Forest<Shape> &forest, uint32_t i, uint32_t j,
                                 double visible) const {
-        double ij = FormFactor((*shapes_)[i], (*shapes_)[j]) * visible;
+        return Weighted(forest, i, j, FormFactor((*shapes_)[i], (*shapes_)[j]), visible);
+    }
+
+    // The same from the form factor _ij_ = FormFactor(i, j); visible = 1 gives the exact
+    // (unoccluded) form factors both ways.
+    static LinkCoefficients Weighted(const Forest<Shape> &forest, uint32_t i, uint32_t j, double ij,
+                                     double visible) {
+        ij *= visible;
         return {ij, forest[i].Size() * ij / forest[j].Size()};
+    }
+
+    double FormFactorOf(uint32_t i, uint32_t j) const {
+        return FormFactor((*shapes_)[i], (*shapes_)[j]);
     }
 
   private:

@@ -118,6 +118,11 @@ void PrintRunTable(const json &record, std::ostream &out) {
         if (c.scalar)
             out << std::left << std::setw(19) << c.name << std::right << std::setw(15)
                 << record[c.name].dump() << "\n";
+    // Only where asked for (run --link-form-factors): the default table stays as it was.
+    for (const char *key : {"link_form_factor_max", "link_form_factor_above_eps"})
+        if (record.contains(key))
+            out << std::left << std::setw(27) << key << FormatDouble(record[key].get<double>())
+                << "\n";
     out << std::left << std::setw(19) << "seconds" << std::right << std::setw(15)
         << std::setprecision(6) << record["seconds"].get<double>() << "\n";
     for (const CounterInfo &c : CounterTable())

@@ -144,6 +144,25 @@ double ReferenceChange(const UniformSolution &fine, const UniformSolution &coars
     return largest > 0 ? change / largest : 0;
 }
 
+// The norms of e_k = |a_k - b_k| / largest over the reference's elements, weighted by
+// their measures. Each e_k is taken before any sum or square, so that none under- or
+// overflows: the max, the area-weighted mean and the area-weighted root mean square.
+ErrorNorms Norms(const std::vector<double> &a, const std::vector<double> &b,
+                 const std::vector<ElementRadiosity> &ref, double largest) {
+    double maxError = 0, sumError = 0, sumSquaredError = 0, sumMeasure = 0;
+    for (size_t k = 0; k < ref.size(); ++k) {
+        double error = std::abs(a[k] - b[k]) / largest;
+        maxError = std::max(maxError, error);
+        sumError += ref[k].measure * error;
+        sumSquaredError += ref[k].measure * error * error;
+        sumMeasure += ref[k].measure;
+    }
+    // The weighted means cannot exceed the largest term, nor the mean the root mean
+    // square (Cauchy-Schwarz); min() keeps that through the sums' rounding.
+    double l2Error = std::min(std::sqrt(sumSquaredError / sumMeasure), maxError);
+    return {maxError, std::min(sumError / sumMeasure, l2Error), l2Error};
+}
+
 }  // namespace
 
 void CheckReferenceSize(const Scene &scene, int depth, const RefineOptions &refine) {
@@ -178,44 +197,51 @@ ReferenceComparison Compare(const Forest<Shape> &forest, const SolveResult &resu
                             const UniformSolution &reference) {
     const auto &ref = reference.elements;
     size_t perRoot = ref.size() / forest.NumRoots();
-    std::vector<double> power(ref.size(), 0), area(ref.size(), 0);
+    // On each reference element: the hierarchy's leaves averaged onto it (power / area),
+    // and the projection of the reference onto the leaves, averaged onto it likewise.
+    // Both meshes are elements of the same trees, so a leaf either lies inside one
+    // reference element or is a block of them: no leaf boundary crosses an element.
+    std::vector<double> power(ref.size(), 0), area(ref.size(), 0), projected(ref.size());
     for (const ElementRadiosity &leaf : result.leaves) {
         size_t base = leaf.root * perRoot;
         if (leaf.depth >= reference.depth) {
             uint32_t a = leaf.element;
             while (forest.Depth(a) > reference.depth)
                 a = forest.Parent(a);
-            power[base + forest.Position(a)] += leaf.measure * leaf.radiosity;
-            area[base + forest.Position(a)] += leaf.measure;
+            size_t k = base + forest.Position(a);
+            power[k] += leaf.measure * leaf.radiosity;
+            area[k] += leaf.measure;
+            // The reference is constant on the element: so is its projection on the
+            // leaves inside it, and their mean.
+            projected[k] = ref[k].radiosity;
         } else {
-            // The leaf covers a whole block of reference elements.
+            // The leaf covers a whole block of reference elements; the projection is the
+            // reference's area-weighted mean over them, with the same measures as the norms.
             uint64_t span = perRoot;
             for (int d = 0; d < leaf.depth; ++d)
                 span /= uint64_t(forest.Arity());
-            for (uint64_t k = leaf.position * span; k < (leaf.position + 1) * span; ++k)
-                power[base + k] = leaf.radiosity, area[base + k] = 1;
+            size_t first = base + leaf.position * span, last = first + span;
+            double refPower = 0, refArea = 0;
+            for (size_t k = first; k < last; ++k)
+                refPower += ref[k].measure * ref[k].radiosity, refArea += ref[k].measure;
+            for (size_t k = first; k < last; ++k)
+                power[k] = leaf.radiosity, area[k] = 1, projected[k] = refPower / refArea;
         }
     }
-    // Each element's error in units of the reference's largest |B|, taken before any sum
-    // or square so that none under- or overflows: the max, the area-weighted mean and the
-    // area-weighted root mean square of the same errors over the same elements.
     double largest = 0;
-    for (const ElementRadiosity &e : ref)
-        largest = std::max(largest, std::abs(e.radiosity));
+    std::vector<double> solved(ref.size()), exact(ref.size());
+    for (size_t k = 0; k < ref.size(); ++k) {
+        largest = std::max(largest, std::abs(ref[k].radiosity));
+        solved[k] = power[k] / area[k];
+        exact[k] = ref[k].radiosity;
+    }
     if (!(largest > 0))
         return {};  // unreachable: SolveMaterials refuses a scene where nothing emits
-    double maxError = 0, sumError = 0, sumSquaredError = 0, sumMeasure = 0;
-    for (size_t k = 0; k < ref.size(); ++k) {
-        double error = std::abs(power[k] / area[k] - ref[k].radiosity) / largest;
-        maxError = std::max(maxError, error);
-        sumError += ref[k].measure * error;
-        sumSquaredError += ref[k].measure * error * error;
-        sumMeasure += ref[k].measure;
-    }
-    // The weighted means cannot exceed the largest term, nor the mean the root mean
-    // square (Cauchy-Schwarz); min() keeps that through the sums' rounding.
-    double l2Error = std::min(std::sqrt(sumSquaredError / sumMeasure), maxError);
-    return {maxError, std::min(sumError / sumMeasure, l2Error), l2Error};
+    // On each element, solved - exact = (solved - projected) + (projected - exact): the
+    // first is constant on each coarse leaf, where the second has mean 0, and the second
+    // is 0 under finer leaves, so the two are orthogonal in the area-weighted L2 norm.
+    return {Norms(solved, exact, ref, largest), Norms(projected, exact, ref, largest),
+            Norms(solved, projected, ref, largest)};
 }
 
 template UniformSolution SolveReference(const Patches<Segment> &, int, const RefineOptions &,

@@ -294,8 +294,8 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
                              "eps");
 
         Stopwatch coefficientWatch;
-        std::vector<LinkCoefficients> coefficients =
-            ComputeCoefficients(patches, refinement.forest, refinement.links, refine);
+        std::vector<LinkCoefficients> coefficients = ComputeCoefficients(
+            patches, refinement.forest, refinement.links, refine, &result.linkFormFactors);
         std::vector<double> scale = options.plainGather
                                         ? std::vector<double>(refinement.forest.Size(), 1.0)
                                         : ConsistencyScales(patches, refinement.forest,
@@ -451,6 +451,11 @@ std::string EnergyBalanceWarning(const Scene &scene, const RefineOptions &refine
 // ---------------------------------------------------------------------------------------
 // Output
 
+void AddLinkFormFactors(const LinkFormFactors &formFactors, json &record) {
+    record["link_form_factor_max"] = formFactors.max;
+    record["link_form_factor_above_eps"] = formFactors.aboveEps;
+}
+
 json SolveToJson(const Scene &scene, const RefineOptions &refine, const SolveOptions &options,
                  const SolveResult &result) {
     json out = RunToJson(scene, refine, result.record);
@@ -473,6 +478,7 @@ json SolveToJson(const Scene &scene, const RefineOptions &refine, const SolveOpt
     out["absorbed_power"] = result.absorbedPower;
     out["energy_balance_warning"] =
         result.energyWarning.empty() ? json(nullptr) : json(result.energyWarning);
+    AddLinkFormFactors(result.linkFormFactors, out);
     json radiosity = json::array();
     for (const ElementRadiosity &leaf : result.leaves)
         radiosity.push_back(leaf.radiosity);
@@ -493,9 +499,15 @@ json SolveToJson(const Scene &scene, const RefineOptions &refine, const SolveOpt
         out["reference_radiosity"] = std::move(values);
         out["reference_emitted_power"] = ref.emittedPower;
         out["reference_absorbed_power"] = ref.absorbedPower;
-        out["reference_error_max"] = result.comparison->maxError;
-        out["reference_error_mean"] = result.comparison->meanError;
-        out["reference_error_l2"] = result.comparison->l2Error;
+        const ReferenceComparison &c = *result.comparison;
+        for (const auto &[name, norms] :
+             {std::pair<std::string, const ErrorNorms &>{"reference", c},
+              {"projection", c.projection},
+              {"hierarchy", c.hierarchy}}) {
+            out[name + "_error_max"] = norms.maxError;
+            out[name + "_error_mean"] = norms.meanError;
+            out[name + "_error_l2"] = norms.l2Error;
+        }
         if (ref.change)
             out["reference_change"] = *ref.change;
         times("reference", ref.time);
@@ -519,7 +531,7 @@ void PrintSolveTable(const json &solve, std::ostream &out) {
         << FormatDouble(solve["tolerance"].get<double>()) << "  gather "
         << solve["gather"].get<std::string>() << "\n\n";
     auto row = [&](const std::string &name, const std::string &value) {
-        out << std::left << std::setw(22) << name << std::right << std::setw(12) << value << "\n";
+        out << std::left << std::setw(27) << name << std::right << std::setw(12) << value << "\n";
     };
     for (const char *counter : {"leaves", "links", "passes"})
         row(counter, solve[counter].dump());
@@ -534,6 +546,8 @@ void PrintSolveTable(const json &solve, std::ostream &out) {
         row(value, Short(solve[value].get<double>()));
     row("radiosity_min", Short(low));
     row("radiosity_max", Short(high));
+    for (const char *key : {"link_form_factor_max", "link_form_factor_above_eps"})
+        row(key, Short(solve[key].get<double>()));
     for (const char *stage : {"refine", "coefficients", "solve", "reference"}) {
         std::string key = std::string("seconds_") + stage;
         if (solve.contains(key))
@@ -543,9 +557,11 @@ void PrintSolveTable(const json &solve, std::ostream &out) {
     if (solve.contains("reference_depth")) {
         row("reference_depth", solve["reference_depth"].dump());
         row("reference_elements", std::to_string(solve["reference_radiosity"].size()));
-        row("reference_error_max", Short(solve["reference_error_max"].get<double>()));
-        row("reference_error_mean", Short(solve["reference_error_mean"].get<double>()));
-        row("reference_error_l2", Short(solve["reference_error_l2"].get<double>()));
+        for (const char *part : {"reference", "projection", "hierarchy"})
+            for (const char *norm : {"max", "mean", "l2"}) {
+                std::string key = std::string(part) + "_error_" + norm;
+                row(key, Short(solve[key].get<double>()));
+            }
         if (solve.contains("reference_change"))
             row("reference_change", Short(solve["reference_change"].get<double>()));
     }

@@ -18,6 +18,7 @@
 #include "hrbench/forest.h"
 #include "hrbench/link_buffer.h"
 #include "hrbench/record.h"
+#include "hrbench/refine.h"
 #include "hrbench/refine_options.h"
 #include "hrbench/scene.h"
 
@@ -77,22 +78,40 @@ struct LinkCoefficients {
     double ij, ji;
 };
 
+// HSA91's "all form factors are calculated to the same precision", measured on a
+// refinement's links: each link's larger exact (unoccluded) form factor,
+// max(F(i->j), F(j->i)) with FormFactor of the two elements' shapes (docs/solve.md).
+struct LinkFormFactors {
+    double max = 0;       // the largest over the links; 0 without links
+    double aboveEps = 0;  // the share (0..1) of links whose larger one exceeds eps; 0 without
+};
+
+// Adds them to a run or solve record: link_form_factor_max, link_form_factor_above_eps.
+void AddLinkFormFactors(const LinkFormFactors &formFactors, nlohmann::json &record);
+
 // The coefficients of every link, in link order: F_ij = FormFactor(i, j), F_ji by
 // reciprocity A_i F_ij / A_j. Computed on options.threads threads; each value depends
-// on its link only, so the result is the same for every thread count.
+// on its link only, so the result is the same for every thread count. With
+// _formFactors_, also the links' LinkFormFactors against options.eps, from the same
+// form factors (before the visible fraction weighs them).
 template <typename Shape>
 std::vector<LinkCoefficients>
 ComputeCoefficients(const Patches<Shape> &patches, const Forest<Shape> &forest,
-                    const LinkBuffer &links, const RefineOptions &options);
+                    const LinkBuffer &links, const RefineOptions &options,
+                    LinkFormFactors *formFactors = nullptr);
 
-extern template std::vector<LinkCoefficients> ComputeCoefficients(const Patches<Segment> &,
-                                                                  const Forest<Segment> &,
-                                                                  const LinkBuffer &,
-                                                                  const RefineOptions &);
-extern template std::vector<LinkCoefficients> ComputeCoefficients(const Patches<Polygon> &,
-                                                                  const Forest<Polygon> &,
-                                                                  const LinkBuffer &,
-                                                                  const RefineOptions &);
+extern template std::vector<LinkCoefficients>
+ComputeCoefficients(const Patches<Segment> &, const Forest<Segment> &, const LinkBuffer &,
+                    const RefineOptions &, LinkFormFactors *);
+extern template std::vector<LinkCoefficients>
+ComputeCoefficients(const Patches<Polygon> &, const Forest<Polygon> &, const LinkBuffer &,
+                    const RefineOptions &, LinkFormFactors *);
+
+// The LinkFormFactors of a stored refinement's links against options.eps, on
+// options.threads threads (`run --link-form-factors`). LimitError when the elements'
+// shapes, beside the refinement, exceed the memory budget.
+LinkFormFactors MeasureLinkFormFactors(const AnyRefinement &refinement,
+                                       const RefineOptions &options);
 
 // The consistency scale of every element, by id: for a leaf x, its exact form factor to
 // every other root patch, sum over r of FormFactor(x, r), over what the links of x and of
@@ -154,10 +173,22 @@ struct UniformSolution {
 // same rule, and each element's error e = |B_h - B_ref| / max |B_ref| is relative to the
 // reference's largest radiosity. The three are norms of the same errors over the same
 // elements, so meanError <= l2Error <= maxError, and none depends on the scale of E.
-struct ReferenceComparison {
+struct ErrorNorms {
     double maxError = 0;   // max over reference elements of e
     double meanError = 0;  // sum of A e over sum of A (area-weighted mean)
     double l2Error = 0;    // sqrt(sum of A e^2 over sum of A) (area-weighted root mean square)
+};
+
+// Its own norms are the hierarchy's against the reference (reference_error_*), split in
+// two with the projection P of the reference onto the leaves (on each leaf the
+// area-weighted mean of the reference over it), each measured on the reference's
+// elements as the hierarchy is: _projection_, P against the reference, the error of any
+// piecewise-constant radiosity on these leaves; _hierarchy_, the hierarchy against P,
+// the links' own. In the area-weighted L2 norm the two are orthogonal:
+// l2Error^2 = projection.l2Error^2 + hierarchy.l2Error^2 (docs/solve.md).
+struct ReferenceComparison : ErrorNorms {
+    ErrorNorms projection;
+    ErrorNorms hierarchy;
 };
 
 struct SolveResult {
@@ -176,6 +207,7 @@ struct SolveResult {
     std::vector<uint64_t> passLinks, passNodes;
     std::optional<UniformSolution> reference;  // with SolveOptions::referenceDepth
     std::optional<ReferenceComparison> comparison;
+    LinkFormFactors linkFormFactors;  // of the last pass's links
     // EnergyBalanceWarning's line: occlusion ignored where the scene has some, or more
     // energy absorbed than the discretisation explains; "" otherwise.
     std::string energyWarning;

@@ -172,7 +172,17 @@ int Main(int argc, char **argv) {
     }
     if (o.sweep)
         return PrintSweep(scene, o);
-    nlohmann::json record = RunToJson(scene, o.refine, Count(scene, o.refine, o.method));
+    nlohmann::json record;
+    if (o.linkFormFactors) {
+        // Enumerate as Count does, keeping the links to measure their form factors.
+        AnyRefinement refinement = Refine(scene, o.refine);
+        LinkFormFactors formFactors = MeasureLinkFormFactors(refinement, o.refine);
+        record =
+            RunToJson(scene, o.refine, std::visit([](auto &r) { return r.record; }, refinement));
+        AddLinkFormFactors(formFactors, record);
+    } else {
+        record = RunToJson(scene, o.refine, Count(scene, o.refine, o.method));
+    }
     display.reset();
     if (o.json)
         std::cout << record.dump() << "\n";

@@ -140,6 +140,15 @@ const std::vector<OptionSpec> &OptionTable() {
          {"run"},
          "count links without storing them (default: store)",
          [](Options &o, S) { o.countOnly = true; }},
+        {"link_form_factors",
+         "--link-form-factors",
+         "",
+         {},
+         {"run"},
+         "also report the links' largest exact form factor, either way,\nand the share of "
+         "links above eps (docs/solve.md; needs the\nlinks stored: not with --count-only, "
+         "--method translation,\n--sweep)",
+         [](Options &o, S) { o.linkFormFactors = true; }},
         {"method",
          "--method",
          "M",
@@ -430,6 +439,15 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
             o.eps = o.sweep->values.front();  // each run's own is set when it is counted
         if (o.method != "enumerate")
             throw InputError("--sweep counts by enumeration: drop --method");
+    }
+    if (o.linkFormFactors) {
+        const char *other = o.countOnly               ? "--count-only"
+                            : o.method != "enumerate" ? "--method translation"
+                            : o.sweep                 ? "--sweep"
+                                                      : nullptr;
+        if (other)
+            throw InputError(std::string("--link-form-factors needs every link stored, which ") +
+                             other + " does not: drop one of them");
     }
     if (refines && !o.eps)
         throw InputError(o.command + " needs --eps");

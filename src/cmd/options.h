@@ -33,6 +33,7 @@ struct Options {
     std::optional<VisibilityMode> visibility;
     bool json = false;
     bool countOnly = false;
+    bool linkFormFactors = false;      // run --link-form-factors: measure the stored links
     std::string method = "enumerate";  // run: how to count (Methods())
     std::optional<SweepValues> sweep;  // run --sweep: one record per value
     SolveOptions solve;
