@@ -65,10 +65,16 @@ MEASURES = ("patches", "seconds")
 
 #: Measured fields of an ``hrbench solve --json`` record that the formulas of a claim with
 #: ``command = "solve"`` may read (docs/solve.md): the errors against the dense reference
-#: (relative, dimensionless), the reference's own change on mesh doubling, the solver's
+#: (relative, dimensionless) and their two parts, the projection's (the reference's
+#: projection onto the leaves against it) and the hierarchy's (the leaves against that
+#: projection: the links' own error), the reference's own change on mesh doubling, the
+#: links' largest exact form factor and the share of links above eps, the solver's
 #: iterations and residual, the powers, and the time of each stage (s).
 SOLVE_MEASURES = ("reference_error_max", "reference_error_mean", "reference_error_l2",
-                  "reference_change", "iterations", "residual", "emitted_power",
+                  "projection_error_max", "projection_error_mean", "projection_error_l2",
+                  "hierarchy_error_max", "hierarchy_error_mean", "hierarchy_error_l2",
+                  "reference_change", "link_form_factor_max", "link_form_factor_above_eps",
+                  "iterations", "residual", "emitted_power",
                   "absorbed_power", "seconds_refine", "seconds_coefficients", "seconds_solve",
                   "cpu_seconds_refine", "cpu_seconds_coefficients", "cpu_seconds_solve",
                   "cpu_seconds_reference")

@@ -60,6 +60,7 @@ def test_the_schema_is_valid_and_requires_what_the_reader_requires():
     ["room", "w=2", "h=1", "--eps", "0.1", "--max-depth", "3", "--subdivision", "binary"],
     ["--mesh", "tests/data/two_plates.obj", "--eps", "0.5", "--count-only"],
     ["--scene-file", "tests/data/parallel_l64_d1.json", "--eps", "0.5"],
+    ["parallel", "l=4", "d=1", "--eps", "0.05", "--oracle", "hanrahan", "--link-form-factors"],
 ])
 def test_hrbench_records_validate_and_every_field_is_declared(args):
     record = hrbench_record(*args)

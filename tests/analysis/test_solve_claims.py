@@ -102,6 +102,27 @@ def test_solve_record_measures_reach_the_formulas():
         SOLVE_MEASURES)
 
 
+def test_error_parts_and_link_form_factors_reach_the_formulas(tmp_path):
+    # A claim on the links' own error reads hierarchy_error_l2 (docs/solve.md), and its
+    # formulas may combine the parts like any measure.
+    (claim,) = load_claims(write(tmp_path, SOLVE_CLAIM.replace(
+        'y = "reference_error_l2"',
+        'y = "hierarchy_error_l2 / sqrt(projection_error_l2**2 + hierarchy_error_l2**2)"')))
+    check_names(claim, ["nodes", "links"])
+    record = {"schema_version": 1, "version": "0", "scene": "parallel",
+              "params": {"l": 4.0, "d": 1.0}, "eps": 0.05, "oracle": "garmann",
+              "nodes": 510, "leaves": 256, "links": 7570, "oracle_calls": 15139,
+              "max_depth": 7, "reference_error_l2": 0.00118, "projection_error_l2": 0.00117,
+              "hierarchy_error_l2": 0.000134, "hierarchy_error_max": 0.0002,
+              "link_form_factor_max": 0.016, "link_form_factor_above_eps": 0.0}
+    env = run_environment(parse_run_json(json.dumps(record)))
+    assert env["projection_error_l2"] == 0.00117 and env["hierarchy_error_l2"] == 0.000134
+    assert env["hierarchy_error_max"] == 0.0002
+    assert env["link_form_factor_max"] == 0.016 and env["link_form_factor_above_eps"] == 0
+    for part in ("projection", "hierarchy"):
+        assert {f"{part}_error_{norm}" for norm in ("max", "mean", "l2")} <= set(SOLVE_MEASURES)
+
+
 def test_unpublished_claim_is_measured_with_its_interval(tmp_path):
     (claim,) = load_claims(write(tmp_path, SOLVE_CLAIM))
     x = np.geomspace(2, 200, 16)
