@@ -171,6 +171,20 @@ TEST_CASE("run --link-form-factors and solve agree; run refuses it without store
         CHECK(r["link_form_factor_max"] == s["link_form_factor_max"]);
         CHECK(r["link_form_factor_above_eps"] == s["link_form_factor_above_eps"]);
     }
+    // bf: one pass is run's refinement with E; with more, the measures are the last pass's.
+    std::string bf = "cornell --oracle bf --eps 0.1 --min-area 0.01 --visibility fraction";
+    json run = json::parse(Cli("run " + bf + " --link-form-factors --json").out);
+    json once = json::parse(Cli("solve " + bf + " --passes 1 --json").out);
+    json passes = json::parse(Cli("solve " + bf + " --json").out);
+    CHECK(once["link_form_factor_max"] == run["link_form_factor_max"]);
+    CHECK(once["link_form_factor_above_eps"] == run["link_form_factor_above_eps"]);
+    REQUIRE(passes["passes"].get<int>() > 1);
+    CHECK(passes["pass_links"].front() != passes["links"]);  // 133 and 134 links
+    CHECK(passes["pass_links"].back() == passes["links"]);
+    double above =
+        passes["link_form_factor_above_eps"].get<double>() * passes["links"].get<double>();
+    CHECK(above == Approx(std::round(above)).margin(1e-9));  // a count of the last links
+    CHECK(above > 0);
     // The tables: run's rows only when asked.
     CliResult plain = Cli("run parallel l=1 d=1 --eps 0.5");
     CliResult asked = Cli("run parallel l=1 d=1 --eps 0.5 --max-depth 0 --link-form-factors");
