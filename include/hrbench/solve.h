@@ -24,7 +24,7 @@
 
 namespace hrbench {
 
-// How the linear system is iterated (`solve --method`).
+// How the linear system is iterated (`solve --solver`).
 enum class SolveMethod {
     Jacobi,       // every root patch gathers from the previous sweep's radiosity
     GaussSeidel,  // root patch by root patch, each gathering the latest radiosity
@@ -156,7 +156,8 @@ struct StageTime {
 };
 
 // The dense reference: every root split to one depth, every pair of elements of
-// different root patches linked with its form factor, solved by LU.
+// different root patches linked with its form factor, solved by BiCGSTAB (LU with
+// partial pivoting where BiCGSTAB does not converge).
 struct UniformSolution {
     int depth = 0;
     std::vector<ElementRadiosity> elements;  // by root patch, then position
