@@ -36,6 +36,13 @@ inline ParamSpec Gap(const std::string &name, double value, const std::string &h
 inline ParamSpec Offset(const std::string &name, const std::string &help) {
     return {name, 0, "", -kInf, kInf, false, false, false, help};
 }
+// An optional quantity > 0 without a default: absent unless given, and not to be given
+// together with _excludes_, the parameter it replaces.
+inline ParamSpec OptionalPositive(const std::string &name, const std::string &excludes,
+                                  const std::string &help) {
+    const double none = std::numeric_limits<double>::quiet_NaN();
+    return {name, none, "", 0, kInf, true, false, false, help, excludes};
+}
 // A whole number in [low, high].
 inline ParamSpec Count(const std::string &name, double value, double low, double high,
                        const std::string &help) {

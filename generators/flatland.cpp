@@ -84,11 +84,15 @@ Patches<Segment> Room(const ParamMap &p) {
 }
 
 // n non-crossing segments of fixed length with uniform centres in [0,size]^2 and
-// uniform directions; a candidate that touches an earlier segment is drawn again.
+// uniform directions; a candidate that touches an earlier segment is drawn again. With
+// _density_ (centres per unit area) the box side is sqrt(n / density) instead of _size_,
+// so that the soup keeps its density as n grows.
 Patches<Segment> Random(const ParamMap &p) {
     using K = CGAL::Exact_predicates_inexact_constructions_kernel;
     int n = int(p.at("n"));
-    double size = p.at("size"), length = p.at("length");
+    auto density = p.find("density");
+    double size = density == p.end() ? p.at("size") : std::sqrt(n / density->second);
+    double length = p.at("length");
     std::mt19937_64 rng(uint64_t(p.at("seed")));
     Patches<Segment> segments;
     std::vector<K::Segment_2> placed;
@@ -98,7 +102,8 @@ Patches<Segment> Random(const ParamMap &p) {
         if (draw == maxDraws)
             throw InputError("scene random: cannot place " + std::to_string(n) +
                              " non-crossing segments of length " + FormatDouble(length) +
-                             " in a box of size " + FormatDouble(size) + "; enlarge size");
+                             " in a box of size " + FormatDouble(size) +
+                             (density == p.end() ? "; enlarge size" : "; lower density"));
         Vec2 c(size * Uniform(rng), size * Uniform(rng));
         double angle = 2 * kPi * Uniform(rng);
         Vec2 half = 0.5 * length * Vec2(std::cos(angle), std::sin(angle));
@@ -180,7 +185,10 @@ std::vector<Family> FlatlandFamilies() {
          {Count("n", 10, 1, 100000, "number of segments"),
           Count("seed", 1, 0, 9.0e15, "random seed (same seed, same scene)"),
           Length("size", 10, "side of the square box of centres"),
-          Length("length", 1, "length of every segment")},
+          Length("length", 1, "length of every segment"),
+          OptionalPositive("density", "size",
+                           "segment centres per unit area: the box side is sqrt(n / density) "
+                           "(instead of size; default: none)")},
          2,
          Random},
     };

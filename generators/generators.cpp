@@ -57,18 +57,32 @@ Scene MakeScene(const std::string &familyName, const ParamMap &given) {
         }
     }
 
-    // Fill in defaults, then check every value against its range.
+    // Fill in defaults (an optional parameter without one stays absent), then check every
+    // value against its range.
     ParamMap params;
     for (const ParamSpec &spec : family.params) {
         auto it = given.find(spec.name);
         if (it != given.end())
             params[spec.name] = it->second;
-        else
-            params[spec.name] =
-                spec.defaultFrom.empty() ? spec.defaultValue : params.at(spec.defaultFrom);
+        else if (!spec.defaultFrom.empty())
+            params[spec.name] = params.at(spec.defaultFrom);
+        else if (!std::isnan(spec.defaultValue))
+            params[spec.name] = spec.defaultValue;
+    }
+    // A given parameter that replaces another (its `excludes`) leaves that one out.
+    for (const ParamSpec &spec : family.params) {
+        if (spec.excludes.empty() || !given.count(spec.name))
+            continue;
+        if (given.count(spec.excludes))
+            throw InputError("scene " + family.name + ": give " + spec.name + " or " +
+                             spec.excludes + ", not both");
+        params.erase(spec.excludes);
     }
     for (const ParamSpec &spec : family.params) {
-        double v = params[spec.name];
+        auto it = params.find(spec.name);
+        if (it == params.end())
+            continue;
+        double v = it->second;
         bool ok = std::isfinite(v) && (spec.lowOpen ? v > spec.low : v >= spec.low) &&
                   (spec.highOpen ? v < spec.high : v <= spec.high) &&
                   (!spec.integer || v == std::floor(v));

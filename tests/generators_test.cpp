@@ -2,6 +2,7 @@
 // determinism.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <variant>
 
 #include "hrbench/generators/generators.h"
@@ -30,7 +31,11 @@ TEST_CASE("Every family builds a valid scene from its defaults", "[generators]")
         INFO(family.name);
         Scene scene = MakeScene(family.name, {});
         CHECK(scene.family == family.name);
-        CHECK(scene.params.size() == family.params.size());
+        // Every parameter but the optional ones without a default (NaN) is in the record.
+        size_t withDefault = 0;
+        for (const ParamSpec &spec : family.params)
+            withDefault += !spec.defaultFrom.empty() || !std::isnan(spec.defaultValue);
+        CHECK(scene.params.size() == withDefault);
         CHECK_NOTHROW(ValidateScene(scene));
     }
 }
@@ -156,6 +161,37 @@ TEST_CASE("Random scenes depend only on their seed and never cross", "[generator
     CHECK_THAT(one.b.y(), Catch::Matchers::WithinRel(1.4896405422134733, 1e-12));
     CHECK_THROWS_WITH(MakeScene("random", {{"n", 500}, {"size", 1}, {"length", 1}}),
                       Catch::Contains("enlarge size"));
+}
+
+TEST_CASE("A random soup of a given density has the box side sqrt(n / density)",
+          "[generators][2d]") {
+    // n = 400 at density 1 is the box of side 20: the same draws, the same scene, as
+    // size = 20; the record holds density and leaves size out, which does not apply.
+    Scene dense = MakeScene("random", {{"n", 400}, {"density", 1}, {"seed", 3}});
+    Scene sized = MakeScene("random", {{"n", 400}, {"size", 20}, {"seed", 3}});
+    std::vector<Segment> a = ShapesOf<Segment>(dense), b = ShapesOf<Segment>(sized);
+    REQUIRE(a.size() == 400);
+    for (size_t k = 0; k < a.size(); ++k) {
+        CHECK(a[k].a == b[k].a);
+        CHECK(a[k].b == b[k].b);
+    }
+    CHECK(dense.params.at("density") == 1);
+    CHECK(dense.params.count("size") == 0);
+    // Without density nothing changes: no density in the record, size at its default.
+    Scene plain = MakeScene("random", {{"n", 5}});
+    CHECK(plain.params.count("density") == 0);
+    CHECK(plain.params.at("size") == 10);
+    // The centres of n = 4 at density 0.25 lie in the box of side 4 = sqrt(4 / 0.25).
+    for (const Segment &s : ShapesOf<Segment>(MakeScene("random", {{"n", 4}, {"density", 0.25}}))) {
+        Vec2 c = 0.5 * (s.a + s.b);
+        CHECK((c.x() >= 0 && c.x() < 4 && c.y() >= 0 && c.y() < 4));
+    }
+    CHECK_THROWS_WITH(MakeScene("random", {{"n", 10}, {"density", 1}, {"size", 10}}),
+                      "scene random: give density or size, not both");
+    CHECK_THROWS_WITH(MakeScene("random", {{"n", 10}, {"density", 0}}),
+                      Catch::Contains("density=0 is out of range (> 0)"));
+    CHECK_THROWS_WITH(MakeScene("random", {{"n", 500}, {"density", 100}}),
+                      Catch::Contains("lower density"));
 }
 
 TEST_CASE("Random scenes are placed on a grid and stay what testing every pair gives",

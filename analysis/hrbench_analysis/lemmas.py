@@ -72,6 +72,7 @@ STATISTICS = {
                      "(scene units)",
     "partners_max": "most partners of one element (count)",
     "partners_mean": "mean partners per element, 2 L / elements for two patches (count)",
+    "partners_min": "fewest partners of one element (count)",
     "span_per_size_max": "largest D / A over the elements, D summed over both sides "
                          "(dimensionless)",
     "span_per_size_mean": "mean D / A over the elements (dimensionless)",
@@ -96,7 +97,7 @@ _COUNTS = ("span_violations", "both_sides_violations", "extent_violations", "ele
 
 #: Version of the definitions; part of the cache key, so a change of a definition never
 #: reuses statistics measured under the old one.
-STATISTICS_VERSION = 1
+STATISTICS_VERSION = 2
 #: The ``mode`` of the cache key of a run with statistics (``"count-only"`` without).
 STATISTICS_MODE = f"count-only+hierarchy-statistics-v{STATISTICS_VERSION}"
 #: Field of the run record (JSON) that holds the statistics.
@@ -406,6 +407,7 @@ def hierarchy_statistics(stats):
         "leaf_min_size": _number(el.size.min()),
         "partners_max": int(el.partners.max()),
         "partners_mean": _number(el.partners.mean()),
+        "partners_min": int(el.partners.min()),
         "span_per_size_max": _number(ratio.max()),
         "span_per_size_mean": _number(ratio.mean()),
         "span_lower_min": (_number(np.min(st.span[spread] / (st.r_max - st.r_min)[spread]))

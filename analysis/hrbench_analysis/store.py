@@ -158,7 +158,7 @@ class PointKey:
     max_depth : int or None
         ``--max-depth`` (levels), if given.
     mode : str
-        ``"count-only"`` or ``"store"``; ``"count-only+hierarchy-statistics-v1"``
+        ``"count-only"`` or ``"store"``; ``"count-only+hierarchy-statistics-v2"``
         (:data:`hrbench_analysis.lemmas.STATISTICS_MODE`) for a run whose record also holds the
         hierarchy statistics of its link list, so that it never shares a key with a
         record without them.

@@ -8,7 +8,6 @@ from .verdict import SKIPPED, VERDICTS
 
 __all__ = [
     "SEED_CLAIMS",
-    "OWN_SOURCE",
     "GROUPS",
     "TIMED_MARK",
     "claim_group",
@@ -22,10 +21,6 @@ __all__ = [
 #: The seed paper's claims, in its numbering: Garmann & Müller's C1, C2 and C4, and C3,
 #: the linear law of Hanrahan et al. that the paper sets against C4.
 SEED_CLAIMS = ("C1", "C2", "C3", "C4")
-
-#: The words by which a claim's source (its ``source`` key, else the citation of its
-#: file) marks a law or measurement of this benchmark's own, not a published one.
-OWN_SOURCE = "this benchmark"
 
 #: The groups of :func:`claim_group`, in order: (anchor, heading).
 GROUPS = (("seed", "The seed paper's claims C1 to C4 (Garmann & Müller 2003)"),
@@ -45,11 +40,11 @@ def claim_group(claim):
     Returns
     -------
     group : int
-        2 for hrbench's own laws and measurements: a claim without a published exponent
-        (``published = false``) or whose source says :data:`OWN_SOURCE`; 0 for the seed
+        2 for hrbench's own laws and measurements, the claims without a published
+        exponent (``published = false``), whatever their source says; 0 for the seed
         paper's claims (:data:`SEED_CLAIMS`); 1 for every other published claim.
     """
-    if not claim.published or OWN_SOURCE in claim.source.lower():
+    if not claim.published:
         return 2
     return 0 if claim.id in SEED_CLAIMS else 1
 

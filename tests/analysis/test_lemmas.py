@@ -25,6 +25,7 @@ from hrbench_analysis.lemmas import (
     RECORD_FIELD,
     STATISTICS,
     STATISTICS_MODE,
+    STATISTICS_VERSION,
     LinkDumpError,
     StatisticsJob,
     element_statistics,
@@ -84,6 +85,7 @@ def test_worked_example_by_hand(tmp_path):
     assert list(values) == list(STATISTICS)
     assert values["leaf_min_size"] == 0.5
     assert values["partners_max"] == 2 and values["partners_mean"] == 2.0
+    assert values["partners_min"] == 2
     assert values["span_per_size_max"] == 2.0 and values["span_per_size_mean"] == 2.0
     assert values["span_lower_min"] == pytest.approx(1.0 / (far - 1.0))
     assert values["span_upper_max"] == pytest.approx(1.0 / (far + 1.0))
@@ -115,6 +117,8 @@ def test_violations_are_counted_by_hand(tmp_path):
     assert st.violations("span").tolist() == [False, True, True, False]
     values = hierarchy_statistics(stats)
     assert values["span_violations"] == 2 and values["both_sides_violations"] == 2
+    # p and q2 have two partners, p' and q1 one each.
+    assert values["partners_max"] == 2 and values["partners_min"] == 1
     assert values["span_lower_min"] == pytest.approx(1.0 / (farthest - far))
     # Extents: p's partners span t 0..2 (2 >= 1.26), q2's span P from 0 to 2.25
     # (2.25 >= 1.72): the hull keeps the lower bound here.
@@ -127,11 +131,13 @@ def test_single_partner_and_no_links(tmp_path):
                                *plates(1.0, 1.0))
     values = hierarchy_statistics(stats)
     assert values["span_lower_min"] is None  # no stretch with r_max > r_min
-    assert values["partners_max"] == 1 and values["span_violations"] == 0
+    assert values["partners_max"] == values["partners_min"] == 1
+    assert values["span_violations"] == 0
     empty = read_link_dump(write_dump(tmp_path / "e.csv", []))
     values = hierarchy_statistics(element_statistics(empty, *plates(1.0, 1.0)))
     assert values["elements"] == 0 and values["span_violations"] == 0
     assert values["leaf_min_size"] is None and values["partners_max"] is None
+    assert values["partners_min"] is None
 
 
 def test_reading_errors(tmp_path):
@@ -198,6 +204,7 @@ def test_real_runs_satisfy_the_inequality_on_every_stretch(params, eps, tmp_path
         [*real_job("parallel", params, eps).save_argv], capture_output=True, text=True,
         check=True, timeout=60).stdout)
     assert hierarchy_statistics(element_statistics(links, a, b)) == values
+    assert 1 <= values["partners_min"] <= values["partners_mean"] <= values["partners_max"]
     # Two partners per link: the partners of the elements add up to 2 L.
     assert values["partners_mean"] * values["elements"] == pytest.approx(2 * len(table))
 
@@ -263,7 +270,7 @@ def test_sweep_caches_the_statistics_and_reuses_them(tmp_path, monkeypatch):
         assert run_points(points, store, jobs=2, progress=None) == {
             "total": 5, "cached": 0, "ran": 5, "failed": 0}
         stored = json.loads(store.get(points[-1].key).output)
-        assert stored[RECORD_FIELD]["version"] == 1
+        assert stored[RECORD_FIELD]["version"] == STATISTICS_VERSION
         assert set(STATISTICS) <= set(stored[RECORD_FIELD])
         data = get_claim_data(claim, points, store)
         # A rerun measures nothing: the statistics come from the cache.

@@ -61,14 +61,16 @@ FILES = {
     "hanrahan1991.toml": f'[source]\nkey = "hanrahan1991"\ncitation = "{HANRAHAN}"\n'
                          + claim("H-short") + claim("C3")
                          + claim("HO-law", extra='source = "derived and measured by this '
-                                 'benchmark"'),
+                                 'benchmark"\npublished = false')
+                         # A published claim whatever its source's words.
+                         + claim("H-own-words", extra='source = "measured by this benchmark"'),
     "zzz.toml": '[source]\nkey = "zzz"\ncitation = "a note without authors"\n'
                 + claim("Z-skip"),
 }
 
 #: The report's order of FILES' claims.
-ORDER = ["C1", "C3", "C4", "LEM-x", "C2-not", "H-short", "Z-skip", "OWN-count", "HO-law",
-         "ACC-cpu"]
+ORDER = ["C1", "C3", "C4", "LEM-x", "C2-not", "H-short", "H-own-words", "Z-skip", "OWN-count",
+         "HO-law", "ACC-cpu"]
 
 
 @pytest.fixture
@@ -102,6 +104,7 @@ def test_groups_and_order(claims, outcomes):
     groups = {c.id: claim_group(c) for c in claims}
     assert [cid for cid, g in groups.items() if g == 0] == ["C4", "C1", "C3"]
     assert {cid for cid, g in groups.items() if g == 2} == {"ACC-cpu", "OWN-count", "HO-law"}
+    assert groups["H-own-words"] == 1   # published: the source's words do not matter
     assert [o.claim.id for o in report_order(outcomes)] == ORDER
     assert [r["id"] for r in get_claims_table(outcomes)] == ORDER
     # The order is a function of the claims, not of the order they come in.
@@ -122,13 +125,13 @@ def test_source_labels(claims):
 def test_tally_counts_every_verdict_and_names_the_unexpected(outcomes):
     line = verdict_tally(outcomes)
     verdicts = Counter(o.assessment.verdict for o in outcomes)
-    assert verdicts == {"reproduced": 4, "refuted": 2, "inconclusive": 1, "measured": 2,
+    assert verdicts == {"reproduced": 4, "refuted": 2, "inconclusive": 1, "measured": 3,
                         "skipped": 1}
     head, counts = line.split(";")[0].split(": ")
     assert head == f"{len(outcomes)} claims"
     assert {name: int(n) for name, n in (part.split() for part in counts.split(", "))} == (
         verdicts)
-    assert counts == "reproduced 4, refuted 2, inconclusive 1, measured 2, skipped 1"
+    assert counts == "reproduced 4, refuted 2, inconclusive 1, measured 3, skipped 1"
     # C3 (its points grow like x^2) is refuted although expected to hold; C2-not is
     # refuted as its file expects.
     assert line.endswith("; not as expected: C3")

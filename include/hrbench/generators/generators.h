@@ -12,13 +12,15 @@ namespace hrbench {
 // One named parameter of a family, with its admissible range.
 struct ParamSpec {
     std::string name;
-    double defaultValue;      // used when the parameter is not given
+    double defaultValue;      // used when the parameter is not given; NaN: none, the
+                              // parameter is optional and absent unless given
     std::string defaultFrom;  // if not empty, the default is this other parameter's value
     double low, high;         // admissible range
     bool lowOpen = false;     // exclude _low_ itself (e.g. a length must be > 0)
     bool highOpen = false;    // exclude _high_ itself
     bool integer = false;     // the value must be a whole number
     std::string help;         // meaning and unit, for `hrbench scenes`
+    std::string excludes{};   // if not empty, a parameter that must not also be given
 };
 
 // A scene family: a builder from complete, range-checked parameters.
