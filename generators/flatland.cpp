@@ -188,7 +188,7 @@ std::vector<Family> FlatlandFamilies() {
           Length("length", 1, "length of every segment"),
           OptionalPositive("density", "size",
                            "segment centres per unit area: the box side is sqrt(n / density) "
-                           "(instead of size; default: none)")},
+                           "(instead of size)")},
          2,
          Random},
     };

@@ -1,5 +1,6 @@
 // hrbench: refine a scene with ProjectKernel and report exact counters.
 #include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -39,7 +40,9 @@ void ListScenes() {
     for (const Family &f : Families()) {
         std::cout << f.name << ": [" << f.dimension << "D] " << f.help << "\n";
         for (const ParamSpec &p : f.params) {
-            std::string def = p.defaultFrom.empty() ? FormatDouble(p.defaultValue) : p.defaultFrom;
+            std::string def = !p.defaultFrom.empty()        ? p.defaultFrom
+                              : std::isnan(p.defaultValue) ? "none"
+                                                           : FormatDouble(p.defaultValue);
             std::printf("  %-8s default %-8s %-28s %s\n", p.name.c_str(), def.c_str(),
                         DescribeRange(p).c_str(), p.help.c_str());
         }
