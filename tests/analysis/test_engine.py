@@ -216,7 +216,8 @@ def test_form_factor_estimates_are_read_and_optional():
     assert caps.oracle("hanrahan").parameters == ("eps", "ff_estimate")
     bad = spec_with_estimates()
     bad["ff_estimates"][0]["default"] = "yes"
-    with pytest.raises(CapabilitiesError, match=r"ff_estimates\[0\]\.default must be true or false"):
+    with pytest.raises(CapabilitiesError,
+                       match=r"ff_estimates\[0\]\.default must be true or false"):
         parse_capabilities(json.dumps(bad))
     del bad["ff_estimates"][0]["default"]
     with pytest.raises(CapabilitiesError, match="missing key 'default'"):
