@@ -66,12 +66,16 @@ void RunRefine(benchmark::State &state, const Scene &scene, const RefineOptions 
     state.SetLabel(options.oracle + (options.storeLinks ? " store" : " count-only"));
 }
 
-RefineOptions Options(const std::string &oracle, bool store, double eps, int threads = 1) {
+// hanrahan's rows keep the centre-cosine estimate, the one of their history and of
+// docs/benchmarks.md and docs/3d.md, unless a row names another.
+RefineOptions Options(const std::string &oracle, bool store, double eps, int threads = 1,
+                      FfEstimate estimate = FfEstimate::CentreCosine) {
     RefineOptions o;
     o.oracle = oracle;
     o.storeLinks = store;
     o.eps = eps;
     o.threads = threads;
+    o.ffEstimate = estimate;
     return o;
 }
 
@@ -79,9 +83,10 @@ Scene Parallel(double l, double d) { return MakeScene("parallel", {{"l", l}, {"d
 
 // Fixed geometry g = l / d, eps = 1 / inv_eps shrinking: N = Theta(1/eps) elements and
 // L = Theta(N^2) links (claim C4), so the time grows as N^2.
-void BM_EpsSweep(benchmark::State &state, const std::string &oracle, bool store, double g) {
+void BM_EpsSweep(benchmark::State &state, const std::string &oracle, bool store, double g,
+                 FfEstimate estimate = FfEstimate::CentreCosine) {
     double eps = 1.0 / double(state.range(0));
-    RunRefine(state, Parallel(g, 1), Options(oracle, store, eps));
+    RunRefine(state, Parallel(g, 1), Options(oracle, store, eps, 1, estimate));
     state.SetComplexityN(int64_t(state.counters["nodes"].value));
 }
 
@@ -188,6 +193,9 @@ BENCHMARK_CAPTURE(BM_EpsSweep, garmann_count, "garmann", false, 64)->Apply(Garma
 BENCHMARK_CAPTURE(BM_EpsSweep, garmann_store, "garmann", true, 64)->Apply(GarmannEps);
 BENCHMARK_CAPTURE(BM_EpsSweep, hanrahan_count, "hanrahan", false, 4)->Apply(HanrahanEps);
 BENCHMARK_CAPTURE(BM_EpsSweep, hanrahan_store, "hanrahan", true, 4)->Apply(HanrahanEps);
+BENCHMARK_CAPTURE(BM_EpsSweep, hanrahan_clamped_count, "hanrahan", false, 4,
+                  FfEstimate::ClampedCosine)
+    ->Apply(HanrahanEps);
 BENCHMARK_CAPTURE(BM_GeometrySweep, garmann_count, "garmann", false, 0.05)->Apply(GarmannGeometry);
 BENCHMARK_CAPTURE(BM_GeometrySweep, garmann_store, "garmann", true, 0.05)->Apply(GarmannGeometry);
 BENCHMARK_CAPTURE(BM_GeometrySweep, hanrahan_count, "hanrahan", false, 0.002)

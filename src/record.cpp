@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "build_info.h"
+#include "hrbench/oracles/registry.h"
 #include "hrbench/util/format.h"
 
 namespace hrbench {
@@ -88,6 +89,10 @@ json RunToJson(const Scene &scene, const RefineOptions &options, const RunRecord
     out["dimension"] = scene.Dimension();
     out["eps"] = options.eps;
     out["oracle"] = options.oracle;
+    // The form-factor estimate, for an oracle that reads one (null: does not apply).
+    out["ff_estimate"] = FindOracle(options.oracle).Reads("ff_estimate")
+                             ? json(FfEstimateName(options.ffEstimate))
+                             : json(nullptr);
     out["method"] = record.method;
     out["mode"] = options.storeLinks ? "store" : "count-only";
     out["min_area"] = options.minArea > 0 ? json(options.minArea) : json(nullptr);
@@ -107,11 +112,19 @@ json RunToJson(const Scene &scene, const RefineOptions &options, const RunRecord
     return out;
 }
 
+std::string OracleLabel(const json &record) {
+    std::string label = record["oracle"].get<std::string>();
+    auto estimate = record.find("ff_estimate");
+    if (estimate != record.end() && estimate->is_string())
+        label += " (" + estimate->get<std::string>() + ")";
+    return label;
+}
+
 void PrintRunTable(const json &record, std::ostream &out) {
     out << "scene     " << record["scene"].get<std::string>();
     for (const auto &[key, value] : record["params"].items())
         out << " " << key << "=" << FormatDouble(value.get<double>());
-    out << "\noracle    " << record["oracle"].get<std::string>() << "  eps "
+    out << "\noracle    " << OracleLabel(record) << "  eps "
         << FormatDouble(record["eps"].get<double>()) << "  mode "
         << record["mode"].get<std::string>() << "\n\n";
     for (const CounterInfo &c : CounterTable())

@@ -524,7 +524,7 @@ void PrintSolveTable(const json &solve, std::ostream &out) {
     out << "scene     " << solve["scene"].get<std::string>();
     for (const auto &[key, value] : solve["params"].items())
         out << " " << key << "=" << FormatDouble(value.get<double>());
-    out << "\noracle    " << solve["oracle"].get<std::string>() << "  eps "
+    out << "\noracle    " << OracleLabel(solve) << "  eps "
         << FormatDouble(solve["eps"].get<double>()) << "  visibility "
         << solve["visibility"].get<std::string>() << "\nsolver    "
         << solve["solver"].get<std::string>() << "  tolerance "

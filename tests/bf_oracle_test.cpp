@@ -57,6 +57,13 @@ Scene SceneOf(AnyPatches patches) {
     return scene;
 }
 
+// bf with the centre-cosine estimate (oracles/ff_estimate.h), whose values the cases
+// below compute by hand: A_j cos_i cos_j / sqrt(4 r^2 + A_j^2), resp. / (pi r^2 + A_j).
+template <typename Shape>
+BFOracle<Shape> CentreBF(double eps, const Patches<Shape> &roots) {
+    return BFOracle<Shape>(eps, roots, nullptr, FfEstimate::CentreCosine);
+}
+
 RefineOptions BF(double eps, double minArea = 0) {
     RefineOptions o;
     o.oracle = "bf";
@@ -78,25 +85,36 @@ TEST_CASE("bf accepts iff B_j F(i<-j) and B_i F(j<-i) are within eps, in 2D", "[
     SECTION("only Q emits: B_i = 0, the threshold is B_Q F(i<-j)") {
         Patches<Segment> roots = FacingSegments(0, 3);
         double t = 3 * fij;  // 1.664...
-        CHECK(BFOracle<Segment>(t, roots).Acceptable(i, j));
-        CHECK_FALSE(BFOracle<Segment>(Below(t), roots).Acceptable(i, j));
+        CHECK(CentreBF<Segment>(t, roots).Acceptable(i, j));
+        CHECK_FALSE(CentreBF<Segment>(Below(t), roots).Acceptable(i, j));
         // hanrahan decides on F alone: at eps = F(i<-j) it accepts, bf's 3 F(i<-j) does not.
-        CHECK_FALSE(HanrahanOracle<Segment>(0.5, roots).Acceptable(i, j));
-        CHECK(HanrahanOracle<Segment>(fij, roots).Acceptable(i, j));
-        CHECK_FALSE(BFOracle<Segment>(fij, roots).Acceptable(i, j));
+        CHECK_FALSE(HanrahanOracle<Segment>(0.5, roots, FfEstimate::CentreCosine).Acceptable(i, j));
+        CHECK(HanrahanOracle<Segment>(fij, roots, FfEstimate::CentreCosine).Acceptable(i, j));
+        CHECK_FALSE(CentreBF<Segment>(fij, roots).Acceptable(i, j));
     }
     SECTION("both emit: the larger of the two products decides") {
         Patches<Segment> weak = FacingSegments(5, 3);  // 5 / sqrt(10) = 1.58 < 1.66
-        CHECK(BFOracle<Segment>(3 * fij, weak).Acceptable(i, j));
-        CHECK_FALSE(BFOracle<Segment>(Below(3 * fij), weak).Acceptable(i, j));
+        CHECK(CentreBF<Segment>(3 * fij, weak).Acceptable(i, j));
+        CHECK_FALSE(CentreBF<Segment>(Below(3 * fij), weak).Acceptable(i, j));
         Patches<Segment> strong = FacingSegments(10, 3);  // 10 / sqrt(10) = 3.16 > 1.66
-        CHECK(BFOracle<Segment>(10 * fji, strong).Acceptable(i, j));
-        CHECK_FALSE(BFOracle<Segment>(Below(10 * fji), strong).Acceptable(i, j));
+        CHECK(CentreBF<Segment>(10 * fji, strong).Acceptable(i, j));
+        CHECK_FALSE(CentreBF<Segment>(Below(10 * fji), strong).Acceptable(i, j));
     }
     SECTION("the visible fraction weighs the products, (V * B) * F") {
         Patches<Segment> roots = FacingSegments(0, 3);
-        CHECK(BFOracle<Segment>(0.5 * 3 * fij, roots).AcceptableVisible(i, j, 0.5));
-        CHECK_FALSE(BFOracle<Segment>(Below(0.5 * 3 * fij), roots).AcceptableVisible(i, j, 0.5));
+        CHECK(CentreBF<Segment>(0.5 * 3 * fij, roots).AcceptableVisible(i, j, 0.5));
+        CHECK_FALSE(CentreBF<Segment>(Below(0.5 * 3 * fij), roots).AcceptableVisible(i, j, 0.5));
+    }
+    SECTION("the default clamped-cosine estimate: 2f > 1 raises both cosines to 2f") {
+        // f(i<-j) = 2 / sqrt(13) = 0.555, so F(i<-j) = f 2f 2f = 0.683 (the receiver's
+        // factor first); F(j<-i) = 1 / sqrt(10) with both cosines 1 > 2f = 0.632.
+        Patches<Segment> roots = FacingSegments(0, 3);
+        double t = 3 * (fij * (2 * fij) * (2 * fij));
+        CHECK(BFOracle<Segment>(t, roots).Acceptable(i, j));
+        CHECK_FALSE(BFOracle<Segment>(Below(t), roots).Acceptable(i, j));
+        Patches<Segment> strong = FacingSegments(10, 0);
+        CHECK(BFOracle<Segment>(10 * fji, strong).Acceptable(i, j));
+        CHECK_FALSE(BFOracle<Segment>(Below(10 * fji), strong).Acceptable(i, j));
     }
 }
 
@@ -108,37 +126,37 @@ TEST_CASE("bf accepts iff B_j F(i<-j) and B_i F(j<-i) are within eps, in 3D", "[
     double fab = 2 / (kPi * 1 + 2), fba = 1 / (kPi * 1 + 1);
 
     Patches<Polygon> lamp = FacingSquares(0, 4);  // Q emits 4: 4 F(a<-b) = 1.556
-    CHECK(BFOracle<Polygon>(4 * fab, lamp).Acceptable(a, b));
-    CHECK_FALSE(BFOracle<Polygon>(Below(4 * fab), lamp).Acceptable(a, b));
+    CHECK(CentreBF<Polygon>(4 * fab, lamp).Acceptable(a, b));
+    CHECK_FALSE(CentreBF<Polygon>(Below(4 * fab), lamp).Acceptable(a, b));
     Patches<Polygon> both = FacingSquares(7, 4);  // 7 F(b<-a) = 1.690 > 1.556
-    CHECK(BFOracle<Polygon>(7 * fba, both).Acceptable(a, b));
-    CHECK_FALSE(BFOracle<Polygon>(Below(7 * fba), both).Acceptable(a, b));
-    CHECK(BFOracle<Polygon>(0.25 * 7 * fba, both).AcceptableVisible(a, b, 0.25));
-    CHECK_FALSE(BFOracle<Polygon>(Below(0.25 * 7 * fba), both).AcceptableVisible(a, b, 0.25));
+    CHECK(CentreBF<Polygon>(7 * fba, both).Acceptable(a, b));
+    CHECK_FALSE(CentreBF<Polygon>(Below(7 * fba), both).Acceptable(a, b));
+    CHECK(CentreBF<Polygon>(0.25 * 7 * fba, both).AcceptableVisible(a, b, 0.25));
+    CHECK_FALSE(CentreBF<Polygon>(Below(0.25 * 7 * fba), both).AcceptableVisible(a, b, 0.25));
     // Facing away: both estimates are 0 whatever B is.
     Patches<Polygon> away = FacingSquares(7, 4);
     std::swap(away[0].shape.v[1], away[0].shape.v[3]);  // P now faces -z
     std::swap(away[1].shape.v[1], away[1].shape.v[3]);  // Q +z
-    CHECK(BFOracle<Polygon>(1e-300, away).Acceptable(a, b));
+    CHECK(CentreBF<Polygon>(1e-300, away).Acceptable(a, b));
 }
 
 TEST_CASE("bf accepts a pair whose elements do not emit at once, however close", "[bf]") {
     // Root 2 emits, so the scene is accepted; roots 0 and 1 do not.
     Patches<Segment> roots = FacingSegments(0, 0);
     roots.push_back({{Vec2(0, 5), Vec2(1, 5)}, {0.5, 1}});
-    BFOracle<Segment> oracle(1e-300, roots);
+    BFOracle<Segment> oracle = CentreBF<Segment>(1e-300, roots);
     CHECK(oracle.Acceptable(At(0, 0, 4, 0), At(0, 1e-9, 4, 1)));
     CHECK(oracle.AcceptableVisible(At(0, 0, 4, 0), At(0, 1e-9, 4, 1), 0.5));
     // One-sided: only the product with the emitter's B counts. A tiny i under a long j:
     // F(i<-j) = 4 / sqrt(9 + 16) = 0.8, F(j<-i) = 1e-6 / sqrt(9 + 1e-12).
     Element<2> i = At(0, 0, 1e-6, 0), j = At(0, 1.5, 4, 1);
     double fji = 1e-6 / std::sqrt(4 * 2.25 + 1e-6 * 1e-6);
-    CHECK_FALSE(BFOracle<Segment>(0.5, FacingSegments(0, 1)).Acceptable(i, j));  // 0.8 > 0.5
-    CHECK(BFOracle<Segment>(fji, FacingSegments(1, 0)).Acceptable(i, j));
-    CHECK_FALSE(BFOracle<Segment>(Below(fji), FacingSegments(1, 0)).Acceptable(i, j));
+    CHECK_FALSE(CentreBF<Segment>(0.5, FacingSegments(0, 1)).Acceptable(i, j));  // 0.8 > 0.5
+    CHECK(CentreBF<Segment>(fji, FacingSegments(1, 0)).Acceptable(i, j));
+    CHECK_FALSE(CentreBF<Segment>(Below(fji), FacingSegments(1, 0)).Acceptable(i, j));
 
     SECTION("a run where nothing emits is refused") {
-        CHECK_THROWS_AS(BFOracle<Segment>(0.1, FacingSegments(0, 0)), InputError);
+        CHECK_THROWS_AS(CentreBF<Segment>(0.1, FacingSegments(0, 0)), InputError);
         CHECK_THROWS_WITH(Refine(SceneOf(FacingSquares(0, 0)), BF(0.1)),
                           Catch::StartsWith("the bf oracle needs an emitter: "));
     }
@@ -155,12 +173,12 @@ TEST_CASE("Doubling B halves the threshold bf puts on F, exactly", "[bf]") {
     for (int k = 0; k < 20000; ++k) {
         double eps = e(rng);
         Element<2> i = At(u(rng) - 2, 0, s(rng), 0), j = At(u(rng) - 2, u(rng), s(rng), 1);
-        bool once = BFOracle<Segment>(eps / 2, flat).Acceptable(i, j);
-        REQUIRE(BFOracle<Segment>(eps, flat2).Acceptable(i, j) == once);
+        bool once = CentreBF<Segment>(eps / 2, flat).Acceptable(i, j);
+        REQUIRE(CentreBF<Segment>(eps, flat2).Acceptable(i, j) == once);
         Element<3> a{Vec3(u(rng), u(rng), 0), Sq(s(rng)), kNoChildren, 0};
         Element<3> b{Vec3(u(rng), u(rng), u(rng)), Sq(s(rng)), kNoChildren, 1};
-        bool once3 = BFOracle<Polygon>(eps / 2, space).Acceptable(a, b);
-        REQUIRE(BFOracle<Polygon>(eps, space2).Acceptable(a, b) == once3);
+        bool once3 = CentreBF<Polygon>(eps / 2, space).Acceptable(a, b);
+        REQUIRE(CentreBF<Polygon>(eps, space2).Acceptable(a, b) == once3);
         accepted += once + once3, total += 2;
     }
     CHECK(accepted > total / 10);  // both outcomes are exercised
@@ -168,10 +186,10 @@ TEST_CASE("Doubling B halves the threshold bf puts on F, exactly", "[bf]") {
     // At the threshold itself: the least accepting eps doubles with B.
     Element<2> i = At(0, 0, 1, 0), j = At(0, 1.5, 2, 1);
     double t = 1.5 * (1 / std::sqrt(10.0));  // B_P F(j<-i) = 0.474 > B_Q F(i<-j) = 0.416
-    CHECK(BFOracle<Segment>(t, flat).Acceptable(i, j));
-    CHECK_FALSE(BFOracle<Segment>(Below(t), flat).Acceptable(i, j));
-    CHECK(BFOracle<Segment>(2 * t, flat2).Acceptable(i, j));
-    CHECK_FALSE(BFOracle<Segment>(Below(2 * t), flat2).Acceptable(i, j));
+    CHECK(CentreBF<Segment>(t, flat).Acceptable(i, j));
+    CHECK_FALSE(CentreBF<Segment>(Below(t), flat).Acceptable(i, j));
+    CHECK(CentreBF<Segment>(2 * t, flat2).Acceptable(i, j));
+    CHECK_FALSE(CentreBF<Segment>(Below(2 * t), flat2).Acceptable(i, j));
 }
 
 TEST_CASE("The estimate looks an element up in a previous forest, in 2D", "[bf][estimate][2d]") {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include "cli_helpers.h"
 #include "hrbench/generators/generators.h"
@@ -22,10 +23,11 @@ const std::string kData = HRBENCH_TEST_DATA;
 
 // The keys of a run record that describe the run rather than count it (record.h).
 const std::set<std::string> kRunContextKeys = {
-    "schema_version", "version",     "context",    "scene",         "params",
-    "scene_file",     "mesh_file",   "patches",    "dimension",     "eps",
-    "oracle",         "method",      "mode",       "min_area",      "max_depth_limit",
-    "threads",        "subdivision", "visibility", "rays_per_side", "seconds"};
+    "schema_version",  "version",     "context",     "scene",      "params",
+    "scene_file",      "mesh_file",   "patches",     "dimension",  "eps",
+    "oracle",          "ff_estimate", "method",      "mode",       "min_area",
+    "max_depth_limit", "threads",     "subdivision", "visibility", "rays_per_side",
+    "seconds"};
 
 }  // namespace
 
@@ -369,6 +371,71 @@ TEST_CASE("The Cornell box runs with visibility from the command line", "[cli][3
     CHECK(j["occluded_pairs"].get<int>() > 0);
 }
 
+TEST_CASE("The form-factor estimate reaches the record, the table, sweeps and check-links",
+          "[cli][estimate]") {
+    auto record = [](const std::string &args) {
+        CliResult r = Cli(args);
+        INFO("hrbench " << args << "\n" << r.err);
+        REQUIRE(r.exitCode == 0);
+        return json::parse(r.out);
+    };
+    // The default is clamped-cosine, recorded for hanrahan and bf, null for garmann.
+    const std::string plates = "run parallel l=64 d=1 --oracle hanrahan --count-only --json";
+    json byDefault = record(plates + " --eps 0.1");
+    CHECK(byDefault["ff_estimate"] == "clamped-cosine");
+    json clamped = record(plates + " --eps 0.1 --ff-estimate clamped-cosine");
+    CHECK(clamped["nodes"] == byDefault["nodes"]);
+    CHECK(clamped["links"] == byDefault["links"]);
+    // centre-cosine stops at N = 4, L = 2 on these plates for every eps above its cliff
+    // (docs/hanrahan-oracle.md); the others refine on.
+    json centre = record(plates + " --eps 0.1 --ff-estimate centre-cosine");
+    CHECK(centre["ff_estimate"] == "centre-cosine");
+    CHECK(centre["nodes"] == 4);
+    CHECK(centre["links"] == 2);
+    CHECK(clamped["nodes"].get<int>() > 4);
+    CHECK(record(plates + " --eps 0.1 --ff-estimate solid-angle")["ff_estimate"] == "solid-angle");
+    CHECK(record("run parallel --eps 0.25 --json")["ff_estimate"].is_null());
+    CHECK(record("run cornell --oracle bf --eps 0.05 --min-area 0.01 --ff-estimate solid-angle "
+                 "--json")["ff_estimate"] == "solid-angle");
+    CHECK(record("solve room lamp=1 --eps 0.1 --min-area 0.01 --oracle hanrahan --ff-estimate "
+                 "centre-cosine --json")["ff_estimate"] == "centre-cosine");
+    CHECK_THAT(Cli("run parallel --eps 0.1 --oracle hanrahan --ff-estimate solid-angle").out,
+               Catch::Contains("oracle    hanrahan (solid-angle)  eps 0.1"));
+    CHECK_THAT(Cli("run parallel --eps 0.25").out, Catch::Contains("oracle    garmann  eps 0.25"));
+    CHECK_THAT(Cli("solve room lamp=1 --eps 0.1 --min-area 0.01 --oracle hanrahan").out,
+               Catch::Contains("oracle    hanrahan (clamped-cosine)  eps 0.1"));
+
+    SECTION("a sweep counts each value as its own run does") {
+        const std::string scene = "run parallel l=16 d=1 --oracle hanrahan --ff-estimate "
+                                  "solid-angle --count-only --json";
+        CliResult sweep = Cli(scene + " --sweep eps=0.1,0.02");
+        REQUIRE(sweep.exitCode == 0);
+        std::istringstream lines(sweep.out);
+        std::string line;
+        for (const char *eps : {"0.1", "0.02"}) {
+            REQUIRE(std::getline(lines, line));
+            json swept = json::parse(line), alone = record(scene + " --eps " + eps);
+            INFO("eps " << eps);
+            CHECK(swept["ff_estimate"] == "solid-angle");
+            for (const char *counter : {"nodes", "links", "oracle_calls", "links_per_depth"})
+                CHECK(swept[counter] == alone[counter]);
+        }
+    }
+    SECTION("check-links rebuilds the oracle with the estimate it is given") {
+        // On parallel l=8 d=1 at eps 0.05 the estimates link differently (4428 links with
+        // solid-angle, 2164 with clamped-cosine), so the dump of one fails the other.
+        std::string dump = Scratch("estimate.dump");
+        const std::string scene = "parallel l=8 d=1 --oracle hanrahan --eps 0.05";
+        REQUIRE(Cli("links " + scene + " --ff-estimate solid-angle --format probe --out " + dump)
+                    .exitCode == 0);
+        CHECK(Cli("check-links " + scene + " --ff-estimate solid-angle --links " + dump).exitCode ==
+              0);
+        CliResult other = Cli("check-links " + scene + " --links " + dump);
+        CHECK(other.exitCode == 4);
+        CHECK_THAT(other.err, Catch::StartsWith("hrbench: error: " + dump));
+    }
+}
+
 // ---------------------------------------------------------------------------------------
 // capabilities
 
@@ -441,6 +508,44 @@ TEST_CASE("capabilities --json lists exactly the registry's oracles, and each of
                "unknown oracle 'magic' (choose one of: garmann, hanrahan, bf)");
 }
 
+TEST_CASE("capabilities --json lists the form-factor estimates and the oracles that read them",
+          "[cli][capabilities][estimate]") {
+    json caps = json::parse(Cli("capabilities --json").out);
+    std::vector<std::string> names;
+    int defaults = 0;
+    for (const json &e : caps["ff_estimates"]) {
+        names.push_back(e["name"]);
+        INFO(e["name"]);
+        const hrbench::FfEstimateInfo &info =
+            hrbench::FfEstimateInfoOf(hrbench::ParseFfEstimate(e["name"]));
+        CHECK(e["formula_2d"] == info.formula2d);
+        CHECK(e["formula_3d"] == info.formula3d);
+        CHECK(e["source"] == info.source);
+        CHECK(e["oracles"] == json({"hanrahan", "bf"}));
+        CHECK(e["default"] == (info.estimate == hrbench::kDefaultFfEstimate));
+        defaults += e["default"].get<bool>();
+    }
+    CHECK(names == std::vector<std::string>{"clamped-cosine", "centre-cosine", "solid-angle"});
+    CHECK(defaults == 1);
+    CHECK(caps["ff_estimates"][0]["default"] == true);
+    CHECK(caps["ff_estimates"][0]["formula_3d"] ==
+          "f max(|cos_i|, 2f) max(|cos_j|, 2f), f = A_j / (pi r^2 + A_j)");
+    for (const json &o : caps["oracles"])
+        CHECK(o["parameters"] ==
+              (o["name"] == "garmann" ? json({"eps"}) : json({"eps", "ff_estimate"})));
+    for (const json &o : caps["options"])
+        if (o["name"] == "ff_estimate") {
+            CHECK(o["flag"] == "--ff-estimate");
+            CHECK(o["choices"] == json(names));
+            CHECK(o["commands"] == json({"run", "links", "check-links", "solve"}));
+        }
+    std::string scenes = Cli("scenes").out, help = Cli("--help").out;
+    for (const std::string &name : names) {
+        CHECK_THAT(scenes, Catch::Contains("  " + name + " "));
+        CHECK_THAT(help, Catch::Contains(name));
+    }
+}
+
 TEST_CASE("capabilities --json lists exactly the counters of a run record, in order",
           "[cli][capabilities]") {
     json caps = json::parse(Cli("capabilities --json").out);
@@ -500,6 +605,22 @@ TEST_CASE("Bad input gives one line on stderr and exit code 2", "[cli][errors]")
     CheckError("capabilities parallel --json", 2, "takes no scene");
     CheckError("run parallel --eps 1 --oracle magic", 2,
                "unknown oracle 'magic' (choose one of: garmann, hanrahan, bf)");
+    // --ff-estimate: only for the oracles that read it, only its names.
+    for (const char *command : {"run parallel --eps 0.1", "links parallel --eps 0.1 --out x.csv",
+                                "check-links parallel --eps 0.1 --links x.dump",
+                                "solve room lamp=1 --eps 0.1 --min-area 0.01"})
+        CheckError(std::string(command) + " --ff-estimate solid-angle", 2,
+                   "--ff-estimate applies to the oracles hanrahan and bf only, not to garmann");
+    CheckError("run parallel --eps 0.1 --oracle garmann --ff-estimate centre-cosine", 2,
+               "--ff-estimate applies to the oracles hanrahan and bf only, not to garmann");
+    CheckError("run parallel --eps 0.1 --oracle hanrahan --ff-estimate magic", 2,
+               "unknown ff_estimate 'magic' (choose one of: clamped-cosine, centre-cosine, "
+               "solid-angle)");
+    CheckError("save parallel --ff-estimate solid-angle", 2,
+               "--ff-estimate does not apply to save");
+    CheckError("run parallel --eps 0.1 --oracle hanrahan --ff-estimate centre-cosine --method "
+               "translation --count-only",
+               2, "--method translation supports --oracle garmann only");
 }
 
 TEST_CASE("Bad 3D input gives one line on stderr and exit code 2", "[cli][errors][3d]") {

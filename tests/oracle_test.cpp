@@ -1,5 +1,6 @@
 // The oracles (oracles/garmann.h, oracles/hanrahan.h) against their definitions and
-// closed-form references, in 2D and 3D, and the registry that lists them.
+// closed-form references, in 2D and 3D, the form-factor estimates of hanrahan and bf
+// (oracles/ff_estimate.h) computed by hand, and the registry that lists them.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -69,7 +70,9 @@ TEST_CASE("The garmann oracle accepts exactly when max(A_i, A_j) <= eps * r", "[
 TEST_CASE("The hanrahan oracle estimates the flatland form factor", "[oracle][2d]") {
     // A short element facing the centre of a segment of length a at distance r:
     // Hottel's crossed strings give F -> a / sqrt(4 r^2 + a^2) as the element shrinks
-    // (docs/conventions.md), which is the estimate F(i<-j) with both cosines 1.
+    // (docs/conventions.md), which is the centre-cosine estimate F(i<-j) with both
+    // cosines 1.
+    const FfEstimate centre = FfEstimate::CentreCosine;
     double a = 2, r = 1.5, delta = 1e-6;
     Segment small{Vec2(-delta / 2, 0), Vec2(delta / 2, 0)};
     Segment big{Vec2(a / 2, r), Vec2(-a / 2, r)};
@@ -81,12 +84,12 @@ TEST_CASE("The hanrahan oracle estimates the flatland form factor", "[oracle][2d
 
     Patches<Segment> roots{{small, {}}, {big, {}}};
     Element<2> i = At(0, 0, delta, 0), j = At(0, r, a, 1);
-    CHECK(HanrahanOracle<Segment>(estimate * (1 + 1e-9), roots).Acceptable(i, j));
-    CHECK_FALSE(HanrahanOracle<Segment>(estimate * (1 - 1e-9), roots).Acceptable(i, j));
+    CHECK(HanrahanOracle<Segment>(estimate * (1 + 1e-9), roots, centre).Acceptable(i, j));
+    CHECK_FALSE(HanrahanOracle<Segment>(estimate * (1 - 1e-9), roots, centre).Acceptable(i, j));
 
     SECTION("cosines are clamped: an element behind the other's front contributes nothing") {
         Element<2> behind = At(0, -1, 1, 1);  // below the x axis, normal of root 1 faces -y
-        CHECK(HanrahanOracle<Segment>(1e-12, WithNormals(Vec2(0, 1), Vec2(0, -1)))
+        CHECK(HanrahanOracle<Segment>(1e-12, WithNormals(Vec2(0, 1), Vec2(0, -1)), centre)
                   .Acceptable(i, behind));
     }
 }
@@ -155,19 +158,20 @@ TEST_CASE("garmann decides on A^2 as the exact form on A = sqrt(A^2), at any mag
 }
 
 TEST_CASE("The 3D hanrahan oracle estimates both form factors at the centroids", "[oracle][3d]") {
-    // Directly opposed elements: cosines 1, F = A / (pi r^2 + A).
+    // Directly opposed elements: cosines 1, F = A / (pi r^2 + A) (centre-cosine).
+    const FfEstimate centre = FfEstimate::CentreCosine;
     Patches<Polygon> normals = SquaresFacing(true, false);  // +z, -z
     REQUIRE(normals[0].shape.Normal() == Vec3(0, 0, 1));
     REQUIRE(normals[1].shape.Normal() == Vec3(0, 0, -1));
     Element<3> a{Vec3(0, 0, 0), Sq(1), kNoChildren, 0}, b{Vec3(0, 0, 1), Sq(2), kNoChildren, 1};
     double fAB = 2 / (kPi + 2), fBA = 1 / (kPi + 1);
-    CHECK(HanrahanOracle<Polygon>(fAB, normals).Acceptable(a, b));
-    CHECK(!HanrahanOracle<Polygon>(fAB * (1 - 1e-9), normals).Acceptable(a, b));
-    CHECK(!HanrahanOracle<Polygon>(fBA, normals).Acceptable(a, b));  // F(a<-b) > F(b<-a)
-    CHECK(HanrahanOracle<Polygon>(fAB / 2, normals).AcceptableVisible(a, b, 0.5));
+    CHECK(HanrahanOracle<Polygon>(fAB, normals, centre).Acceptable(a, b));
+    CHECK(!HanrahanOracle<Polygon>(fAB * (1 - 1e-9), normals, centre).Acceptable(a, b));
+    CHECK(!HanrahanOracle<Polygon>(fBA, normals, centre).Acceptable(a, b));  // F(a<-b) > F(b<-a)
+    CHECK(HanrahanOracle<Polygon>(fAB / 2, normals, centre).AcceptableVisible(a, b, 0.5));
     // Facing away: cosines clamped at 0, always acceptable.
     Patches<Polygon> away = SquaresFacing(false, true);  // -z, +z
-    CHECK(HanrahanOracle<Polygon>(1e-9, away).Acceptable(a, b));
+    CHECK(HanrahanOracle<Polygon>(1e-9, away, centre).Acceptable(a, b));
 }
 
 TEST_CASE("The weighted oracles decide as the plain ones when all is visible", "[oracle]") {
@@ -218,7 +222,12 @@ TEST_CASE("The registry lists every oracle once, for both dimensions", "[oracle]
         INFO(info.name);
         CHECK(names.insert(info.name).second);  // unique
         CHECK(std::string(info.doc).size() > 0);
-        CHECK(std::string(info.parameters) == "eps");
+        // garmann reads eps; hanrahan and bf the form-factor estimate too.
+        bool estimates = std::string(info.name) != "garmann";
+        CHECK(std::string(info.parameters) == (estimates ? "eps ff_estimate" : "eps"));
+        CHECK(info.Reads("eps"));
+        CHECK(info.Reads("ff_estimate") == estimates);
+        CHECK_FALSE(info.Reads("ff"));
         CHECK(std::string(FindOracle(info.name).name) == info.name);
         CHECK(info.Supports(2));
         CHECK(info.Supports(3));
@@ -228,13 +237,16 @@ TEST_CASE("The registry lists every oracle once, for both dimensions", "[oracle]
     CHECK(names == std::set<std::string>{"garmann", "hanrahan", "bf"});
     CHECK(std::string(infos.front().name) == "garmann");  // the default comes first
     CHECK(RefineOptions().oracle == infos.front().name);
+    CHECK(OraclesReading("ff_estimate") == std::vector<std::string>{"hanrahan", "bf"});
+    CHECK(OraclesReading("eps") == std::vector<std::string>{"garmann", "hanrahan", "bf"});
 }
 
 TEST_CASE("Every oracle of the registry rejects large close pairs and accepts small far ones",
           "[oracle][registry]") {
     // Facing unit plates at distance 1, eps 0.1: the root pair is rejected by every
-    // oracle (garmann 1 > 0.1; hanrahan 1/sqrt(5) in 2D, 1/(pi+1) in 3D; bf, with both
-    // plates emitting 1, as hanrahan), and elements of size 1e-3 at the same centres are
+    // oracle (garmann 1 > 0.1; hanrahan 1/sqrt(5) in 2D, 1/(pi+1) in 3D with its default
+    // estimate, as with each, the cosines being 1 and 2f < 1; bf, with both plates
+    // emitting 1, as hanrahan), and elements of size 1e-3 at the same centres are
     // accepted.
     Scene flat = MakeScene("parallel", {{"l", 1}, {"d", 1}});
     Scene space = MakeScene("parallel3d", {});
@@ -269,4 +281,179 @@ TEST_CASE("An unknown oracle name is refused with the list of names", "[oracle][
         CHECK_THROWS_WITH(FindOracle("bogus"), Catch::Contains(info.name));
     CHECK_THROWS_AS(FindOracle("Garmann"), InputError);  // names are case-sensitive
     CHECK_THROWS_AS(FindOracle(""), InputError);
+}
+
+// ---------------------------------------------------------------------------------------
+// The form-factor estimates of hanrahan and bf (--ff-estimate), computed by hand.
+
+namespace {
+
+// F(i<-j), F(j<-i) of _estimate_ for a pair on two roots with front normals _ni_, _nj_.
+template <typename Shape>
+Eigen::Array2d Estimates(FfEstimate estimate, const Element<Shape::kDimension> &i,
+                         const Element<Shape::kDimension> &j, const typename Shape::Vec &ni,
+                         const typename Shape::Vec &nj) {
+    return FormFactorEstimates<Shape>(i, j, ni, nj, estimate);
+}
+
+// Checks that _estimate_ gives (_fij_, _fji_) to within a few ulps, and that the hanrahan
+// oracle with it accepts the pair at eps = max(fij, fji) (up to 1e-12) and not below.
+template <typename Shape>
+void CheckEstimate(FfEstimate estimate, const Patches<Shape> &roots,
+                   const Element<Shape::kDimension> &i, const Element<Shape::kDimension> &j,
+                   double fij, double fji) {
+    INFO(FfEstimateName(estimate));
+    Eigen::Array2d f = Estimates<Shape>(estimate, i, j, roots[i.root].shape.Normal(),
+                                        roots[j.root].shape.Normal());
+    CHECK_THAT(f[0], Catch::Matchers::WithinRel(fij, 1e-14) || Catch::Matchers::WithinAbs(fij, 0));
+    CHECK_THAT(f[1], Catch::Matchers::WithinRel(fji, 1e-14) || Catch::Matchers::WithinAbs(fji, 0));
+    double threshold = std::max(fij, fji);
+    if (threshold > 0) {
+        CHECK(HanrahanOracle<Shape>(threshold * (1 + 1e-12), roots, estimate).Acceptable(i, j));
+        CHECK_FALSE(
+            HanrahanOracle<Shape>(threshold * (1 - 1e-12), roots, estimate).Acceptable(i, j));
+    } else {
+        CHECK(HanrahanOracle<Shape>(1e-300, roots, estimate).Acceptable(i, j));
+    }
+}
+
+const std::vector<FfEstimate> kAllEstimates = {FfEstimate::CentreCosine, FfEstimate::SolidAngle,
+                                               FfEstimate::ClampedCosine};
+
+// Which of centre-cosine, solid-angle and clamped-cosine accept the pair at _eps_.
+template <typename Shape>
+std::vector<bool> Decisions(double eps, const Patches<Shape> &roots,
+                            const Element<Shape::kDimension> &i,
+                            const Element<Shape::kDimension> &j) {
+    std::vector<bool> accepted;
+    for (FfEstimate e : kAllEstimates)
+        accepted.push_back(HanrahanOracle<Shape>(eps, roots, e).Acceptable(i, j));
+    return accepted;
+}
+
+}  // namespace
+
+TEST_CASE("Facing unit elements at distance 1: the three estimates agree", "[oracle][estimate]") {
+    // Both cosines 1 and 2f < 1, so every estimate is the point-to-disc factor f:
+    // 1 / sqrt(4 + 1) in 2D, 1 / (pi + 1) in 3D.
+    Patches<Segment> flat = WithNormals(Vec2(0, 1), Vec2(0, -1));
+    Element<2> i = At(0, 0, 1, 0), j = At(0, 1, 1, 1);
+    Patches<Polygon> space = SquaresFacing(true, false);
+    Element<3> a{Vec3(0, 0, 0), 1, kNoChildren, 0}, b{Vec3(0, 0, 1), 1, kNoChildren, 1};
+    for (FfEstimate e : kAllEstimates) {
+        CheckEstimate(e, flat, i, j, 1 / std::sqrt(5.0), 1 / std::sqrt(5.0));
+        CheckEstimate(e, space, a, b, 1 / (kPi + 1), 1 / (kPi + 1));
+    }
+}
+
+TEST_CASE("The estimates in 2D, where a cosine lies below the clamp", "[oracle][estimate][2d]") {
+    Patches<Segment> facing = WithNormals(Vec2(0, 1), Vec2(0, -1));
+    SECTION("offset elements of lengths 0.5 and 2: the clamp applies in one direction") {
+        // i (length 0.5) at the origin, j (length 2) at (3, 1): r^2 = 10, both cosines
+        // 1/sqrt(10). f(i<-j) = 2 / sqrt(44) = 0.302, 2f = 0.603 > 0.316 raises both
+        // cosines: F = f (2f)^2; f(j<-i) = 0.5 / sqrt(40.25) = 0.0788, 2f < 0.316: F = f / 10.
+        Element<2> i = At(0, 0, 0.5, 0), j = At(3, 1, 2, 1);
+        double fij = 2 / std::sqrt(44.0), fji = 0.5 / std::sqrt(40.25);
+        CheckEstimate(FfEstimate::CentreCosine, facing, i, j, fij / 10, fji / 10);
+        CheckEstimate(FfEstimate::SolidAngle, facing, i, j, fij, fji);
+        CheckEstimate(FfEstimate::ClampedCosine, facing, i, j, 4 * fij * fij * fij, fji / 10);
+        // Thresholds 0.0302, 0.302 and 0.110: at eps 0.05 only centre-cosine accepts, at
+        // 0.2 centre-cosine and clamped-cosine.
+        CHECK(Decisions(0.05, facing, i, j) == std::vector<bool>{true, false, false});
+        CHECK(Decisions(0.2, facing, i, j) == std::vector<bool>{true, false, true});
+    }
+    SECTION("perpendicular elements: centre-cosine 0, clamped-cosine 2f^2") {
+        // j's normal (1, 0) is perpendicular to c_j - c_i = (0, 1): cos_j = 0.
+        Patches<Segment> roots = WithNormals(Vec2(0, 1), Vec2(1, 0));
+        Element<2> i = At(0, 0, 1, 0), j = At(0, 1, 1, 1);
+        double f = 1 / std::sqrt(5.0);
+        CheckEstimate(FfEstimate::CentreCosine, roots, i, j, 0, 0);
+        CheckEstimate(FfEstimate::SolidAngle, roots, i, j, f, f);
+        CheckEstimate(FfEstimate::ClampedCosine, roots, i, j, 2 * f * f, 2 * f * f);  // 0.4
+        // The eps where they part: 0.42 rejects only solid-angle, 0.3 all but centre-cosine.
+        CHECK(Decisions(0.42, roots, i, j) == std::vector<bool>{true, false, true});
+        CHECK(Decisions(0.3, roots, i, j) == std::vector<bool>{true, false, false});
+    }
+    SECTION("facing away: centre-cosine clamps at 0, clamped-cosine takes |cos|") {
+        Patches<Segment> away = WithNormals(Vec2(0, -1), Vec2(0, 1));
+        Element<2> i = At(0, 0, 1, 0), j = At(0, 1, 1, 1);
+        double f = 1 / std::sqrt(5.0);
+        CheckEstimate(FfEstimate::CentreCosine, away, i, j, 0, 0);
+        CheckEstimate(FfEstimate::SolidAngle, away, i, j, f, f);
+        CheckEstimate(FfEstimate::ClampedCosine, away, i, j, f, f);
+    }
+    SECTION("close elements: 2f > 1, and clamped-cosine exceeds 1 (no cap)") {
+        // r = 0.25: f = 1 / sqrt(1.25) = 0.894, clamped-cosine f (2f)^2 = 2.86.
+        Element<2> i = At(0, 0, 1, 0), j = At(0, 0.25, 1, 1);
+        double f = 1 / std::sqrt(1.25);
+        CheckEstimate(FfEstimate::CentreCosine, facing, i, j, f, f);
+        CheckEstimate(FfEstimate::SolidAngle, facing, i, j, f, f);
+        CheckEstimate(FfEstimate::ClampedCosine, facing, i, j, 4 * f * f * f, 4 * f * f * f);
+        CHECK(Decisions(1, facing, i, j) == std::vector<bool>{true, true, false});
+    }
+}
+
+TEST_CASE("The estimates in 3D, where a cosine lies below the clamp", "[oracle][estimate][3d]") {
+    // a (area 1, normal +z) at the origin, b (area 2, normal -z) at (1, 0, 0.5):
+    // r^2 = 1.25, both cosines 0.5 / sqrt(1.25) = 0.447, their product 0.2.
+    // f(a<-b) = 2 / (1.25 pi + 2) = 0.337, 2f = 0.675 > 0.447: F = f (2f)^2;
+    // f(b<-a) = 1 / (1.25 pi + 1) = 0.203, 2f = 0.406 < 0.447: F = 0.2 f.
+    Patches<Polygon> roots = SquaresFacing(true, false);
+    Element<3> a{Vec3(0, 0, 0), 1, kNoChildren, 0}, b{Vec3(1, 0, 0.5), 4, kNoChildren, 1};
+    double fab = 2 / (1.25 * kPi + 2), fba = 1 / (1.25 * kPi + 1);
+    CheckEstimate(FfEstimate::CentreCosine, roots, a, b, 0.2 * fab, 0.2 * fba);
+    CheckEstimate(FfEstimate::SolidAngle, roots, a, b, fab, fba);
+    CheckEstimate(FfEstimate::ClampedCosine, roots, a, b, 4 * fab * fab * fab, 0.2 * fba);
+    // Thresholds 0.0675, 0.337 and 0.154.
+    CHECK(Decisions(0.1, roots, a, b) == std::vector<bool>{true, false, false});
+    CHECK(Decisions(0.2, roots, a, b) == std::vector<bool>{true, false, true});
+    CHECK(Decisions(0.4, roots, a, b) == std::vector<bool>{true, true, true});
+    // Facing away: centre-cosine 0; clamped-cosine as facing, from the absolute values.
+    Patches<Polygon> away = SquaresFacing(false, true);
+    CheckEstimate(FfEstimate::CentreCosine, away, a, b, 0, 0);
+    CheckEstimate(FfEstimate::ClampedCosine, away, a, b, 4 * fab * fab * fab, 0.2 * fba);
+}
+
+TEST_CASE("The run's estimate reaches hanrahan and bf; clamped-cosine is the default",
+          "[oracle][estimate]") {
+    CHECK(RefineOptions().ffEstimate == FfEstimate::ClampedCosine);
+    CHECK(kDefaultFfEstimate == FfEstimate::ClampedCosine);
+    CHECK(FfEstimates().front().estimate == kDefaultFfEstimate);  // the default comes first
+    // The perpendicular pair: centre-cosine 0, clamped-cosine 0.4, solid-angle 0.447.
+    Patches<Segment> roots = WithNormals(Vec2(0, 1), Vec2(1, 0));
+    for (auto &patch : roots)
+        patch.material.emission = 1;  // B = 1: bf decides as hanrahan
+    Element<2> i = At(0, 0, 1, 0), j = At(0, 1, 1, 1);
+    RefineOptions o;
+    o.eps = 0.42;
+    CHECK(MakeOracle<HanrahanOracle<Segment>>(o, roots).Acceptable(i, j));
+    CHECK(MakeOracle<BFOracle<Segment>>(o, roots).Acceptable(i, j));
+    CHECK(HanrahanOracle<Segment>(0.42, roots).Acceptable(i, j));  // the default
+    o.ffEstimate = FfEstimate::SolidAngle;
+    CHECK_FALSE(MakeOracle<HanrahanOracle<Segment>>(o, roots).Acceptable(i, j));
+    CHECK_FALSE(MakeOracle<BFOracle<Segment>>(o, roots).Acceptable(i, j));
+    o.eps = 0.3;
+    o.ffEstimate = FfEstimate::CentreCosine;
+    CHECK(MakeOracle<HanrahanOracle<Segment>>(o, roots).Acceptable(i, j));
+    CHECK(MakeOracle<BFOracle<Segment>>(o, roots).Acceptable(i, j));
+    o.ffEstimate = FfEstimate::ClampedCosine;
+    CHECK_FALSE(MakeOracle<HanrahanOracle<Segment>>(o, roots).Acceptable(i, j));
+    CHECK_FALSE(MakeOracle<BFOracle<Segment>>(o, roots).Acceptable(i, j));
+}
+
+TEST_CASE("The estimates are named, each with formulas and a source", "[oracle][estimate]") {
+    std::vector<std::string> names;
+    for (const FfEstimateInfo &info : FfEstimates()) {
+        names.push_back(info.name);
+        CHECK(ParseFfEstimate(info.name) == info.estimate);
+        CHECK(FfEstimateName(info.estimate) == info.name);
+        CHECK(std::string(info.formula2d).find("sqrt(4 r^2") != std::string::npos);
+        CHECK(std::string(info.formula3d).find("pi r^2") != std::string::npos);
+        CHECK(std::string(info.source).size() > 40);
+    }
+    CHECK(names == std::vector<std::string>{"clamped-cosine", "centre-cosine", "solid-angle"});
+    CHECK_THROWS_AS(ParseFfEstimate("center-cosine"), InputError);
+    CHECK_THROWS_WITH(ParseFfEstimate("hsa91"),
+                      "unknown form-factor estimate 'hsa91' (choose one of: clamped-cosine, "
+                      "centre-cosine, solid-angle)");
 }

@@ -1114,9 +1114,9 @@ TEST_CASE("solve's bad input gives one line and exit code 2, limits exit code 3"
                "solve did not converge in 3 iterations (residual ");
     CheckError("solve parallel l=1024 --eps 0.01 --emission 1 --max-memory 1", 3, "memory budget");
     // 3 MiB fit one bf pass but not a second, identical one (B = E with rho = 0) beside
-    // the first's forest.
+    // the first's forest (with the centre-cosine estimate, whose refinement sizes this).
     const std::string bf = "solve parallel l=16 d=1 --eps 0.015 --oracle bf --emission 1 "
-                           "--reflectance 0 --max-memory 3 --passes ";
+                           "--reflectance 0 --ff-estimate centre-cosine --max-memory 3 --passes ";
     CHECK(Cli(bf + "1").exitCode == 0);
     CheckError(bf + "2", 3, "would exceed the memory budget");
     CheckError(room + "--emission 1 --passes 2", 2, "--passes applies to the bf oracle only");

@@ -35,4 +35,4 @@ An engine other than hrbench works if it keeps the engine contract
 schemas/run-record.schema.json.
 """
 
-__version__ = "0.4.0"
+__version__ = "0.5.0"

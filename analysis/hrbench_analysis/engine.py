@@ -46,6 +46,7 @@ __all__ = [
     "Param",
     "Family",
     "Oracle",
+    "FfEstimate",
     "Named",
     "Option",
     "Counter",
@@ -193,6 +194,32 @@ class Oracle:
 
 
 @dataclass(frozen=True)
+class FfEstimate:
+    """A form-factor estimate of the oracles that read one (``--ff-estimate NAME``).
+
+    Attributes
+    ----------
+    name : str
+        E.g. ``"clamped-cosine"``.
+    formula_2d, formula_3d : str
+        The estimate F(i<-j) in 2D and 3D, in the notation of ``docs/conventions.md``.
+    source : str
+        Where it comes from, and what of the source was verified.
+    oracles : tuple of str
+        The oracles that read it, e.g. ``("hanrahan", "bf")``.
+    default : bool
+        Whether a run without ``--ff-estimate`` uses it.
+    """
+
+    name: str
+    formula_2d: str
+    formula_3d: str
+    source: str
+    oracles: tuple
+    default: bool
+
+
+@dataclass(frozen=True)
 class Named:
     """An entry of the engine that is only a name and a line of doc: a command (``run``,
     ``links``, ...) or a counting method (``--method NAME``).
@@ -285,6 +312,9 @@ class Capabilities:
     counters : tuple of Counter
         Every table in the engine's order. The names of the scalar counters and of the
         histograms are :attr:`scalar_counters` and :attr:`histogram_counters`.
+    ff_estimates : tuple of FfEstimate
+        The form-factor estimates (``--ff-estimate``), in the engine's order; empty for an
+        engine that lists none (the key ``ff_estimates`` is optional).
     """
 
     schema_version: int
@@ -297,6 +327,7 @@ class Capabilities:
     methods: tuple
     options: tuple
     counters: tuple
+    ff_estimates: tuple = ()
 
     @property
     def scalar_counters(self):
@@ -345,6 +376,10 @@ class Capabilities:
     def option(self, name):
         """The option `name` (underscores, e.g. ``"min_area"``), or ``None``."""
         return next((o for o in self.options if o.name == name), None)
+
+    def ff_estimate(self, name):
+        """The form-factor estimate `name`, or ``None`` if the engine lacks it."""
+        return next((e for e in self.ff_estimates if e.name == name), None)
 
 
 # ---------------------------------------------------------------------------------------
@@ -461,6 +496,15 @@ def _read_option(obj, where):
                   doc=_value_iv(obj, "doc", "a string", where))
 
 
+def _read_ff_estimate(obj, where):
+    return FfEstimate(name=_value_iv(obj, "name", "a string", where),
+                      formula_2d=_value_iv(obj, "formula_2d", "a string", where),
+                      formula_3d=_value_iv(obj, "formula_3d", "a string", where),
+                      source=_value_iv(obj, "source", "a string", where),
+                      oracles=_strings_iv(obj, "oracles", where),
+                      default=_value_iv(obj, "default", "true or false", where))
+
+
 def _read_counter(obj, where):
     return Counter(name=_value_iv(obj, "name", "a string", where),
                    kind=_kind_iv(_value_iv(obj, "kind", "a string", where), where),
@@ -489,7 +533,8 @@ def parse_capabilities(text, engine="hrbench"):
         If the text is not a JSON object, its ``schema_version`` is not
         :data:`CAPABILITIES_SCHEMA_VERSION`, or a key of the format is missing or of the
         wrong type. The message is one line naming the engine and the key. Keys the format
-        does not define are ignored (a later engine may add some).
+        does not define are ignored (a later engine may add some); ``ff_estimates`` is
+        optional (an engine that lists none has no ``--ff-estimate``).
     """
     obj = parse_json(text, f"engine {engine}: the output of 'capabilities --json'",
                      CapabilitiesError)
@@ -512,7 +557,9 @@ def parse_capabilities(text, engine="hrbench"):
             oracles=_table_iv(obj, "oracles", where, _read_oracle),
             methods=_table_iv(obj, "methods", where, _read_named),
             options=_table_iv(obj, "options", where, _read_option),
-            counters=_table_iv(obj, "counters", where, _read_counter))
+            counters=_table_iv(obj, "counters", where, _read_counter),
+            ff_estimates=(_table_iv(obj, "ff_estimates", where, _read_ff_estimate)
+                          if "ff_estimates" in obj else ()))
     except CapabilitiesError as exc:
         raise CapabilitiesError(f"engine {engine}: {exc}") from None
 
@@ -650,27 +697,40 @@ def get_capabilities(hrbench, timeout=60):
 
 
 def oracle_error(claim, capabilities):
-    """Why a claim can never run on this engine, or ``None``: an oracle it does not list.
+    """Why a claim can never run on this engine, or ``None``: an oracle it does not list,
+    or an option that only other oracles read.
 
     An oracle name the engine does not list can only be a typo or a claim written for
     another engine, so it is an error (the analysis exits with code 2 before any run),
     unlike a scene family or an option the engine lacks (see :func:`missing_capability`).
+    So is an option (in either mode) that the engine lists among the ``parameters`` of
+    some oracles but not of the claim's, such as ``ff_estimate`` with ``garmann``: the
+    engine refuses every such run.
 
     Parameters
     ----------
     claim : Claim
-        Reads ``claim.oracle``.
+        Reads ``claim.oracle`` and ``claim.options_for(mode)``.
     capabilities : Capabilities
 
     Returns
     -------
     message : str or None
-        E.g. ``"oracle 'bf' is not offered by the engine; its oracles: garmann, hanrahan"``.
+        E.g. ``"oracle 'bf' is not offered by the engine; its oracles: garmann, hanrahan"``
+        or ``"option ff_estimate is read by the oracles hanrahan, bf only, not by
+        'garmann'"``.
     """
-    if capabilities.oracle(claim.oracle) is not None:
-        return None
-    return (f"oracle {claim.oracle!r} is not offered by the engine; its oracles: "
-            f"{', '.join(capabilities.oracle_names) or 'none'}")
+    oracle = capabilities.oracle(claim.oracle)
+    if oracle is None:
+        return (f"oracle {claim.oracle!r} is not offered by the engine; its oracles: "
+                f"{', '.join(capabilities.oracle_names) or 'none'}")
+    for mode in ("quick", "full"):
+        for name in claim.options_for(mode):
+            readers = [o.name for o in capabilities.oracles if name in o.parameters]
+            if readers and name not in oracle.parameters:
+                return (f"option {name} is read by the oracles {', '.join(readers)} only, "
+                        f"not by {claim.oracle!r}")
+    return None
 
 
 def param_range_text(param):

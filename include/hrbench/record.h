@@ -64,6 +64,10 @@ nlohmann::json RunToJson(const Scene &scene, const RefineOptions &options, const
 // commit) and machine (host, CPU model), and the date.
 nlohmann::json RunContext();
 
+// The oracle of a JSON run record as the tables show it: its name, and its form-factor
+// estimate where it reads one, "hanrahan (clamped-cosine)".
+std::string OracleLabel(const nlohmann::json &record);
+
 // Prints a JSON run record as an aligned two-column table.
 void PrintRunTable(const nlohmann::json &record, std::ostream &out);
 

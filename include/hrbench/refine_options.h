@@ -7,6 +7,7 @@
 #include <variant>
 
 #include "hrbench/geometry/subdivision.h"
+#include "hrbench/oracles/ff_estimate.h"
 
 namespace hrbench {
 
@@ -55,6 +56,9 @@ struct RefineOptions {
     Subdivision subdivision = Subdivision::Binary;     // 3D: two halves or four quarters
     VisibilityMode visibility = VisibilityMode::None;  // how occlusion counts (docs/3d.md)
     int raysPerSide = 3;  // k: sample points per element side for visibility, 1..16
+    // The form-factor estimate of the oracles that read one (hanrahan, bf); the others
+    // ignore it (`--ff-estimate`, oracles/ff_estimate.h).
+    FfEstimate ffEstimate = kDefaultFfEstimate;
     // Where the run reports its progress (refine.h), if anywhere: not a setting of the run.
     RefineProgress *progress = nullptr;
     // The radiosity the bf oracle reads, not owned: not a setting of the run either.

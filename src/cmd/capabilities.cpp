@@ -1,6 +1,8 @@
 #include "cmd/capabilities.h"
 
 #include <cmath>
+#include <sstream>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -41,10 +43,24 @@ json OracleJson(const OracleInfo &info) {
     for (int d : {2, 3})
         if (info.Supports(d))
             dimensions.push_back(d);
+    json parameters = json::array();
+    std::istringstream words(info.parameters);
+    for (std::string word; words >> word;)
+        parameters.push_back(word);
     return {{"name", info.name},
             {"dimensions", dimensions},
-            {"parameters", json::array({info.parameters})},
+            {"parameters", parameters},
             {"doc", info.doc}};
+}
+
+// A form-factor estimate: its formulas of F(i<-j), its source, the oracles that read it.
+json FfEstimateJson(const FfEstimateInfo &info) {
+    return {{"name", info.name},
+            {"formula_2d", info.formula2d},
+            {"formula_3d", info.formula3d},
+            {"source", info.source},
+            {"oracles", OraclesReading("ff_estimate")},
+            {"default", info.estimate == kDefaultFfEstimate}};
 }
 
 json OptionJson(const OptionSpec &o) {
@@ -71,6 +87,8 @@ json Capabilities() {
         doc["families"].push_back(FamilyJson(f));
     for (const OracleInfo &info : OracleInfos())
         doc["oracles"].push_back(OracleJson(info));
+    for (const FfEstimateInfo &info : FfEstimates())
+        doc["ff_estimates"].push_back(FfEstimateJson(info));
     for (const MethodInfo &m : Methods())
         doc["methods"].push_back({{"name", m.name}, {"doc", m.doc}});
     for (const SolveMethodInfo &m : SolveMethods())

@@ -35,7 +35,8 @@ Scene SceneOf(const Options &o) {
     return MakeScene(o.scene, ParseParams(o.params));
 }
 
-// `hrbench scenes`: every family with its parameters, then every oracle.
+// `hrbench scenes`: every family with its parameters, then every oracle and every
+// form-factor estimate.
 void ListScenes() {
     for (const Family &f : Families()) {
         std::cout << f.name << ": [" << f.dimension << "D] " << f.help << "\n";
@@ -50,6 +51,11 @@ void ListScenes() {
     std::cout << "\noracles (--oracle):\n";
     for (const OracleInfo &info : OracleInfos())
         std::printf("  %-9s %s\n", info.name, info.doc);
+    std::cout
+        << "\nform-factor estimates (--ff-estimate; F(i<-j), 2D | 3D; docs/conventions.md):\n";
+    for (const FfEstimateInfo &info : FfEstimates())
+        std::printf("  %-15s %s | %s%s\n", info.name, info.formula2d, info.formula3d,
+                    info.estimate == kDefaultFfEstimate ? "  (default)" : "");
 }
 
 // `hrbench solve`'s output: the JSON object or the table, and the CSV of the leaves if asked.

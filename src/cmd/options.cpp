@@ -61,6 +61,14 @@ std::string ChoiceDoc(const Table &table) {
     return doc;
 }
 
+// "a, b and c".
+std::string JoinedNames(const std::vector<std::string> &names) {
+    std::string text;
+    for (size_t k = 0; k < names.size(); ++k)
+        text += (k == 0 ? "" : k + 1 == names.size() ? " and " : ", ") + names[k];
+    return text;
+}
+
 // Why _flag_ does not apply to _command_, where more can be said than that.
 std::string NotApplicable(const std::string &flag, const std::string &command) {
     if (command == "solve" && flag == "--count-only")
@@ -109,6 +117,10 @@ const std::vector<OptionSpec> &OptionTable() {
          [](Options &o, S v) { o.eps = ParseDouble(v, "--eps"); }},
         {"oracle", "--oracle", "NAME", ChoiceNames(OracleInfos()), kLinking,
          ChoiceDoc(OracleInfos()), [](Options &o, S v) { o.refine.oracle = FindOracle(v).name; }},
+        {"ff_estimate", "--ff-estimate", "NAME", ChoiceNames(FfEstimates()), kLinking,
+         "the form-factor estimate of the oracles " + JoinedNames(OraclesReading("ff_estimate")) +
+             "\n(docs/conventions.md#oracles):\n" + ChoiceDoc(FfEstimates()),
+         [](Options &o, S v) { o.refine.ffEstimate = ParseFfEstimate(v); }},
         {"min_area",
          "--min-area",
          "A",
@@ -451,6 +463,10 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
     }
     if (refines && !o.eps)
         throw InputError(o.command + " needs --eps");
+    if (seen.count("--ff-estimate") && !FindOracle(o.refine.oracle).Reads("ff_estimate"))
+        throw InputError("--ff-estimate applies to the oracles " +
+                         JoinedNames(OraclesReading("ff_estimate")) + " only, not to " +
+                         o.refine.oracle);
     if (o.command == "links" && o.out.empty())
         throw InputError("links needs --out F.csv");
     if (o.command == "check-links" && o.linksFile.empty())

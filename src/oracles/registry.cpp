@@ -21,4 +21,12 @@ const OracleInfo &FindOracle(const std::string &name) {
     throw InputError("unknown oracle '" + name + "' (choose one of: " + names + ")");
 }
 
+std::vector<std::string> OraclesReading(const std::string &option) {
+    std::vector<std::string> names;
+    for (const OracleInfo &info : OracleInfos())
+        if (info.Reads(option))
+            names.push_back(info.name);
+    return names;
+}
+
 }  // namespace hrbench

@@ -6,6 +6,7 @@ and oracles) or from a document written here after the format's specification.
 
 import copy
 import json
+from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
@@ -26,6 +27,9 @@ from hrbench_analysis.engine import (
     run_links,
 )
 from hrbench_analysis.reproduce import main
+
+HRBENCH = Path(__file__).resolve().parents[2] / "build" / "hrbench"
+needs_engine = pytest.mark.skipif(not HRBENCH.exists(), reason="build/hrbench not built")
 
 #: A capabilities document as the format's specification shows it (shortened).
 SPEC = {
@@ -182,6 +186,79 @@ def test_missing_engine(tmp_path):
 
 
 # --- Checking claims against the capabilities ---------------------------------------------
+
+
+#: SPEC with the form-factor estimates of an engine that has them (hanrahan reads one).
+ESTIMATES = [{"name": "clamped-cosine", "formula_2d": "f2", "formula_3d": "f3",
+              "source": "RenderPark", "oracles": ["hanrahan"], "default": True},
+             {"name": "centre-cosine", "formula_2d": "c2", "formula_3d": "c3",
+              "source": "hrbench", "oracles": ["hanrahan"], "default": False}]
+
+
+def spec_with_estimates():
+    doc = copy.deepcopy(SPEC)
+    doc["ff_estimates"] = copy.deepcopy(ESTIMATES)
+    doc["oracles"][1]["parameters"] = ["eps", "ff_estimate"]
+    doc["options"].append({"name": "ff_estimate", "flag": "--ff-estimate", "value": "NAME",
+                           "choices": ["clamped-cosine", "centre-cosine"],
+                           "commands": ["run", "links"], "doc": "estimate"})
+    return doc
+
+
+def test_form_factor_estimates_are_read_and_optional():
+    assert parse_capabilities(json.dumps(SPEC)).ff_estimates == ()  # an engine without them
+    caps = parse_capabilities(json.dumps(spec_with_estimates()))
+    assert [e.name for e in caps.ff_estimates] == ["clamped-cosine", "centre-cosine"]
+    clamped = caps.ff_estimate("clamped-cosine")
+    assert (clamped.formula_2d, clamped.formula_3d, clamped.source, clamped.oracles,
+            clamped.default) == ("f2", "f3", "RenderPark", ("hanrahan",), True)
+    assert caps.ff_estimate("solid-angle") is None
+    assert caps.oracle("hanrahan").parameters == ("eps", "ff_estimate")
+    bad = spec_with_estimates()
+    bad["ff_estimates"][0]["default"] = "yes"
+    with pytest.raises(CapabilitiesError,
+                       match=r"ff_estimates\[0\]\.default must be true or false"):
+        parse_capabilities(json.dumps(bad))
+    del bad["ff_estimates"][0]["default"]
+    with pytest.raises(CapabilitiesError, match="missing key 'default'"):
+        parse_capabilities(json.dumps(bad))
+
+
+def test_an_option_read_by_other_oracles_only_is_an_error():
+    caps = parse_capabilities(json.dumps(spec_with_estimates()))
+    estimate = {"ff_estimate": "centre-cosine"}
+    assert oracle_error(claim(oracle="hanrahan", options=estimate), caps) is None
+    assert oracle_error(claim(oracle="garmann", options=estimate), caps) == (
+        "option ff_estimate is read by the oracles hanrahan only, not by 'garmann'")
+    assert oracle_error(claim(oracle="garmann"), caps) is None
+    # An engine that lists no oracle reading it lacks the option: a reason to skip.
+    old = parse_capabilities(json.dumps(SPEC))
+    assert oracle_error(claim(oracle="hanrahan", options=estimate), old) is None
+    assert missing_capability(claim(oracle="hanrahan", options=estimate), "quick", old) == (
+        "engine lacks option --ff-estimate")
+    assert missing_capability(claim(oracle="hanrahan", options={"ff_estimate": "hsa"}),
+                              "quick", caps) == (
+        "engine lacks --ff-estimate hsa (choices: clamped-cosine, centre-cosine)")
+
+
+@needs_engine
+def test_the_engines_capabilities_list_its_form_factor_estimates():
+    caps = get_capabilities(HRBENCH)
+    assert [e.name for e in caps.ff_estimates] == ["clamped-cosine", "centre-cosine",
+                                                   "solid-angle"]
+    assert [e.name for e in caps.ff_estimates if e.default] == ["clamped-cosine"]
+    for e in caps.ff_estimates:
+        assert e.oracles == ("hanrahan", "bf")
+        assert "sqrt(4 r^2" in e.formula_2d and "pi r^2" in e.formula_3d and e.source
+    assert "RenderPark" in caps.ff_estimate("clamped-cosine").source
+    assert "not verified" in caps.ff_estimate("centre-cosine").source
+    assert "TR-281-90" in caps.ff_estimate("solid-angle").source
+    assert [o.name for o in caps.oracles if "ff_estimate" in o.parameters] == ["hanrahan", "bf"]
+    option = caps.option("ff_estimate")
+    assert option.flag == "--ff-estimate"
+    assert option.choices == tuple(e.name for e in caps.ff_estimates)
+    assert option.commands == ("run", "links", "check-links", "solve")
+    assert option_argv({"ff_estimate": "centre-cosine"}) == ["--ff-estimate", "centre-cosine"]
 
 
 def test_unknown_oracle_is_an_error_listing_the_engines_oracles():

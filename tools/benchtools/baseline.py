@@ -55,8 +55,9 @@ def _runs(oracle, eps_scale):
 # family (hanrahan at smaller eps and g = l / d, where its refinement is not trivial),
 # one run on two threads, the translation method on the parallel family (once on the
 # configuration the two-thread run enumerates, and up to 1.4e14 links) and on
-# parallel3d (once on a configuration also enumerated, and at 6.7e18 links), and bf on the
-# Cornell box (no 2D family emits), binary and quadtree.
+# parallel3d (once on a configuration also enumerated, and at 6.7e18 links), bf on the
+# Cornell box (no 2D family emits), binary and quadtree, and the form-factor estimates
+# other than the default (--ff-estimate) of hanrahan, 2D and 3D, and of bf.
 DEFAULT_RUNS = ([
     ["parallel", "l=64", "d=1", "--eps", "0.25"],
     ["parallel", "l=64", "d=1", "--eps", "0.1"],
@@ -85,6 +86,18 @@ DEFAULT_RUNS = ([
     ["cornell", "--eps", "0.05", "--min-area", "0.001", "--oracle", "bf"],
     ["cornell", "--eps", "0.02", "--min-area", "0.0005", "--oracle", "bf", "--subdivision",
      "quadtree"],
+] + [
+    # The form-factor estimates other than the default (clamped-cosine), in 2D and 3D.
+    ["parallel", "l=16", "d=1", "--eps", "0.01", "--oracle", "hanrahan", "--ff-estimate", name]
+    for name in ("centre-cosine", "solid-angle")
+] + [
+    ["parallel3d", "l=8", "d=1", "--eps", "0.05", "--oracle", "hanrahan"],
+] + [
+    ["parallel3d", "l=8", "d=1", "--eps", "0.05", "--oracle", "hanrahan", "--ff-estimate", name]
+    for name in ("centre-cosine", "solid-angle")
+] + [
+    ["cornell", "--eps", "0.05", "--min-area", "0.001", "--oracle", "bf", "--ff-estimate",
+     "centre-cosine"],
 ])
 
 

@@ -18,14 +18,15 @@
 namespace hrbench {
 
 // Acceptable iff V B_j F(i<-j) <= eps and V B_i F(j<-i) <= eps, evaluated as
-// (V * B) * F, with F the hanrahan estimates (FormFactorEstimates) and B from a
+// (V * B) * F, with F the hanrahan estimates (FormFactorEstimates, the run's choice of
+// RefineOptions::ffEstimate, DecideOnEstimates) and B from a
 // RadiosityEstimate: the run's (RefineOptions::estimate), or else the roots' emission,
 // HSA91's first pass, in which a pair of non-emitting roots is accepted at once.
 template <typename Shape>
 class BFOracle {
   public:
     static constexpr OracleInfo kInfo = {
-        "bf", kFlatland | kSpace, "eps",
+        "bf", kFlatland | kSpace, "eps ff_estimate",
         "B_j F(i<-j), B_i F(j<-i) <= eps: hanrahan's F weighted by radiosity B, the roots' "
         "emission or a previous solution (Hanrahan, Salzman & Aupperle's BF refinement)"};
     using ElementType = Element<Shape::kDimension>;
@@ -35,8 +36,9 @@ class BFOracle {
     // emission when it is null. Throws InputError when B is 0 everywhere: every pair
     // would be accepted at the roots.
     BFOracle(double eps, const Patches<Shape> &roots,
-             const RadiosityEstimate<Shape> *estimate = nullptr)
-        : eps_(eps), estimate_(estimate) {
+             const RadiosityEstimate<Shape> *estimate = nullptr,
+             FfEstimate ffEstimate = kDefaultFfEstimate)
+        : eps_(eps), ffEstimate_(ffEstimate), estimate_(estimate) {
         if (!estimate_) {
             owned_ = std::make_shared<const RadiosityEstimate<Shape>>(
                 RadiosityEstimate<Shape>::FromEmission(roots));
@@ -54,9 +56,10 @@ class BFOracle {
             normals_.push_back(p.shape.Normal());
     }
 
-    // The run's estimate, of this shape (RefineOptions::estimate), or the emission.
+    // The run's radiosity estimate, of this shape (RefineOptions::estimate), or the
+    // emission; the run's form-factor estimate.
     BFOracle(const RefineOptions &options, const Patches<Shape> &roots)
-        : BFOracle(options.eps, roots, EstimateOf(options)) {}
+        : BFOracle(options.eps, roots, EstimateOf(options), options.ffEstimate) {}
 
     [[gnu::always_inline]] bool Acceptable(const ElementType &i, const ElementType &j) const {
         return AcceptableVisible(i, j, 1.0);
@@ -64,9 +67,11 @@ class BFOracle {
 
     [[gnu::always_inline]] bool AcceptableVisible(const ElementType &i, const ElementType &j,
                                                   double visible) const {
-        Eigen::Array2d f = FormFactorEstimates<Shape>(i, j, normals_[i.root], normals_[j.root]);
         const RadiosityEstimate<Shape> &b = *estimate_;
-        return visible * b(j) * f[0] <= eps_ && visible * b(i) * f[1] <= eps_;
+        return DecideOnEstimates<Shape>(
+            ffEstimate_, i, j, normals_[i.root], normals_[j.root], [&](const Eigen::Array2d &f) {
+                return visible * b(j) * f[0] <= eps_ && visible * b(i) * f[1] <= eps_;
+            });
     }
 
   private:
@@ -82,6 +87,7 @@ class BFOracle {
     }
 
     double eps_;
+    FfEstimate ffEstimate_;
     const RadiosityEstimate<Shape> *estimate_;
     // The emission estimate when the run gives none; shared, so that a copy of the
     // oracle reads the same one.

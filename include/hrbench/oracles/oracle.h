@@ -10,7 +10,8 @@
 //       // Built once per run from the threshold and the root patches.
 //       MyOracle(double eps, const Patches<Shape> &roots);
 //       // Optional: built from all of the run's options instead, for an oracle that
-//       // reads more than eps (bf reads RefineOptions::estimate). MakeOracle()
+//       // reads more than eps (hanrahan reads RefineOptions::ffEstimate, bf that and
+//       // RefineOptions::estimate; kInfo.parameters names the options). MakeOracle()
 //       // (registry.h), the one way the engine builds an oracle, prefers it.
 //       MyOracle(const RefineOptions &options, const Patches<Shape> &roots);
 //       // True when the pair may be linked. Both tests are marked [[gnu::always_inline]]:
@@ -25,6 +26,8 @@
 // Every oracle is listed once, in oracles/registry.h; docs/engine.md says how to add one.
 #pragma once
 
+#include <string_view>
+
 namespace hrbench {
 
 // How an oracle presents itself to the command line, the help text, the JSON and the
@@ -35,10 +38,22 @@ constexpr unsigned kSpace = 1u << 3;     // 3D scenes (polygons)
 struct OracleInfo {
     const char *name;        // as on the command line and in JSON
     unsigned dimensions;     // the scene dimensions it supports: kFlatland | kSpace
-    const char *parameters;  // the options it reads, e.g. "eps"
+    const char *parameters;  // the options it reads, separated by spaces: "eps ff_estimate"
     const char *doc;         // one line: what it accepts
 
     constexpr bool Supports(int dimension) const { return (dimensions >> dimension) & 1u; }
+
+    // Whether _option_ (an option's name, "ff_estimate") is one of _parameters_.
+    constexpr bool Reads(std::string_view option) const {
+        std::string_view rest = parameters;
+        while (!rest.empty()) {
+            auto end = rest.find(' ');
+            if (rest.substr(0, end) == option)
+                return true;
+            rest = end == std::string_view::npos ? "" : rest.substr(end + 1);
+        }
+        return false;
+    }
 };
 
 }  // namespace hrbench

@@ -35,7 +35,8 @@ struct OracleList {
 using AllOracles = OracleList<GarmannOracle, HanrahanOracle, BFOracle>;
 
 // Builds _Oracle_ for a run on _roots_: from the run's options where it reads more than
-// the threshold (bf reads RefineOptions::estimate), else from options.eps. The one way
+// the threshold (hanrahan and bf read RefineOptions::ffEstimate, bf also
+// RefineOptions::estimate), else from options.eps. The one way
 // refinement and check-links construct an oracle.
 template <typename Oracle, typename Shape>
 Oracle MakeOracle(const RefineOptions &options, const Patches<Shape> &roots) {
@@ -50,5 +51,8 @@ std::vector<OracleInfo> OracleInfos();
 
 // The registry entry named _name_; throws InputError listing the names otherwise.
 const OracleInfo &FindOracle(const std::string &name);
+
+// The names of the oracles that read the option _option_ ("ff_estimate"), in registry order.
+std::vector<std::string> OraclesReading(const std::string &option);
 
 }  // namespace hrbench
