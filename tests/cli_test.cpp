@@ -82,6 +82,9 @@ TEST_CASE("The human table, the scene list with the oracles, and the help print"
     for (const char *family :
          {"parallel", "perpendicular", "angled", "enclosure", "room", "array", "random"})
         CHECK_THAT(scenes.out, Catch::Contains(std::string(family) + ":"));
+    // An optional parameter without a default (random's density) says so, not "nan".
+    CHECK_THAT(scenes.out, Catch::Contains("density  default none "));
+    CHECK_THAT(scenes.out, !Catch::Contains("default nan"));
     CHECK_THAT(scenes.out, Catch::Contains("oracles (--oracle):"));
     for (const hrbench::OracleInfo &info : hrbench::OracleInfos())
         CHECK_THAT(scenes.out, Catch::Contains(std::string("  ") + info.name + " "));

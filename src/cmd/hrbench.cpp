@@ -41,7 +41,7 @@ void ListScenes() {
     for (const Family &f : Families()) {
         std::cout << f.name << ": [" << f.dimension << "D] " << f.help << "\n";
         for (const ParamSpec &p : f.params) {
-            std::string def = !p.defaultFrom.empty()        ? p.defaultFrom
+            std::string def = !p.defaultFrom.empty()       ? p.defaultFrom
                               : std::isnan(p.defaultValue) ? "none"
                                                            : FormatDouble(p.defaultValue);
             std::printf("  %-8s default %-8s %-28s %s\n", p.name.c_str(), def.c_str(),
