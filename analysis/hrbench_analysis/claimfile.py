@@ -33,6 +33,7 @@ from .loader import TIMES, environment_names
 
 __all__ = [
     "Claim",
+    "Plateaus",
     "SweepRange",
     "ClaimsFileError",
     "load_claims",
@@ -253,6 +254,26 @@ def _check_total(claims, path):
 
 
 @dataclass
+class Plateaus:
+    """Which point of each plateau of a staircase a claim fits (key ``plateaus``).
+
+    Attributes
+    ----------
+    of : Expression
+        The quantity that steps, a formula over the fields of a run (e.g. ``N``).
+    keep : str
+        ``"last"`` (the point just before it steps, in sweep order) or ``"first"`` (just
+        after).
+    min_octaves : float
+        Shortest plateau kept, in octaves of the swept parameter.
+    """
+
+    of: Expression
+    keep: str
+    min_octaves: float
+
+
+@dataclass
 class Claim:
     """One published statement, turned into a measurement.
 
@@ -337,6 +358,9 @@ class Claim:
         The engine command every point runs: ``"run"`` (count the hierarchy, the default)
         or ``"solve"`` (also solve its radiosity, so that formulas may read the solve's
         measures, :data:`hrbench_analysis.loader.SOLVE_MEASURES`).
+    plateaus : Plateaus or None
+        Fit one point per plateau of a staircase instead of every point (key
+        ``plateaus``).
     published : bool
         Whether `expected_exponent` is a published value. ``False`` for a measurement
         without one: the exponent in the file is then this project's hypothesis, and the
@@ -382,6 +406,7 @@ class Claim:
     mesh_sha256: object = None
     command: str = "run"
     published: bool = True
+    plateaus: object = None
 
     def key_line(self, key):
         """The line of `key` in the claims file (the claim's line when unknown)."""
@@ -427,13 +452,14 @@ _CLAIM_KEYS = {
     "x", "y", "x_label", "y_label", "expected_exponent", "tolerance", "regime",
     "expected_to_hold", "min_points", "min_decades", "window_decades", "theta_band",
     "min_area", "max_depth", "eps", "options", "chart", "step_octaves", "mesh", "command",
-    "published", *MODES,
+    "published", "plateaus", *MODES,
 }
 #: The engine commands a claim's points may run (key ``command``).
 COMMANDS = ("run", "solve")
 _REQUIRED = ("id", "statement", "scene", "params", "sweep", "x", "y",
              "expected_exponent", "tolerance")
 _SWEEP_KEYS = {"param", "quick", "full", "range", "grid"}
+_PLATEAU_KEYS = {"of", "keep", "min_octaves"}
 #: Most scene parameters in ``sweep.grid``, and most values each takes.
 MAX_GRID_PARAMS = 2
 MAX_GRID_VALUES = 32
@@ -756,6 +782,10 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
     for key in ("source", "description", "x_label", "y_label", "chart"):
         if key in raw:
             want(key, "str")
+    plateaus = None
+    if "plateaus" in raw:
+        plateaus = _plateaus_iv(want("plateaus", "table"),
+                                options.get("step_octaves", 1), fail)
 
     return Claim(
         id=raw["id"], statement=raw["statement"], source=raw.get("source", citation),
@@ -775,7 +805,34 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
                                *(f"sweep.{mode}" for mode in (*MODES, "range", "grid")
                                  if mode in sweep))},
         range_keys=range_keys, mesh=mesh, mesh_sha256=mesh_sha256, command=command,
-        published=published, **options)
+        published=published, plateaus=plateaus, **options)
+
+
+def _plateaus_iv(table, step_octaves, fail):
+    # Check the key `plateaus`: { of = FORMULA, keep = "last" | "first", min_octaves = X }.
+    unknown = set(table) - _PLATEAU_KEYS
+    if unknown:
+        key = sorted(unknown)[0]
+        fail(f"unknown key 'plateaus.{key}'; allowed: {', '.join(sorted(_PLATEAU_KEYS))}",
+             f"plateaus.{key}")
+    of = table.get("of")
+    if not isinstance(of, str):
+        fail(f"key 'plateaus.of' must be a formula (a string) naming the quantity that "
+             f"steps, such as \"N\", got {of!r}", "plateaus.of")
+    try:
+        expr = Expression(of)
+    except ExpressionError as exc:
+        fail(f"key 'plateaus.of': {exc}", "plateaus.of")
+    keep = table.get("keep", "last")
+    if keep not in ("last", "first"):
+        fail(f"key 'plateaus.keep' must be \"last\" or \"first\", got {keep!r}",
+             "plateaus.keep")
+    # Half a period of the staircase by default: sub-steps of one jump are shorter.
+    span = table.get("min_octaves", step_octaves / 2)
+    if not (_is_number(span) and 0 <= span <= 64):
+        fail(f"key 'plateaus.min_octaves' must be a number from 0 to 64, got {span!r}",
+             "plateaus.min_octaves")
+    return Plateaus(of=expr, keep=keep, min_octaves=float(span))
 
 
 def _mesh_iv(raw, path, want, fail):
@@ -868,7 +925,10 @@ def check_names(claim, counters, scene_params=()):
     # The hierarchy statistics (lemmas.py); where they cannot be measured (a 3D
     # scene, --method translation) hrbench_analysis.engine.param_errors says so.
     known |= set(STATISTICS)
-    for key, expr in (("x", claim.x), ("y", claim.y)):
+    formulas = [("x", claim.x), ("y", claim.y)]
+    if claim.plateaus is not None:
+        formulas.append(("plateaus.of", claim.plateaus.of))
+    for key, expr in formulas:
         unknown = expr.names - known
         if unknown:
             raise ClaimsFileError(

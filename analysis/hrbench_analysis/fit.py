@@ -22,6 +22,8 @@ __all__ = [
     "local_slopes",
     "window_slopes",
     "octave_window_slopes",
+    "point_window_slopes",
+    "plateau_ends",
     "exponent_interval",
     "theta_check",
     "compare_models",
@@ -363,6 +365,108 @@ def octave_window_slopes(x, y, octaves):
                         n=np.array(counts, dtype=int), width=octaves * math.log10(2.0))
 
 
+def point_window_slopes(x, y, points):
+    """Fit the exponent over every run of `points` consecutive points.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Positive values.
+    points : int
+        Points per window, at least 3.
+
+    Returns
+    -------
+    windows : WindowSlopes
+        One window per run of consecutive points (``width`` the widest run, in decades).
+
+    Notes
+    -----
+    For a series that holds one point per period of a staircase (:func:`plateau_ends`),
+    a window of whole octaves may hold too few points; a window of consecutive points
+    spans ``points - 1`` periods.
+    """
+    x, y = _xy_iv(x, y, min_points=2)
+    points = int(points)
+    if points < 3:
+        raise ValueError(f"`points` must be at least 3, got {points}")
+    lx, ly = np.log10(x), np.log10(y)
+    centres, slopes, width = [], [], 0.0
+    for start in range(x.size - points + 1):
+        sx, sy = lx[start:start + points], ly[start:start + points]
+        dx = sx - sx.mean()
+        if not dx.any():
+            continue
+        slopes.append(float(dx @ (sy - sy.mean()) / (dx @ dx)))
+        centres.append(10 ** ((sx[0] + sx[-1]) / 2))
+        width = max(width, float(sx[-1] - sx[0]))
+    return WindowSlopes(x=np.array(centres), slope=np.array(slopes),
+                        n=np.full(len(slopes), points, dtype=int), width=width)
+
+
+def plateau_ends(value, level, *, keep="last", min_octaves=1.0):
+    """One point per plateau of a staircase: the last before it steps, or the first after.
+
+    Parameters
+    ----------
+    value : array_like
+        The swept parameter of each point, in sweep order (monotone, positive).
+    level : array_like
+        The quantity that steps (e.g. the number of elements N), in the same order.
+    keep : {"last", "first"}, optional
+        ``"last"``: the point just before `level` changes (default); ``"first"``: the
+        point just after it changed.
+    min_octaves : float, optional
+        Shortest plateau kept, in octaves of `value` from its first point to its last
+        (default 1). Shorter runs of equal `level` are sub-steps of one jump (part of
+        the elements split a little before the rest), not periods of the staircase.
+
+    Returns
+    -------
+    index : ndarray of int
+        Indices of the kept points, in sweep order. A plateau cut by an end of the sweep
+        keeps no point where that end is the one asked for (``"last"``: the final
+        plateau; ``"first"``: the first one), since its step was not seen.
+
+    Notes
+    -----
+    Where the counts climb a staircase whose pattern repeats once per period, every
+    kept point lies at the same phase of its period (up to one step of the sweep's
+    grid), so the periodic factor is the same at every kept point and a power law
+    fitted through them sees the trend alone.
+
+    Examples
+    --------
+    >>> plateau_ends([1, 2, 4, 8, 16, 32, 64], [1, 1, 1, 4, 4, 4, 16], min_octaves=1)
+    array([2, 5])
+    """
+    value = np.asarray(value, dtype=float).ravel()
+    level = np.asarray(level, dtype=float).ravel()
+    if value.shape != level.shape:
+        raise ValueError(f"`value` and `level` must have the same length, got {value.size} "
+                         f"and {level.size}")
+    if np.any(~np.isfinite(value)) or np.any(value <= 0):
+        raise ValueError("`value` must be finite and positive")
+    if keep not in ("last", "first"):
+        raise ValueError(f"`keep` must be 'last' or 'first', got {keep!r}")
+    if not min_octaves >= 0:
+        raise ValueError(f"`min_octaves` must be at least 0, got {min_octaves}")
+    if value.size == 0:
+        return np.zeros(0, dtype=int)
+    # Start of each run of equal level; run i spans starts[i] .. starts[i+1]-1.
+    starts = np.flatnonzero(np.r_[True, level[1:] != level[:-1]])
+    ends = np.r_[starts[1:], value.size] - 1
+    kept = []
+    for i, (first, last) in enumerate(zip(starts, ends, strict=True)):
+        if abs(math.log2(value[last] / value[first])) < min_octaves - 1e-9:
+            continue
+        if keep == "last" and i + 1 < starts.size:
+            kept.append(last)
+        elif keep == "first" and i > 0:
+            kept.append(first)
+    return np.array(kept, dtype=int)
+
+
 @dataclass
 class ExponentInterval:
     """An exponent over a regime, with an interval that holds its systematic error too.
@@ -410,7 +514,7 @@ class ExponentInterval:
 
 
 def exponent_interval(x, y, *, confidence=0.95, n_boot=2000, seed=DEFAULT_SEED,
-                      min_octaves=3, step_octaves=1):
+                      min_octaves=3, step_octaves=1, window_points=None):
     """Fit the exponent of ``y = c x^k`` and bound it, systematic error included.
 
     Parameters
@@ -429,6 +533,9 @@ def exponent_interval(x, y, *, confidence=0.95, n_boot=2000, seed=DEFAULT_SEED,
         Period of the staircase in octaves of x (default 1: one binary split per factor
         2; 2 where a split quarters an element, as quadtree subdivision does). Windows
         and bootstrap blocks span whole periods.
+    window_points : int, optional
+        For a series of one point per period (:func:`plateau_ends`): windows of this
+        many consecutive points (:func:`point_window_slopes`) instead of octave windows.
 
     Returns
     -------
@@ -473,7 +580,10 @@ def exponent_interval(x, y, *, confidence=0.95, n_boot=2000, seed=DEFAULT_SEED,
                         block=steps_block_length(x) * step, seed=seed)
     octaves = max(int(min_octaves), math.floor(math.log2(x[-1] / x[0]) / 2))
     octaves = step * -(-octaves // step)
-    windows = octave_window_slopes(x, y, octaves)
+    if window_points is None:
+        windows = octave_window_slopes(x, y, octaves)
+    else:
+        windows = point_window_slopes(x, y, window_points)
     slopes = windows.slope
     low, high, upper, drift = fit.low, fit.high, math.nan, 0.0
     if slopes.size:

@@ -31,6 +31,7 @@ from .engine import (
     save_argv,
     solve_argv,
 )
+from .fit import plateau_ends
 from .lemmas import STATISTICS_MODE, StatisticsJob, add_to_record, measure, record_statistics
 from .loader import ResultFormatError, parse_run_json, run_environment
 from .schedulers import LOCAL, open_scheduler
@@ -524,6 +525,9 @@ class ClaimData:
         Points not in the store (the sweep did not reach them).
     engine_seconds : float
         Sum of the refinement times reported by the engine (s).
+    plateaus_from : int
+        For a claim with the key ``plateaus``: the successful points before one per
+        plateau was kept (0 otherwise).
     """
 
     value: np.ndarray
@@ -533,6 +537,7 @@ class ClaimData:
     failures: list = field(default_factory=list)
     missing: int = 0
     engine_seconds: float = 0.0
+    plateaus_from: int = 0
 
 
 def get_claim_data(claim, points, store, counters=None):
@@ -593,7 +598,11 @@ def get_claim_data(claim, points, store, counters=None):
             env.update(statistics)
         seconds += result.counters.get("seconds", 0.0)
         values = {}
-        for key, expr in (("x", claim.x), ("y", claim.y)):
+        plateaus = getattr(claim, "plateaus", None)
+        formulas = [("x", claim.x), ("y", claim.y)]
+        if plateaus is not None:
+            formulas.append(("plateaus.of", plateaus.of))
+        for key, expr in formulas:
             value = expr(env)
             if math.isinf(value):
                 raise ClaimsFileError(
@@ -609,10 +618,29 @@ def get_claim_data(claim, points, store, counters=None):
                              "stderr": f"x={x!r}, y={y!r} not positive",
                              "command": command})
             continue
-        rows.append((x, y, point.value, point.series))
+        rows.append((x, y, point.value, point.series, values.get("plateaus.of")))
+    plateaus_from = 0
+    if getattr(claim, "plateaus", None) is not None:
+        rows, plateaus_from = _plateau_rows(claim, rows), len(rows)
     rows.sort(key=lambda row: row[:3])
     arr = np.array([row[:3] for row in rows], dtype=float).reshape(-1, 3)
     return ClaimData(value=arr[:, 2], x=arr[:, 0], y=arr[:, 1],
                      series=np.array([row[3] for row in rows], dtype=object),
-                     failures=failures, missing=missing, engine_seconds=seconds)
+                     failures=failures, missing=missing, engine_seconds=seconds,
+                     plateaus_from=plateaus_from)
+
+
+def _plateau_rows(claim, rows):
+    # One row per plateau of claim.plateaus.of, series by series, in sweep order (the
+    # order of the swept values from the range's 'from' to its 'to', whichever mode).
+    spec = claim.plateaus
+    falling = any(r.start > r.stop for r in claim.ranges.values())
+    kept = []
+    for series in dict.fromkeys(row[3] for row in rows):
+        part = sorted((row for row in rows if row[3] == series), key=lambda row: row[2],
+                      reverse=falling)
+        index = plateau_ends([row[2] for row in part], [row[4] for row in part],
+                             keep=spec.keep, min_octaves=spec.min_octaves)
+        kept += [part[i] for i in index]
+    return kept
 

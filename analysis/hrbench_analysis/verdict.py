@@ -121,7 +121,7 @@ def _verdict_iv(x, y, expected_exponent, tolerance, min_points, min_decades,
 
 def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
                 min_points=8, min_decades=1.5, window_decades=1.0, theta_band=10.0,
-                step_octaves=1, n_boot=2000, seed=None):
+                step_octaves=1, one_per_step=False, n_boot=2000, seed=None):
     """Judge whether measured points follow ``y = Theta(x^k)``.
 
     Parameters
@@ -146,6 +146,11 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
     step_octaves : int, optional
         Period of the counts' staircase in octaves of x (default 1; 2 for quadtree
         subdivision), see :func:`hrbench_analysis.fit.exponent_interval`.
+    one_per_step : bool, optional
+        Whether the points are one per plateau of a staircase
+        (:func:`hrbench_analysis.fit.plateau_ends`): then the windows, of the interval and
+        of the settling check alike, are runs of 3 consecutive points (two periods), and
+        no staircase is left for the bootstrap's blocks.
     n_boot : int, optional
         Bootstrap resamples of the exponent's interval (default 2000).
     seed : int, optional
@@ -205,17 +210,26 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
 
     # Fit, check the bounded ratio, compare models and slide windows.
     kwargs = {} if seed is None else {"seed": seed}
-    interval = exponent_interval(xr, yr, n_boot=n_boot, step_octaves=step_octaves, **kwargs)
+    if one_per_step:
+        interval = exponent_interval(xr, yr, n_boot=n_boot, window_points=3, **kwargs)
+    else:
+        interval = exponent_interval(xr, yr, n_boot=n_boot, step_octaves=step_octaves,
+                                     **kwargs)
     fit = interval.fit
     result.fit = fit
     result.interval = interval
     result.theta = theta_check(xr, yr, k, max_band=theta_band, tolerance=tol)
     result.models = compare_models(xr, yr)
-    windows = window_slopes(xr, yr, width=window_decades)
+    # One point per plateau: a window of a decade may hold one or two; settle on the
+    # interval's windows of three consecutive plateaus instead.
+    windows = interval.windows if one_per_step else window_slopes(xr, yr,
+                                                                 width=window_decades)
     result.windows = windows
-    if windows.slope.size == 0:
-        result.reason = (f"too few decades: no window of {window_decades:g} decades with "
-                         f"3 points fits in the regime{regime}")
+    if windows.slope.size < (2 if one_per_step else 1):
+        result.reason = ((f"too few plateaus: {n} in the regime{regime}, need 4 (two "
+                          "windows of 3)") if one_per_step else
+                         (f"too few decades: no window of {window_decades:g} decades with "
+                          f"3 points fits in the regime{regime}"))
         return result
     mid = 10 ** ((math.log10(xr.min()) + math.log10(xr.max())) / 2)
     upper = windows.x >= mid
@@ -288,7 +302,8 @@ def assess_claim(claim, data, n_boot=2000):
             data.x, data.y, claim.expected_exponent, claim.tolerance, x_min=claim.x_min,
             x_max=claim.x_max, min_points=claim.min_points, min_decades=claim.min_decades,
             window_decades=claim.window_decades, theta_band=claim.theta_band,
-            step_octaves=claim.step_octaves, n_boot=n_boot)
+            step_octaves=claim.step_octaves, one_per_step=getattr(claim, "plateaus", None) is not None,
+            n_boot=n_boot)
     if not getattr(claim, "published", True) and result.interval is not None:
         # Nothing published to judge against: report the fit, and what the hypothesis
         # of the claims file would have been judged.
@@ -299,6 +314,11 @@ def assess_claim(claim, data, n_boot=2000):
                          f"{claim.expected_exponent:g} +/- {claim.tolerance:g} it would be "
                          f"{result.verdict}")
         result.verdict = MEASURED
+    if getattr(data, "plateaus_from", 0):
+        note = (f"fitted one point per plateau of {claim.plateaus.of.text}, the "
+                f"{claim.plateaus.keep} of each: {data.x.size} of {data.plateaus_from} points")
+        result.notes.append(note)
+        result.reason += f"; {note}"
     if data.failures:
         codes = sorted({f["exit_code"] for f in data.failures})
         note = (f"{len(data.failures)} point(s) failed (exit code "
