@@ -650,7 +650,7 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
                  "params")
         if not _is_number(value):
             fail(f"scene parameter {name!r} must be a number, got {value!r}", f"params.{name}")
-    oracle = want("oracle", "str", raw.get("oracle", "garmann"))
+    oracle = _oracle_iv(raw.get("oracle", "garmann"), fail)
 
     # Read the sweep: parameter and per-mode ranges.
     sweep = want("sweep", "table")
@@ -806,6 +806,32 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
                                  if mode in sweep))},
         range_keys=range_keys, mesh=mesh, mesh_sha256=mesh_sha256, command=command,
         published=published, plateaus=plateaus, **options)
+
+
+#: How a claim names its oracle through the engine's capabilities instead of by name:
+#: ``oracle = "@default"`` or ``oracle = { kind = "form-factor" }`` (resolved by
+#: :func:`hrbench_analysis.engine.resolve_oracle` before any run).
+DEFAULT_ORACLE = "@default"
+KIND_PREFIX = "@kind="
+
+
+def _oracle_iv(value, fail):
+    # A name, "@default", or { kind = WORD }; the two selectors are kept as their text
+    # ("@default", "@kind=WORD") until the engine's capabilities resolve them.
+    if isinstance(value, dict):
+        if set(value) != {"kind"} or not isinstance(value["kind"], str) \
+                or not _PARAM_NAME.match(value["kind"].replace("-", "_")):
+            fail("key 'oracle' as a table must be { kind = WORD }, the kind of oracle the "
+                 f"engine lists in its capabilities (e.g. \"form-factor\"), got {value!r}",
+                 "oracle")
+        return KIND_PREFIX + value["kind"]
+    if not isinstance(value, str) or not value:
+        fail(f"key 'oracle' must be an oracle name, \"{DEFAULT_ORACLE}\" or {{ kind = WORD }}, "
+             f"got {value!r}", "oracle")
+    if value.startswith("@") and value != DEFAULT_ORACLE:
+        fail(f"key 'oracle': {value!r} names no selector; use \"{DEFAULT_ORACLE}\" or "
+             "{ kind = WORD }", "oracle")
+    return value
 
 
 def _plateaus_iv(table, step_octaves, fail):

@@ -59,6 +59,8 @@ __all__ = [
     "get_capabilities",
     "parse_capabilities",
     "oracle_error",
+    "resolve_oracle",
+    "REFERENCE_ORACLES",
     "param_errors",
     "param_range_text",
     "missing_capability",
@@ -185,12 +187,20 @@ class Oracle:
     parameters : tuple of str
         Options it reads, e.g. ``("eps",)``.
     doc : str
+    kind : str or None
+        What it bounds (optional in the listing): ``"geometric"`` (a size over a
+        distance), ``"form-factor"`` (an estimate of the form factor), ``"radiosity"``
+        (a form factor weighted by radiosity), or another word of the engine's.
+    default : bool
+        Whether the engine uses it when ``--oracle`` is not given (optional, false).
     """
 
     name: str
     dimensions: tuple
     parameters: tuple
     doc: str
+    kind: object = None
+    default: bool = False
 
 
 @dataclass(frozen=True)
@@ -476,10 +486,15 @@ def _read_oracle(obj, where):
     dimensions = _value_iv(obj, "dimensions", "a list", where)
     if not all(d in (2, 3) and not isinstance(d, bool) for d in dimensions):
         raise CapabilitiesError(f"{where}.dimensions must list 2 and/or 3, got {dimensions!r}")
+    kind, default = obj.get("kind"), obj.get("default", False)
+    if kind is not None and not (isinstance(kind, str) and kind):
+        raise CapabilitiesError(f"{where}.kind must be a non-empty string, got {kind!r}")
+    if not isinstance(default, bool):
+        raise CapabilitiesError(f"{where}.default must be true or false, got {default!r}")
     return Oracle(name=_value_iv(obj, "name", "a string", where),
                   dimensions=tuple(dimensions),
                   parameters=_strings_iv(obj, "parameters", where),
-                  doc=_value_iv(obj, "doc", "a string", where))
+                  doc=_value_iv(obj, "doc", "a string", where), kind=kind, default=default)
 
 
 def _read_named(obj, where):
@@ -694,6 +709,72 @@ def get_capabilities(hrbench, timeout=60):
 
 # ---------------------------------------------------------------------------------------
 # Checking a claim against the capabilities.
+
+
+#: The kinds and the default of the reference engine's oracles, for an ``hrbench`` whose
+#: listing names none (the listing's ``kind`` and ``default`` take precedence).
+REFERENCE_ORACLES = {"garmann": "geometric", "hanrahan": "form-factor", "bf": "radiosity"}
+REFERENCE_DEFAULT = "garmann"
+
+
+def resolve_oracle(claim, capabilities):
+    """The oracle a claim's selector names on this engine.
+
+    A claim names its oracle by name (``oracle = "hanrahan"``), or through the engine's
+    capabilities: ``oracle = "@default"`` (the oracle listed with ``default = true``)
+    or ``oracle = { kind = "form-factor" }`` (the one oracle listed with that ``kind``
+    for the claim's dimension). An ``hrbench`` that lists no kinds or default gets
+    :data:`REFERENCE_ORACLES` and :data:`REFERENCE_DEFAULT`.
+
+    Parameters
+    ----------
+    claim : Claim
+    capabilities : Capabilities
+
+    Returns
+    -------
+    name : str or None
+        The oracle's name (the claim's own for a plain name).
+    error : str or None
+        Why the selector does not resolve: no oracle, or several, of that kind or marked
+        default, with the engine's oracles and their kinds.
+    """
+    from .claimfile import DEFAULT_ORACLE, KIND_PREFIX
+
+    wanted = claim.oracle
+    if wanted != DEFAULT_ORACLE and not wanted.startswith(KIND_PREFIX):
+        return wanted, None
+    reference = capabilities.engine == "hrbench"
+    listed_kinds = any(o.kind is not None for o in capabilities.oracles)
+    listed_default = any(o.default for o in capabilities.oracles)
+
+    def kind(o):
+        if o.kind is None and reference and not listed_kinds:
+            return REFERENCE_ORACLES.get(o.name)
+        return o.kind
+
+    def default(o):
+        if reference and not listed_default:
+            return o.name == REFERENCE_DEFAULT
+        return o.default
+
+    family = capabilities.family(claim.scene)
+    dimension = family.dimension if family is not None else None
+    usable = [o for o in capabilities.oracles if dimension is None or dimension in o.dimensions]
+    if wanted == DEFAULT_ORACLE:
+        found, what = [o for o in capabilities.oracles if default(o)], "marked default"
+    else:
+        wanted_kind = wanted[len(KIND_PREFIX):]
+        found = [o for o in usable if kind(o) == wanted_kind]
+        what = f"of kind {wanted_kind!r}" + (f" for {dimension}D" if dimension else "")
+    if len(found) == 1:
+        return found[0].name, None
+    listing = ", ".join(f"{o.name} ({kind(o) or 'no kind'})" for o in capabilities.oracles)
+    if not found:
+        return None, f"the engine lists no oracle {what}; its oracles: {listing or 'none'}"
+    return None, (f"the engine lists several oracles {what} "
+                  f"({', '.join(o.name for o in found)}); name one: oracle = "
+                  f"\"{found[0].name}\"")
 
 
 def oracle_error(claim, capabilities):

@@ -43,7 +43,7 @@ import shlex
 import shutil
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import matplotlib
@@ -63,6 +63,7 @@ from .engine import (
     interrupt_exit_code,
     missing_capability,
     oracle_error,
+    resolve_oracle,
     param_errors,
     run_links,
 )
@@ -268,7 +269,7 @@ def check_claims(claims, mode, capabilities):
     """
     errors, skipped = [], {}
     for c in claims:
-        message = oracle_error(c, capabilities)
+        message = resolve_oracle(c, capabilities)[1] or oracle_error(c, capabilities)
         if message is not None:
             errors.append(f"{c.path}:{c.line}: claim {c.id!r}: {message}")
             continue
@@ -429,7 +430,11 @@ def _prepare(args, parser):
               file=sys.stderr)
         return USAGE_ERROR
 
-    # Check the claims against the engine before any run.
+    # Name each claim's oracle as the engine does (a selector such as "@default" or
+    # { kind = "form-factor" } resolves against the capabilities), then check the
+    # claims against the engine before any run.
+    claims = [replace(c, oracle=resolve_oracle(c, capabilities)[0] or c.oracle)
+              for c in claims]
     errors, skipped = check_claims(claims, args.mode, capabilities)
     for line in errors:
         print(f"error: {one_line(line)}", file=sys.stderr)

@@ -154,6 +154,18 @@ CAPABILITIES = {
 
 def capabilities():
     how = os.environ.get("FAKE_HRBENCH_CAPABILITIES", "")
+    if how == "own-oracles":
+        # An engine whose oracles have names of its own, listed with their kinds.
+        CAPABILITIES["engine"] = "fake-kernel"
+        CAPABILITIES["oracles"] = [
+            {"name": "area-over-r", "dimensions": [2, 3], "parameters": ["eps"],
+             "doc": "a size over a distance", "kind": "geometric", "default": True},
+            {"name": "ff-disc", "dimensions": [2], "parameters": ["eps"],
+             "doc": "a form-factor estimate", "kind": "form-factor"},
+            {"name": "ff-exact", "dimensions": [3], "parameters": ["eps"],
+             "doc": "listed only", "kind": "form-factor"},
+        ]
+        CAPABILITIES["options"][1]["choices"] = ["area-over-r", "ff-disc", "ff-exact"]
     if how == "missing":
         usage("unknown command 'capabilities' (commands: run, links, scenes)")
     if how == "garbage":
