@@ -826,8 +826,8 @@ def _oracle_iv(value, fail):
                  "oracle")
         return KIND_PREFIX + value["kind"]
     if not isinstance(value, str) or not value:
-        fail(f"key 'oracle' must be an oracle name, \"{DEFAULT_ORACLE}\" or {{ kind = WORD }}, "
-             f"got {value!r}", "oracle")
+        fail(f"key 'oracle' must be a non-empty string (an oracle name or "
+             f"\"{DEFAULT_ORACLE}\") or {{ kind = WORD }}, got {value!r}", "oracle")
     if value.startswith("@") and value != DEFAULT_ORACLE:
         fail(f"key 'oracle': {value!r} names no selector; use \"{DEFAULT_ORACLE}\" or "
              "{ kind = WORD }", "oracle")

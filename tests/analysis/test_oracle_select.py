@@ -71,7 +71,7 @@ def test_unresolved_selector_is_an_error(tmp_path, fake_hrbench, monkeypatch, ca
     ('{ kind = 1 }', "key 'oracle' as a table must be { kind = WORD }"),
     ('{ name = "x" }', "key 'oracle' as a table must be { kind = WORD }"),
     ('"@best"', "names no selector"),
-    ('3', "key 'oracle' must be an oracle name"),
+    ('3', "key 'oracle' must be a non-empty string"),
 ])
 def test_bad_selectors(tmp_path, oracle, message):
     with pytest.raises(ClaimsFileError, match=message.replace("{", r"\{").replace("}", r"\}")):
