@@ -63,8 +63,8 @@ from .engine import (
     interrupt_exit_code,
     missing_capability,
     oracle_error,
-    resolve_oracle,
     param_errors,
+    resolve_oracle,
     run_links,
 )
 from .errors import OUTPUT_ERROR, AnalysisError, OutputError, one_line, run_main

@@ -302,8 +302,8 @@ def assess_claim(claim, data, n_boot=2000):
             data.x, data.y, claim.expected_exponent, claim.tolerance, x_min=claim.x_min,
             x_max=claim.x_max, min_points=claim.min_points, min_decades=claim.min_decades,
             window_decades=claim.window_decades, theta_band=claim.theta_band,
-            step_octaves=claim.step_octaves, one_per_step=getattr(claim, "plateaus", None) is not None,
-            n_boot=n_boot)
+            step_octaves=claim.step_octaves,
+            one_per_step=getattr(claim, "plateaus", None) is not None, n_boot=n_boot)
     if not getattr(claim, "published", True) and result.interval is not None:
         # Nothing published to judge against: report the fit, and what the hypothesis
         # of the claims file would have been judged.
