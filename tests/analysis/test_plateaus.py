@@ -1,6 +1,7 @@
 """One point per plateau of a staircase (claims key ``plateaus``): fit.plateau_ends, the
 verdict on the kept points, and the key's checks in claims files."""
 
+import json
 import math
 
 import numpy as np
@@ -8,6 +9,7 @@ import pytest
 
 from hrbench_analysis.claimfile import ClaimsFileError, load_claims
 from hrbench_analysis.fit import plateau_ends, point_window_slopes
+from hrbench_analysis.reproduce import main
 from hrbench_analysis.verdict import get_verdict
 
 
@@ -126,3 +128,25 @@ def test_plateaus_key_errors(tmp_path, text, message):
         load(tmp_path, text)
     assert "claim 'P1'" in str(info.value)
     assert math.isfinite(len(str(info.value)))
+
+
+def test_sweep_keeps_the_last_point_of_each_plateau(tmp_path, data_dir, fake_hrbench):
+    # Through the sweep (fake engine, eps falling): the kept points are those of the full
+    # sweep just before N changes, the final plateau (not closed by a step) left out.
+    text = (data_dir / "small_claims.toml").read_text().replace(
+        "per_decade = 5", "per_decade = 10").replace("min_points = 8", "min_points = 3")
+    got = {}
+    for name, key in (("all", ""), ("kept", 'plateaus = { of = "N", min_octaves = 0 }')):
+        path = tmp_path / f"{name}.toml"
+        path.write_text(text + key + "\n")
+        main(["--claims", str(path), "--hrbench", str(fake_hrbench), "--results",
+              str(tmp_path / name), "--cache", str(tmp_path / "cache.sqlite"),
+              "--no-pictures"])
+        (claim,) = json.loads((tmp_path / name / "claims.json").read_text())["claims"]
+        got[name] = claim
+    x, n = got["all"]["data"]["x"], got["all"]["data"]["y"]        # x = 1/eps, rising
+    want = [i for i in range(len(x) - 1) if n[i + 1] != n[i]]
+    assert want and len(want) < len(x) - 1
+    assert got["kept"]["data"]["x"] == [x[i] for i in want]
+    assert got["kept"]["data"]["y"] == [n[i] for i in want]
+    assert f"the last of each: {len(want)} of {len(x)} points" in got["kept"]["reason"]
