@@ -525,9 +525,10 @@ class ClaimData:
         Points not in the store (the sweep did not reach them).
     engine_seconds : float
         Sum of the refinement times reported by the engine (s).
-    plateaus_from : int
-        For a claim with the key ``plateaus``: the successful points before one per
-        plateau was kept (0 otherwise).
+    fitted : ndarray of bool or None
+        Which points the fit reads, in the order of `x`: for a claim with the key
+        ``plateaus``, one per plateau (:func:`hrbench_analysis.fit.plateau_ends`); ``None``
+        for every point.
     """
 
     value: np.ndarray
@@ -537,7 +538,7 @@ class ClaimData:
     failures: list = field(default_factory=list)
     missing: int = 0
     engine_seconds: float = 0.0
-    plateaus_from: int = 0
+    fitted: object = None
 
 
 def get_claim_data(claim, points, store, counters=None):
@@ -572,6 +573,10 @@ def get_claim_data(claim, points, store, counters=None):
         If a point stored as successful holds a record that cannot be read.
     """
     rows, failures, missing, seconds = [], [], 0, 0.0
+    plateaus = getattr(claim, "plateaus", None)
+    formulas = [("x", claim.x), ("y", claim.y)]
+    if plateaus is not None:
+        formulas.append(("plateaus.of", plateaus.of))
     for point in points:
         stored = store.get(point.key)
         if stored is None:
@@ -598,10 +603,6 @@ def get_claim_data(claim, points, store, counters=None):
             env.update(statistics)
         seconds += result.counters.get("seconds", 0.0)
         values = {}
-        plateaus = getattr(claim, "plateaus", None)
-        formulas = [("x", claim.x), ("y", claim.y)]
-        if plateaus is not None:
-            formulas.append(("plateaus.of", plateaus.of))
         for key, expr in formulas:
             value = expr(env)
             if math.isinf(value):
@@ -619,15 +620,14 @@ def get_claim_data(claim, points, store, counters=None):
                              "command": command})
             continue
         rows.append((x, y, point.value, point.series, values.get("plateaus.of")))
-    plateaus_from = 0
-    if getattr(claim, "plateaus", None) is not None:
-        rows, plateaus_from = _plateau_rows(claim, rows), len(rows)
+    kept = {id(row) for row in _plateau_rows(claim, rows)} if plateaus is not None else None
     rows.sort(key=lambda row: row[:3])
+    fitted = None if kept is None else np.array([id(row) in kept for row in rows], dtype=bool)
     arr = np.array([row[:3] for row in rows], dtype=float).reshape(-1, 3)
     return ClaimData(value=arr[:, 2], x=arr[:, 0], y=arr[:, 1],
                      series=np.array([row[3] for row in rows], dtype=object),
                      failures=failures, missing=missing, engine_seconds=seconds,
-                     plateaus_from=plateaus_from)
+                     fitted=fitted)
 
 
 def _plateau_rows(claim, rows):

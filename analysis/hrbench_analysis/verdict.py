@@ -292,14 +292,20 @@ def assess_claim(claim, data, n_boot=2000):
     assessment : Assessment
         As from :func:`get_verdict`; failed points are named in ``notes`` and in the reason.
     """
-    if data.x.size == 0:
-        result = Assessment(verdict="inconclusive", reason="no successful points",
+    # With the key `plateaus` the fit reads one point per plateau (data.fitted).
+    fitted = getattr(data, "fitted", None)
+    x, y = (data.x, data.y) if fitted is None else (data.x[fitted], data.y[fitted])
+    if x.size == 0:
+        reason = ("no successful points" if data.x.size == 0 else
+                  f"no plateau of {claim.plateaus.of.text} with its step among the "
+                  f"{data.x.size} points")
+        result = Assessment(verdict="inconclusive", reason=reason,
                             expected_exponent=claim.expected_exponent,
-                            tolerance=claim.tolerance, x=data.x, y=data.y,
+                            tolerance=claim.tolerance, x=x, y=y,
                             in_regime=np.zeros(0, dtype=bool), n_regime=0, decades=0.0)
     else:
         result = get_verdict(
-            data.x, data.y, claim.expected_exponent, claim.tolerance, x_min=claim.x_min,
+            x, y, claim.expected_exponent, claim.tolerance, x_min=claim.x_min,
             x_max=claim.x_max, min_points=claim.min_points, min_decades=claim.min_decades,
             window_decades=claim.window_decades, theta_band=claim.theta_band,
             step_octaves=claim.step_octaves,
@@ -314,9 +320,9 @@ def assess_claim(claim, data, n_boot=2000):
                          f"{claim.expected_exponent:g} +/- {claim.tolerance:g} it would be "
                          f"{result.verdict}")
         result.verdict = MEASURED
-    if getattr(data, "plateaus_from", 0):
+    if fitted is not None:
         note = (f"fitted one point per plateau of {claim.plateaus.of.text}, the "
-                f"{claim.plateaus.keep} of each: {data.x.size} of {data.plateaus_from} points")
+                f"{claim.plateaus.keep} of each: {x.size} of {data.x.size} points")
         result.notes.append(note)
         result.reason += f"; {note}"
     if data.failures:
