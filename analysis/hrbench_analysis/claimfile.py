@@ -25,7 +25,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .engine import MESH_SCENE
+from .engine import DEFAULT_ORACLE, KIND_PREFIX, MESH_SCENE
 from .errors import AnalysisError, InputFileError, open_bounded, read_bounded
 from .expr import Expression, ExpressionError
 from .lemmas import STATISTICS, claim_statistics
@@ -808,16 +808,10 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
         published=published, plateaus=plateaus, **options)
 
 
-#: How a claim names its oracle through the engine's capabilities instead of by name:
-#: ``oracle = "@default"`` or ``oracle = { kind = "form-factor" }`` (resolved by
-#: :func:`hrbench_analysis.engine.resolve_oracle` before any run).
-DEFAULT_ORACLE = "@default"
-KIND_PREFIX = "@kind="
-
-
 def _oracle_iv(value, fail):
     # A name, "@default", or { kind = WORD }; the two selectors are kept as their text
-    # ("@default", "@kind=WORD") until the engine's capabilities resolve them.
+    # ("@default", "@kind=WORD") until the engine's capabilities resolve them
+    # (hrbench_analysis.engine.resolve_oracle, before any run).
     if isinstance(value, dict):
         if set(value) != {"kind"} or not isinstance(value["kind"], str) \
                 or not _PARAM_NAME.match(value["kind"].replace("-", "_")):

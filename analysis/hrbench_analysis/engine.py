@@ -60,6 +60,8 @@ __all__ = [
     "parse_capabilities",
     "oracle_error",
     "resolve_oracle",
+    "DEFAULT_ORACLE",
+    "KIND_PREFIX",
     "REFERENCE_ORACLES",
     "param_errors",
     "param_range_text",
@@ -711,6 +713,12 @@ def get_capabilities(hrbench, timeout=60):
 # Checking a claim against the capabilities.
 
 
+#: How a claim names its oracle through the engine's capabilities instead of by name
+#: (its key ``oracle``): ``"@default"``, and ``{ kind = "form-factor" }`` kept as
+#: ``"@kind=form-factor"`` until :func:`resolve_oracle` names it.
+DEFAULT_ORACLE = "@default"
+KIND_PREFIX = "@kind="
+
 #: The kinds and the default of the reference engine's oracles, for an ``hrbench`` whose
 #: listing names none (the listing's ``kind`` and ``default`` take precedence).
 REFERENCE_ORACLES = {"garmann": "geometric", "hanrahan": "form-factor", "bf": "radiosity"}
@@ -739,8 +747,6 @@ def resolve_oracle(claim, capabilities):
         Why the selector does not resolve: no oracle, or several, of that kind or marked
         default, with the engine's oracles and their kinds.
     """
-    from .claimfile import DEFAULT_ORACLE, KIND_PREFIX
-
     wanted = claim.oracle
     if wanted != DEFAULT_ORACLE and not wanted.startswith(KIND_PREFIX):
         return wanted, None
