@@ -208,7 +208,7 @@ def wall_ratio(runs):
                              for b, h in zip(runs["base"], runs["head"], strict=True))
 
 
-def result_dict(commands, runs, orders, comparison, wall, args):
+def result_dict(commands, runs, orders, comparison, wall_median_ratio, args):
     """The JSON object of ``--json`` (fields in docs/benchmarks.md)."""
     from .benchcompare import get_overall_verdict
 
@@ -233,7 +233,7 @@ def result_dict(commands, runs, orders, comparison, wall, args):
             "statistic": comparison.statistic, "pvalue": comparison.pvalue,
             "alpha": args.alpha, "threshold": args.threshold,
             "verdict": comparison.verdict, "overall": get_overall_verdict([comparison]),
-            "wall_ratio": wall}
+            "wall_ratio": wall_median_ratio}
 
 
 def _seconds(x):

@@ -103,6 +103,9 @@ class TestOutput:
             assert s["cpu_q1"] <= s["cpu_median"] <= s["cpu_q3"]
             assert all(c > 0 for c in s["cpu_seconds"])
         assert r["test"] == "wilcoxon signed-rank" and r["confidence"] == 0.95
+        assert r["wall_ratio"] == pytest.approx(statistics.median(
+            h / b for b, h in zip(r["base"]["wall_seconds"], r["head"]["wall_seconds"],
+                                  strict=True)))
         assert code in (0, 3)
 
     def test_text_report_states_order_ratio_and_verdict(self, capsys):
