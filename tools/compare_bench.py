@@ -3,6 +3,8 @@
 
 usage: compare_bench.py BASELINE.json NEW.json [--threshold 0.05] [--alpha 0.05]
                         [--metric real_time|cpu_time]
+       compare_bench.py commands --base CMD --head CMD [--rounds 10] [--json] ...
+                        (two shell commands timed against each other by CPU time)
 
 Both files come from a suite run with repetitions, e.g.
 

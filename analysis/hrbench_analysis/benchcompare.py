@@ -35,6 +35,10 @@ oversized or malformed file, a time that is not a finite number >= 0, no per-rep
 rows, no benchmark in common, unequal rounds with ``--paired``), 3 no regression but at
 least one benchmark inconclusive, 70 an internal error (a bug), 74 the report could not
 be written. See docs/ci.md.
+
+``hrbench-compare commands --base CMD --head CMD`` times two shell commands in interleaved
+rounds and judges their CPU times with the same paired rule and exit codes
+(:mod:`hrbench_analysis.cmdtiming`).
 """
 
 import argparse
@@ -390,7 +394,8 @@ def _parse_args(argv, prog):
         prog=prog,
         description="Compare two Google Benchmark JSON files run with repetitions; exit 1 "
                     "on a significant slowdown beyond the threshold, 3 if a benchmark is "
-                    "too noisy to tell.")
+                    "too noisy to tell. `%(prog)s commands --base CMD --head CMD` times "
+                    "two shell commands instead (`%(prog)s commands --help`).")
     parser.add_argument("baseline", help="Google Benchmark JSON of the baseline run")
     parser.add_argument("new", help="Google Benchmark JSON of the new run")
     parser.add_argument("--threshold", type=float, default=0.05,
@@ -424,6 +429,10 @@ def main(argv=None, prog="hrbench-compare"):
     prog : str, optional
         The command's name in its messages.
     """
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["commands"]:  # a file named "commands" is given as ./commands
+        from . import cmdtiming
+        return run_main(prog, lambda a: cmdtiming.main(a[1:], prog), argv)
     return run_main(prog, lambda a: _compare(a, prog), argv)
 
 

@@ -2,7 +2,7 @@
 """hrbench's CI gates on a change: the exact count baseline and the timing comparison.
 
 usage: gates BASE_REF HEAD_REF [--rounds N] [--threshold T] [--alpha A] [--filter REGEX]
-             [--metric cpu_time|real_time] [--min-time S] [--bench-cmd CMD]
+             [--metric cpu_time|real_time] [--min-time S] [--bench-cmd CMD | --time-cmd CMD]
              [--summary FILE] [--workdir DIR] [--base-build DIR] [--head-build DIR]
              [--project DIR] [--jobs N] [--no-ccache] [--skip-counts] [--skip-timing]
 
@@ -23,7 +23,10 @@ hrbench_analysis.builds), or takes prebuilt build directories (--base-build,
   confidence interval it gives. A benchmark is SLOWER (the gate fails) if p <= --alpha
   and the ratio exceeds 1 + --threshold; inconclusive if the interval is wider than
   +-threshold and reaches above 1 + threshold; else faster, slower (within the
-  threshold) or no significant change.
+  threshold) or no significant change. --time-cmd CMD times any shell command instead,
+  by the CPU time of its process tree after one warm-up round (hrbench_analysis.cmdtiming,
+  as `hrbench-compare commands`): another project's CI gates its own program, built at
+  BASE and HEAD.
 
 Prints a Markdown summary and writes it to --summary FILE and, when set, appends it to
 $GITHUB_STEP_SUMMARY ($GITHUB_OUTPUT gets verdict= and summary=). Progress goes to
@@ -84,6 +87,8 @@ MAX_ROUNDS = 1000
 MAX_MIN_TIME = 60.0
 BASELINE_PATH = "tests/baseline/counts.json"
 SIDES = ("base", "head")
+# The one "benchmark" of --time-cmd: the command's CPU time.
+COMMAND_NAME = "cpu time of --time-cmd"
 # Lines of a gate's console output kept in the Markdown summary (all are printed).
 MAX_SUMMARY_LINES = 150
 # Exit codes by overall verdict (2 is a usage or input error).
@@ -141,6 +146,12 @@ def parse_args(argv):
                         "build and round with $HRBENCH_BUILD (the build directory), "
                         "$HRBENCH_SIDE (base or head), $HRBENCH_ROUND, and it must write "
                         "Google Benchmark JSON to $HRBENCH_BENCH_OUT")
+    p.add_argument("--time-cmd", metavar="CMD",
+                   help="time this shell command itself, by the CPU time (user + sys) of "
+                        "its process tree, instead of a benchmark's JSON: run once per build "
+                        "and round (after one warm-up round) with $HRBENCH_BUILD, "
+                        "$HRBENCH_SIDE and $HRBENCH_ROUND; any program, built your way at "
+                        "BASE and HEAD (--base-build, --head-build)")
     p.add_argument("--summary", metavar="FILE", help="also write the Markdown summary here")
     p.add_argument("--workdir", metavar="DIR", default=_default_workdir(),
                    help="worktrees, builds and results (default $RUNNER_TEMP/hrbench-gates, "
@@ -169,13 +180,20 @@ def parse_args(argv):
         p.error("--threshold must be a finite number >= 0")
     if not 0 < args.alpha < 1:
         p.error("--alpha must be in (0, 1)")
-    if args.bench_cmd is not None:
-        if not args.bench_cmd.strip():
-            p.error("--bench-cmd must not be empty")
+    if args.bench_cmd is not None and args.time_cmd is not None:
+        p.error("--bench-cmd and --time-cmd exclude each other: give one command to time")
+    for cmd in ("bench_cmd", "time_cmd"):
+        if getattr(args, cmd) is None:
+            continue
+        flag = "--" + cmd.replace("_", "-")
+        if not getattr(args, cmd).strip():
+            p.error(f"{flag} must not be empty")
         for option in ("filter", "min_time"):
             if getattr(args, option) is not None:
                 p.error(f"--{option.replace('_', '-')} is an option of refine_bench: with "
-                        "--bench-cmd, put it in the command")
+                        f"{flag}, put it in the command")
+    if args.time_cmd is not None and args.metric != "cpu_time":
+        p.error("--time-cmd measures CPU time; --metric real_time is for benchmark JSON")
     args.filter = DEFAULT_FILTER if args.filter is None else args.filter
     args.min_time = DEFAULT_MIN_TIME if args.min_time is None else args.min_time
     if not (math.isfinite(args.min_time) and 0 < args.min_time <= MAX_MIN_TIME):
@@ -365,42 +383,20 @@ def timing_gate(exes, builds, args, results):
     except ImportError as e:
         raise UsageError(f"the timing gate needs numpy and scipy ({e}); run scripts/setup.sh "
                          "or pip install numpy scipy") from None
-    if not args.bench_cmd:
+    if not (args.bench_cmd or args.time_cmd):
         for side in SIDES:
             check_filter(exes[side], args.filter, side)
     timing = os.path.join(results, "timing")
     os.makedirs(timing, exist_ok=True)
-    files = {side: [] for side in SIDES}
-    order, rounds = [], []
     start = time.monotonic()
-    what = "benchmark command" if args.bench_cmd else "refine_bench"
-    for r in range(args.rounds):
-        sides = round_order(r)
-        order.append(sides)
-        rounds.append({})
-        for side in sides:
-            out = os.path.join(timing, f"{side}-{r + 1:03d}.json")
-            try:
-                run_benchmarks(builds[side], out, f"{side}'s {what} in round {r + 1}",
-                               bench_cmd=args.bench_cmd, bench_filter=args.filter,
-                               min_time=args.min_time,
-                               env={"HRBENCH_SIDE": side, "HRBENCH_ROUND": str(r + 1)})
-            except BuildError as e:
-                raise GateFailure(str(e)) from None
-            files[side].append(out)
-            rounds[-1][side] = _round_times(out, args.metric)
-        log(f"timing: round {r + 1}/{args.rounds} ({' then '.join(sides)}), "
-            f"{time.monotonic() - start:.0f} s")
+    if args.time_cmd:
+        order, rounds, merged, wall_ratio = _command_rounds(builds, args, timing, start)
+    else:
+        order, rounds, merged = _benchmark_rounds(builds, args, timing, start)
+        wall_ratio = None
     with open(os.path.join(timing, "order.txt"), "w") as f:
         for r, sides in enumerate(order):
             f.write(f"round {r + 1}: {' '.join(sides)}\n")
-    merged = {}
-    for side in SIDES:
-        # Artifacts: one file per build with one row per round, as merge_bench.py writes.
-        merged[side] = os.path.join(timing, f"{side}.json")
-        with open(merged[side], "w", encoding="utf-8") as f:
-            json.dump(merge_benchmark_files([load_benchmark_file(p) for p in files[side]]),
-                      f, indent=2)
     base, head = paired_times(rounds)
     comparisons, only_base, only_head = get_comparison_report(
         base, head, args.threshold, args.alpha, paired=True)
@@ -420,7 +416,66 @@ def timing_gate(exes, builds, args, results):
             "geomean": get_geomean(comparisons),
             "weak": any(min_pvalue(c.n_baseline, c.n_new, True) > args.alpha
                         for c in comparisons),
-            "seconds": time.monotonic() - start, "merged": merged}
+            "seconds": time.monotonic() - start, "merged": merged, "wall_ratio": wall_ratio}
+
+
+def _benchmark_rounds(builds, args, timing, start):
+    """refine_bench or --bench-cmd, one Google Benchmark JSON per build and round: the
+    order of each round, its times ``{side: {benchmark: ns}}``, the merged files."""
+    files = {side: [] for side in SIDES}
+    order, rounds = [], []
+    what = "benchmark command" if args.bench_cmd else "refine_bench"
+    for r in range(args.rounds):
+        sides = round_order(r)
+        order.append(sides)
+        rounds.append({})
+        for side in sides:
+            out = os.path.join(timing, f"{side}-{r + 1:03d}.json")
+            try:
+                run_benchmarks(builds[side], out, f"{side}'s {what} in round {r + 1}",
+                               bench_cmd=args.bench_cmd, bench_filter=args.filter,
+                               min_time=args.min_time,
+                               env={"HRBENCH_SIDE": side, "HRBENCH_ROUND": str(r + 1)})
+            except BuildError as e:
+                raise GateFailure(str(e)) from None
+            files[side].append(out)
+            rounds[-1][side] = _round_times(out, args.metric)
+        log(f"timing: round {r + 1}/{args.rounds} ({' then '.join(sides)}), "
+            f"{time.monotonic() - start:.0f} s")
+    merged = {}
+    for side in SIDES:
+        # Artifacts: one file per build with one row per round, as merge_bench.py writes.
+        merged[side] = os.path.join(timing, f"{side}.json")
+        with open(merged[side], "w", encoding="utf-8") as f:
+            json.dump(merge_benchmark_files([load_benchmark_file(p) for p in files[side]]),
+                      f, indent=2)
+    return order, rounds, merged
+
+
+def _command_rounds(builds, args, timing, start):
+    """--time-cmd, through hrbench_analysis.cmdtiming: as _benchmark_rounds, with one
+    "benchmark", the command's CPU time; the per-run times go to timing/times.json. Also
+    returns the median of the per-round wall-time ratios."""
+    from hrbench_analysis.cmdtiming import CommandError, run_rounds, wall_ratio
+
+    def env(side, r):
+        return {"HRBENCH_BUILD": builds[side], "HRBENCH_SIDE": side, "HRBENCH_ROUND": str(r)}
+
+    try:
+        runs, order = run_rounds(
+            {side: args.time_cmd for side in SIDES}, args.rounds, warmup=1, env=env,
+            log=lambda line: log(f"timing: {line}, {time.monotonic() - start:.0f} s"))
+    except CommandError as e:
+        raise GateFailure(str(e)) from None
+    rounds = [{side: {COMMAND_NAME: runs[side][r].cpu_seconds * 1e9} for side in SIDES}
+              for r in range(args.rounds)]
+    times = os.path.join(timing, "times.json")
+    with open(times, "w", encoding="utf-8") as f:
+        json.dump({"command": args.time_cmd, "round_order": [list(o) for o in order],
+                   **{side: {"cpu_seconds": [x.cpu_seconds for x in runs[side]],
+                             "wall_seconds": [x.wall_seconds for x in runs[side]]}
+                      for side in SIDES}}, f, indent=1)
+    return order, rounds, {"times": times}, wall_ratio(runs)
 
 
 # ---------------------------------------------------------------------------------------
@@ -518,6 +573,8 @@ def render_summary(ctx):
 
         level = f"{1 - args.alpha:.0%}"
         what = (f"`{_md(args.bench_cmd)}`" if args.bench_cmd else
+                f"`{_md(args.time_cmd)}` (CPU time, user + sys, of its process tree; one "
+                "warm-up round first)" if args.time_cmd else
                 f"`refine_bench` (--benchmark_min_time {args.min_time:g})")
         out += ["", "### Timing", ""]
         out.append(f"{what}, {args.metric}, {args.rounds} interleaved rounds (one run of "
@@ -530,7 +587,7 @@ def render_summary(ctx):
                    f"+{args.threshold:.0%}, so that such a slowdown can be neither found nor "
                    "ruled out; faster or slower (within the threshold) when significant, else "
                    "no significant change.")
-        if args.metric == "cpu_time" and not args.bench_cmd:
+        if args.metric == "cpu_time" and not (args.bench_cmd or args.time_cmd):
             out[-1] += (" (The names end in `/real_time` because the suite sizes its "
                         "iterations by wall time; the time compared is CPU time.)")
         out += ["", f"| benchmark | base | head | change | {level} CI | p | noise | rounds "
@@ -546,6 +603,9 @@ def render_summary(ctx):
         out.append("")
         out.append("base, head: medians over the rounds; OVERALL_GEOMEAN: geometric means "
                    "of the medians and of the changes' ratios.")
+        if timing["wall_ratio"] is not None:
+            out.append(f"Wall time head / base: {timing['wall_ratio']:.3f} (median of the "
+                       "per-round ratios; reported, not judged).")
         for name in timing["only_base"]:
             out.append(f"Only in BASE: `{_md(name)}`.")
         for name in timing["only_head"]:
@@ -591,7 +651,7 @@ def run(args):
     repo, prefix = locate_project(args.project)
     base_sha = resolve_ref(repo, args.base, "BASE_REF")
     head_sha = resolve_ref(repo, args.head, "HEAD_REF")
-    bench = [] if args.skip_timing or args.bench_cmd else ["refine_bench"]
+    bench = [] if args.skip_timing or args.bench_cmd or args.time_cmd else ["refine_bench"]
     # BASE's engine is not checked: the count gate runs HEAD's only.
     need = {"base": bench, "head": ([] if args.skip_counts else ["hrbench"]) + bench}
     prebuilt = {"base": args.base_build, "head": args.head_build}

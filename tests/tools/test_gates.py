@@ -412,6 +412,42 @@ class TestGates:
         runs = (tmp_path / "bench.log").read_text().split()
         assert runs[:4] == ["base", "head", "head", "base"]
 
+    def test_any_command_is_timed_by_its_cpu_time(self, tmp_path, repo):
+        """--time-cmd: another project's program, built at BASE and HEAD, timed itself (no
+        hrbench, no refine_bench, no benchmark JSON); HEAD's does 3 times the work."""
+        builds = []
+        for side, n in (("base", 40000), ("head", 120000)):
+            build = tmp_path / f"outside-{side}"
+            build.mkdir()
+            _executable(build / "work", f'#!/bin/sh\necho "$1 $HRBENCH_ROUND" >> '
+                        f'"{tmp_path}/work.log"\ni=0; while [ $i -lt {n} ]; do '
+                        'i=$((i+1)); done\n')
+            builds.append(str(build))
+        cmd = '"$HRBENCH_BUILD/work" "$HRBENCH_SIDE" > /dev/null'
+        proc, summary = run_gates(tmp_path, repo, *builds, "--time-cmd", cmd, "--skip-counts")
+        assert proc.returncode == 1, proc.stderr
+        assert "| timing | FAIL | 1 of 1 benchmarks significantly slower" in summary
+        (row,) = benchmark_rows(summary)
+        assert row[0] == "`cpu time of --time-cmd`" and row[-1] == "**SLOWER**"
+        assert row[3].startswith("+1") or row[3].startswith("+2"), row  # about +200%
+        assert f"`{cmd}` (CPU time, user + sys, of its process tree" in summary
+        assert "Wall time head / base: " in summary
+        runs = (tmp_path / "work.log").read_text().splitlines()
+        assert runs[:6] == ["base 0", "head 0", "base 1", "head 1", "head 2", "base 2"]
+        assert len(runs) == 2 * 9  # a warm-up round and 8 rounds
+        results = next((tmp_path / "work" / "results").iterdir())
+        times = json.loads((results / "timing" / "times.json").read_text())
+        assert times["command"] == cmd and len(times["head"]["cpu_seconds"]) == 8
+
+    def test_a_failing_time_cmd_fails_with_a_summary(self, tmp_path, repo):
+        build = make_build(tmp_path, "base")
+        proc, summary = run_gates(tmp_path, repo, build, build, "--skip-counts",
+                                  "--time-cmd", "echo broken >&2; exit 4")
+        assert proc.returncode == 1
+        assert ("the base command in a warm-up round failed (exit code 4): broken"
+                in proc.stderr)
+        assert summary.startswith("## hrbench gates: FAIL")
+
     def test_a_crashing_benchmark_fails_with_a_summary(self, tmp_path, repo):
         proc, summary = run_gates(tmp_path, repo, make_build(tmp_path, "base"),
                                   make_build(tmp_path, "head", crash=True))
@@ -425,7 +461,8 @@ class TestUsageErrors:
                                       "missing build", "no refine_bench", "not git",
                                       "no baseline", "filter matches nothing", "bad rounds",
                                       "bad metric", "filter with bench-cmd",
-                                      "empty bench-cmd"])
+                                      "empty bench-cmd", "bench-cmd with time-cmd",
+                                      "real time with time-cmd", "min-time with time-cmd"])
     def test_exit_2_with_one_line(self, tmp_path, repo, case):
         base, head = make_build(tmp_path, "base"), make_build(tmp_path, "head")
         refs, extra = {}, []
@@ -455,6 +492,12 @@ class TestUsageErrors:
             extra = ["--bench-cmd", "true", "--filter", "BM_"]
         elif case == "empty bench-cmd":
             extra = ["--bench-cmd", " "]
+        elif case == "bench-cmd with time-cmd":
+            extra = ["--bench-cmd", "true", "--time-cmd", "true"]
+        elif case == "real time with time-cmd":
+            extra = ["--time-cmd", "true", "--metric", "real_time"]
+        elif case == "min-time with time-cmd":
+            extra = ["--time-cmd", "true", "--min-time", "1"]
         proc, summary = run_gates(tmp_path, repo, base, head, *extra, **refs,
                                   subprocess_run=True)
         assert proc.returncode == 2, proc.stderr
