@@ -50,8 +50,7 @@ bool ContainsAll(const Shape &shape, const std::vector<typename Shape::Vec> &poi
 
 // Whether _shape_'s corners are _points_ within _tol_, in any cyclic order, either way.
 template <typename Shape>
-bool SameCorners(const Shape &shape, const std::vector<typename Shape::Vec> &points,
-                 double tol) {
+bool SameCorners(const Shape &shape, const std::vector<typename Shape::Vec> &points, double tol) {
     auto corners = CornersOf(shape);
     int n = int(corners.size());
     if (n != int(points.size()))
@@ -173,8 +172,8 @@ class Converter {
                 if (!ContainsAll(children[c], points, tol))
                     continue;
                 if (holder >= 0)
-                    Fail("element '" + token + "' lies in two children of " +
-                         std::to_string(root) + (digits.empty() ? "" : "/" + digits) +
+                    Fail("element '" + token + "' lies in two children of " + std::to_string(root) +
+                         (digits.empty() ? "" : "/" + digits) +
                          " within the tolerance: give a smaller --tolerance");
                 holder = c;
             }
@@ -186,7 +185,8 @@ class Converter {
     }
 
     uint64_t ParseRoot(const std::string &token, const std::string &text) const {
-        bool digits = std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+        bool digits =
+            std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
         if (!digits || text.size() > 18 || std::stoull(text) >= patches_.size())
             Fail("element '" + token + "': '" + text + "' before '@' is not a root patch of " +
                  "the scene (0 to " + std::to_string(patches_.size() - 1) + ")");

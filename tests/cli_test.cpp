@@ -27,7 +27,7 @@ const std::set<std::string> kRunContextKeys = {
     "scene_file",      "mesh_file",   "patches",     "dimension",  "eps",
     "oracle",          "ff_estimate", "method",      "mode",       "min_area",
     "max_depth_limit", "threads",     "subdivision", "visibility", "rays_per_side",
-    "seconds"};
+    "seconds",         "scene_sha256"};
 
 }  // namespace
 
@@ -866,22 +866,23 @@ TEST_CASE("dump-paths names the line of a token that matches no element", "[cli]
     auto check = [&](const std::string &token, const std::string &what) {
         std::ofstream(dump) << "hrbench-link-dump 1\n0 1\n" << token << " 1\n";
         CheckError("dump-paths parallel3d --links " + dump + " --out " + out, 2,
-                   dump + ":3: element '" + token + "' " + what);
+                   dump + ":3: " + what);
     };
     // [0, 0.5] x [0, 0.25] on plate 0 is no element of the binary tree (the quarter
     // [0, 0.5]^2 is halved across v0v1 on a tie), nor a rectangle between the plates,
     // nor a third of the plate.
     check("@0,0,0;0.5,0,0;0.5,0.25,0;0,0.25,0",
-          "matches no element of root patch 0 under the subdivision within the tolerance "
+          "element '@0,0,0;0.5,0,0;0.5,0.25,0;0,0.25,0' matches no element of root patch 0 under the subdivision within the tolerance "
           "1e-05 of its diameter");
     check("@0,0,0.5;1,0,0.5;1,1,0.5;0,1,0.5",
-          "lies in no root patch within the tolerance 1e-05 of its diameter");
+          "element '@0,0,0.5;1,0,0.5;1,1,0.5;0,1,0.5' lies in no root patch within the tolerance 1e-05 of its diameter");
     check("0@0,0,0;0.3,0,0;0.3,1,0;0,1,0",
-          "matches no element of root patch 0 under the subdivision within the tolerance "
+          "element '0@0,0,0;0.3,0,0;0.3,1,0;0,1,0' matches no element of root patch 0 under the subdivision within the tolerance "
           "1e-05 of its diameter");
-    check("7@0,0,0;1,0,0;1,1,0", "'7' before '@' is not a root patch of the scene (0 to 1)");
-    check("@0,0;1,0;1,1", "a corner needs 3 coordinates separated by ',', got '0,0'");
-    check("@0,0,0;1,0,0", "3 or 4 corners separated by ';' in a 3D scene, got 2");
+    check("7@0,0,0;1,0,0;1,1,0",
+          "element '7@0,0,0;1,0,0;1,1,0': '7' before '@' is not a root patch of the scene (0 to 1)");
+    check("@0,0;1,0;1,1", "bad element '@0,0;1,0;1,1': a corner needs 3 coordinates separated by ',', got '0,0'");
+    check("@0,0,0;1,0,0", "bad element '@0,0,0;1,0,0': 3 or 4 corners separated by ';' in a 3D scene, got 2");
     CheckError("dump-paths parallel3d --links " + dump + " --out " + out + " --tolerance 0.5",
                2, "--tolerance of dump-paths must be at least 0 and below 0.01, not 0.5");
     CheckError("dump-paths parallel3d --links " + dump, 2, "dump-paths needs --links IN");
