@@ -15,8 +15,15 @@ import os
 import shutil
 from pathlib import Path
 
-from .engine import MESH_SCENE, _scene_argv, engine_argv, engine_text, format_number, \
-    option_argv, run_engine
+from .engine import (
+    MESH_SCENE,
+    engine_argv,
+    engine_text,
+    format_number,
+    option_argv,
+    run_engine,
+    save_argv,
+)
 from .errors import one_line
 
 __all__ = ["reference_engine", "scene_mismatch", "SCENE_OPTIONS"]
@@ -65,7 +72,7 @@ def _scene_text(claim, params):
     # "parallel d=1 l=8", or "mesh F.obj".
     if claim.scene == MESH_SCENE:
         return f"mesh {claim.mesh}"
-    return " ".join(_scene_argv(claim.scene, dict(params)))
+    return " ".join(save_argv("hrbench", claim.scene, dict(params))[2:])  # after "hrbench save"
 
 
 def scene_mismatch(claim, mode, points, store, reference, digests=None):
@@ -106,8 +113,7 @@ def scene_mismatch(claim, mode, points, store, reference, digests=None):
         options["mesh"] = claim.mesh
     warnings = []
     for params, (found, point) in reported.items():
-        argv = (*engine_argv(reference), "save", *_scene_argv(claim.scene, dict(params)),
-                *option_argv(options))
+        argv = (*save_argv(reference, claim.scene, dict(params)), *option_argv(options))
         if argv not in digests:
             run = run_engine(argv, timeout=SAVE_TIMEOUT)
             digest = None
