@@ -103,8 +103,7 @@ const std::vector<CommandSpec> &Commands() {
         {"solve", "solve SCENE [key=value ...] --eps E [options]",
          "refine a scene and solve its radiosity on the hierarchy (docs/solve.md)"},
         {"dump-paths", "dump-paths SCENE ... --links IN --out OUT",
-         "name a link dump's elements by hrbench's paths instead of corners\n"
-         "(docs/dump-paths.md)"},
+         "name a link dump's elements by paths, not corners (docs/dump-paths.md)"},
         {"save", "save SCENE [key=value ...] [--out F.json|F.obj]",
          "write a scene file (JSON), or a 3D scene as OBJ + MTL"},
         {"scenes", "scenes", "list scene families with their parameters, and the oracles"},
