@@ -287,8 +287,9 @@ const std::vector<OptionSpec> &OptionTable() {
          "F",
          {},
          {"links", "save", "solve", "dump-paths"},
-         "output file (dump-paths: the converted dump; links: CSV; save: JSON, default standard output, or\nOBJ with an MTL "
-         "library beside it where F ends in .obj;\nsolve: CSV, one row per leaf)",
+         "output file (links: CSV; save: JSON, default standard output,\nor OBJ with an MTL "
+         "library beside it where F ends in .obj;\nsolve: CSV, one row per leaf; dump-paths: "
+         "the converted dump)",
          [](Options &o, S v) { o.out = v; }},
         {"format",
          "--format",
