@@ -19,12 +19,12 @@
 #include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/IO/OBJ.h>
 #include <CGAL/IO/OFF.h>
 #include <CGAL/Polygon_2_algorithms.h>
 
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
+#include "hrbench/util/output.h"
 
 namespace hrbench {
 
@@ -52,6 +52,15 @@ MeshFormat FormatOf(const std::string &path) {
 std::string Directory(const std::string &path) {
     size_t slash = path.find_last_of('/');
     return slash == std::string::npos ? "" : path.substr(0, slash + 1);
+}
+
+// The value an MTL `Kd` or `Ke` stands for: the mean of r g b; three equal values (or
+// one) give that value exactly, so that SaveMesh's grey values read back unchanged (their
+// mean in floating point may differ in the last bit).
+double MtlMean(const Rgb &rgb) {
+    if (rgb[0] == rgb[1] && rgb[1] == rgb[2])
+        return rgb[0];
+    return (rgb[0] + rgb[1] + rgb[2]) / 3;
 }
 
 double CappedReflectance(double rho) { return std::min(std::max(rho, 0.0), kMeshMaxReflectance); }
@@ -736,7 +745,7 @@ void ReadMtlColour(const Lines &lines, Words &words, std::string_view keyword,
     }
     if (n == 1)
         rgb[1] = rgb[2] = rgb[0];
-    double mean = (rgb[0] + rgb[1] + rgb[2]) / 3;
+    double mean = MtlMean(rgb);
     if (key == "Kd") {
         current->material.reflectance = CappedReflectance(mean);
         current->material.colour = DisplayRange(rgb);
@@ -1012,10 +1021,88 @@ Scene LoadMesh(const std::string &path, size_t maxInputBytes, const MeshOptions 
     return ParseMesh(text, format, path, readLibrary, options);
 }
 
+std::string MaterialLibraryPath(const std::string &objPath) {
+    return objPath.substr(0, objPath.find_last_of('.')) + ".mtl";
+}
+
+namespace {
+
+// The `Kd` values of _m_: its display colour where their mean is its reflectance (as
+// the reader takes it), else its reflectance as grey; both read back as _m_'s reflectance.
+Rgb KdOf(const Material &m) {
+    if (m.colour && MtlMean(*m.colour) == m.reflectance)
+        return *m.colour;
+    return {m.reflectance, m.reflectance, m.reflectance};
+}
+
+std::string RgbText(const Rgb &rgb) {
+    return FormatDouble(rgb[0]) + " " + FormatDouble(rgb[1]) + " " + FormatDouble(rgb[2]);
+}
+
+// Writes _scene_ as OBJ at _path_ and its materials as the MTL library beside it
+// (docs/scene-format.md#obj-and-mtl): corners shared where equal, faces in scene order
+// with their corners in order, one material per distinct surface.
+void SaveObj(const Scene &scene, const std::string &path) {
+    std::string library = MaterialLibraryPath(path);
+    std::string libraryName = library.substr(library.find_last_of('/') + 1);
+    if (libraryName.find_first_of(" \t") != std::string::npos)
+        throw InputError("cannot name material library '" + libraryName +
+                         "' in an OBJ file: mtllib names are single words");
+    const Patches<Polygon> &patches = scene.Get<Polygon>();
+    std::map<std::array<double, 3>, size_t> vertexIndex;
+    std::string vertices, faces, mtl;
+    std::vector<Material> materials;  // distinct, in order of first use
+    size_t current = size_t(-1);
+    for (size_t k = 0; k < patches.size(); ++k) {
+        const Material &m = patches[k].material;
+        if (m.reflectance > kMeshMaxReflectance)
+            throw InputError("patch " + std::to_string(k) + " has reflectance " +
+                             FormatDouble(m.reflectance) + ", above " +
+                             FormatDouble(kMeshMaxReflectance) +
+                             ", the most an MTL Kd gives when read back (docs/3d.md)");
+        auto same = [&](const Material &o) {
+            return o.reflectance == m.reflectance && o.emission == m.emission &&
+                   o.colour == m.colour;
+        };
+        size_t material = size_t(std::find_if(materials.begin(), materials.end(), same) -
+                                 materials.begin());
+        if (material == materials.size()) {
+            materials.push_back(m);
+            mtl += "newmtl m" + std::to_string(material) + "\nKd " + RgbText(KdOf(m)) +
+                   "\nKe " + RgbText({m.emission, m.emission, m.emission}) + "\n";
+        }
+        if (material != current)
+            faces += "usemtl m" + std::to_string(material) + "\n";
+        current = material;
+        faces += "f";
+        const Polygon &p = patches[k].shape;
+        for (int c = 0; c < p.n; ++c) {
+            std::array<double, 3> xyz = {p.v[c].x(), p.v[c].y(), p.v[c].z()};
+            auto [it, added] = vertexIndex.try_emplace(xyz, vertexIndex.size() + 1);
+            if (added)
+                vertices += "v " + FormatDouble(xyz[0]) + " " + FormatDouble(xyz[1]) + " " +
+                            FormatDouble(xyz[2]) + "\n";
+            faces += " " + std::to_string(it->second);
+        }
+        faces += "\n";
+    }
+    std::string header = "# hrbench scene '" + scene.family + "', " +
+                         std::to_string(patches.size()) +
+                         " patches: faces counter-clockwise seen from the front\n";
+    WriteOutputFile(library, "material library",
+                    "# Materials of " + path.substr(path.find_last_of('/') + 1) +
+                        ": reflectance = mean(Kd), emission = mean(Ke)\n" + mtl);
+    WriteOutputFile(path, "mesh file", header + "mtllib " + libraryName + "\n" + vertices + faces);
+}
+
+}  // namespace
+
 void SaveMesh(const Scene &scene, const std::string &path) {
     MeshFormat format = FormatOf(path);
     if (scene.Dimension() != 3)
         throw InputError("only 3D scenes can be written as meshes");
+    if (format == MeshFormat::Obj)
+        return SaveObj(scene, path);
     std::vector<Point3> points;
     std::vector<PolygonIndices> polygons;
     for (const Patch<Polygon> &f : scene.Get<Polygon>()) {
@@ -1028,8 +1115,7 @@ void SaveMesh(const Scene &scene, const std::string &path) {
     }
     std::ofstream out(path, std::ios::binary);
     auto np = CGAL::parameters::stream_precision(17);
-    bool ok = out && (format == MeshFormat::Off ? CGAL::IO::write_OFF(out, points, polygons, np)
-                                                : CGAL::IO::write_OBJ(out, points, polygons, np));
+    bool ok = out && CGAL::IO::write_OFF(out, points, polygons, np);
     if (!ok || !out.flush())
         throw InputError("cannot write mesh file '" + path + "'");
 }

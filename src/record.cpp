@@ -87,6 +87,7 @@ json RunToJson(const Scene &scene, const RefineOptions &options, const RunRecord
         out[scene.family == "mesh" ? "mesh_file" : "scene_file"] = scene.file;
     out["patches"] = scene.NumPatches();
     out["dimension"] = scene.Dimension();
+    out["scene_sha256"] = SceneSha256(scene);  // the geometry refined (docs/scene-format.md)
     out["eps"] = options.eps;
     out["oracle"] = options.oracle;
     // The form-factor estimate, for an oracle that reads one (null: does not apply).

@@ -1,8 +1,10 @@
 #include "hrbench/scene.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "hrbench/util/error.h"
+#include "hrbench/util/sha256.h"
 
 namespace hrbench {
 
@@ -32,5 +34,41 @@ void ValidateScene(const Scene &scene) {
         },
         scene.patches);
 }
+
+// Appends _x_ in the digest's number format; adding +0.0 turns -0 into 0.
+static void AppendCoordinate(std::string &text, double x) {
+    char digits[32];
+    std::snprintf(digits, sizeof digits, "%.17g", x + 0.0);
+    if (!text.empty() && text.back() != '\n')
+        text += ' ';
+    text += digits;
+}
+
+static void AppendCorners(std::string &text, const Segment &s) {
+    for (const Vec2 &p : {s.a, s.b})
+        for (int c = 0; c < 2; ++c)
+            AppendCoordinate(text, p[c]);
+}
+
+static void AppendCorners(std::string &text, const Polygon &p) {
+    for (int k = 0; k < p.n; ++k)
+        for (int c = 0; c < 3; ++c)
+            AppendCoordinate(text, p.v[k][c]);
+}
+
+std::string SceneGeometryText(const Scene &scene) {
+    std::string text;
+    std::visit(
+        [&](const auto &patches) {
+            for (const auto &patch : patches) {
+                AppendCorners(text, patch.shape);
+                text += '\n';
+            }
+        },
+        scene.patches);
+    return text;
+}
+
+std::string SceneSha256(const Scene &scene) { return Sha256Hex(SceneGeometryText(scene)); }
 
 }  // namespace hrbench

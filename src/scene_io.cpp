@@ -47,6 +47,7 @@ std::string SceneToJson(const Scene &scene) {
         },
         scene.patches);
     doc["patches"] = patches;
+    doc["scene_sha256"] = SceneSha256(scene);  // informative, as in the run record
     return doc.dump(2) + "\n";
 }
 
@@ -151,7 +152,10 @@ Scene SceneFromJson(const std::string &text, const std::string &source) {
     json doc = ParseStrict(text, source);
     if (!doc.is_object())
         throw InputError(source + ": not an hrbench scene (the document is not an object)");
-    CheckKeys(doc, {"format", "schema_version", "dimension", "family", "params", "patches"},
+    // "scene_sha256" is informative, like "family" and "params": a run recomputes it.
+    CheckKeys(doc,
+              {"format", "schema_version", "dimension", "family", "params", "patches",
+               "scene_sha256"},
               source + ":");
     if (!doc.contains("format") || doc["format"] != "hrbench-scene")
         throw InputError(source + ": not an hrbench scene (\"format\": \"hrbench-scene\" missing)");

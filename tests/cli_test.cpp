@@ -27,7 +27,7 @@ const std::set<std::string> kRunContextKeys = {
     "scene_file",      "mesh_file",   "patches",     "dimension",  "eps",
     "oracle",          "ff_estimate", "method",      "mode",       "min_area",
     "max_depth_limit", "threads",     "subdivision", "visibility", "rays_per_side",
-    "seconds"};
+    "seconds",         "scene_sha256"};
 
 }  // namespace
 
@@ -362,6 +362,56 @@ TEST_CASE("3D scenes save, load and write links with areas and centroids", "[cli
     while (std::getline(csv, line))
         ++rows;
     CHECK(rows == 4);
+}
+
+TEST_CASE("save --out F.obj gives the same patches and counts through --mesh", "[cli][3d][obj]") {
+    for (std::string scene : {std::string("parallel3d l=2 w=1 d=0.5"),
+                              std::string("perpendicular3d"), std::string("cornell"),
+                              "--mesh " + kData + "/two_plates.obj"}) {
+        INFO(scene);
+        std::string obj = Scratch("saved.obj");
+        REQUIRE(Cli("save " + scene + " --out " + obj).exitCode == 0);
+        json original = json::parse(Cli("save " + scene).out);
+        json back = json::parse(Cli("save --mesh " + obj).out);
+        REQUIRE(back["patches"].size() == original["patches"].size());
+        for (size_t k = 0; k < original["patches"].size(); ++k) {
+            // The same corners in the same order: the same shape and front normal.
+            const json &p = original["patches"][k], &q = back["patches"][k];
+            CHECK(q["vertices"] == p["vertices"]);
+            CHECK(q["reflectance"] == p["reflectance"]);
+            CHECK(q["emission"] == p["emission"]);
+        }
+        std::string refine = " --eps 0.2 --max-depth 5 --json";
+        json a = json::parse(Cli("run " + scene + refine).out);
+        json b = json::parse(Cli("run --mesh " + obj + refine).out);
+        for (const char *key : {"nodes", "leaves", "links", "oracle_calls", "max_depth",
+                                "forced_links", "culled_pairs", "scene_sha256"})
+            CHECK(a[key] == b[key]);
+        CHECK(b["scene"] == "mesh");
+    }
+}
+
+TEST_CASE("save --out F.obj keeps quads, shares corners and writes the MTL", "[cli][3d][obj]") {
+    std::string obj = Scratch("plates.obj");
+    REQUIRE(Cli("save parallel3d --out " + obj).exitCode == 0);
+    CHECK(ReadFile(obj) == "# hrbench scene 'parallel3d', 2 patches: faces counter-clockwise seen "
+                           "from the front\nmtllib plates.mtl\n"
+                           "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 1 1\nv 1 1 1\nv 1 0 1\n"
+                           "v 0 0 1\nusemtl m0\nf 1 2 3 4\nf 5 6 7 8\n");
+    CHECK(ReadFile(Scratch("plates.mtl")) ==
+          "# Materials of plates.obj: reflectance = mean(Kd), emission = mean(Ke)\n"
+          "newmtl m0\nKd 0.5 0.5 0.5\nKe 0 0 0\n");
+    // The Cornell box: the light's emission, the walls' and blocks' colours.
+    std::string box = Scratch("box.obj");
+    REQUIRE(Cli("save cornell --out " + box).exitCode == 0);
+    std::string mtl = ReadFile(Scratch("box.mtl"));
+    CHECK(mtl.find("Kd 0.78 0.78 0.78\nKe 11 11 11\n") != std::string::npos);
+    CHECK(mtl.find("Kd 0.63 0.065 0.05\nKe 0 0 0\n") != std::string::npos);
+    // 2D scenes have no OBJ form; OFF would lose the emission.
+    CheckError("save parallel --out " + Scratch("flat.obj"), 2,
+               "an OBJ file holds 3D faces, and this scene is 2D (segments); write it as .json");
+    CheckError("save parallel3d --out " + Scratch("plates.off"), 2,
+               "save writes .json or .obj files, not OFF");
 }
 
 TEST_CASE("The Cornell box runs with visibility from the command line", "[cli][3d]") {
@@ -700,3 +750,140 @@ TEST_CASE("Memory running out before the budget advises --count-only only where 
           "hrbench: error: out of memory; use a larger eps\n");
 }
 #endif
+
+// ---------------------------------------------------------------------------------------
+// dump-paths: elements named by their corners
+
+namespace {
+
+std::string Coordinates(const std::vector<double> &xyz) {
+    std::string text;
+    for (double x : xyz)
+        text += (text.empty() ? "" : ",") + hrbench::FormatDouble(x);
+    return text;
+}
+
+// The corner token of element _path_ ("3" or "3/0110") of _scene_: its corners from the
+// second on, backwards, each coordinate moved by 1e-7 of its root's diameter, after
+// its root index when _withRoot_.
+std::string CornerToken(const hrbench::Scene &scene, hrbench::Subdivision mode,
+                        const std::string &path, bool withRoot) {
+    size_t slash = path.find('/');
+    size_t root = std::stoul(path.substr(0, slash));
+    std::string digits = slash == std::string::npos ? "" : path.substr(slash + 1);
+    std::vector<std::vector<double>> corners;
+    double diameter = 0;
+    if (scene.Dimension() == 2) {
+        hrbench::Segment s = scene.Get<hrbench::Segment>()[root].shape;
+        diameter = (s.b - s.a).norm();
+        std::array<hrbench::Segment, 4> children;
+        for (char d : digits)
+            s.Subdivide(mode, children), s = children[size_t(d - '0')];
+        corners = {{s.a.x(), s.a.y()}, {s.b.x(), s.b.y()}};
+    } else {
+        hrbench::Polygon p = scene.Get<hrbench::Polygon>()[root].shape;
+        diameter = p.Diameter();
+        std::array<hrbench::Polygon, 4> children;
+        for (char d : digits)
+            p.Subdivide(mode, children), p = children[size_t(d - '0')];
+        for (int k = 0; k < p.n; ++k)
+            corners.push_back({p.v[k].x(), p.v[k].y(), p.v[k].z()});
+    }
+    std::string token = withRoot ? std::to_string(root) + "@" : "@";
+    int n = int(corners.size());
+    for (int k = 0; k < n; ++k) {
+        std::vector<double> c = corners[size_t((1 - k + n) % n)];
+        for (size_t i = 0; i < c.size(); ++i)
+            c[i] += ((k + int(i)) % 2 ? 1e-7 : -1e-7) * diameter;
+        token += (k ? ";" : "") + Coordinates(c);
+    }
+    return token;
+}
+
+}  // namespace
+
+TEST_CASE("dump-paths turns corner tokens back into hrbench's paths exactly",
+          "[cli][dump-paths]") {
+    struct Case {
+        std::string scene, options;
+        hrbench::Subdivision mode;
+    };
+    for (const Case &c :
+         {Case{"parallel l=4 d=1", "", hrbench::Subdivision::Binary},
+          Case{"parallel3d l=2 d=1 ox=0.3", "", hrbench::Subdivision::Binary},
+          Case{"parallel3d l=2 d=1 ox=0.3", " --subdivision quadtree",
+               hrbench::Subdivision::Quadtree},
+          Case{"perpendicular3d", " --subdivision quadtree", hrbench::Subdivision::Quadtree}}) {
+        INFO(c.scene << c.options);
+        std::istringstream words(c.scene);
+        std::string family, word;
+        words >> family;
+        hrbench::ParamMap params;
+        while (words >> word)
+            params[word.substr(0, word.find('='))] = std::stod(word.substr(word.find('=') + 1));
+        hrbench::Scene scene = hrbench::MakeScene(family, params);
+        std::string original = Scratch("paths.dump"), corners = Scratch("corners.dump"),
+                    back = Scratch("back.dump");
+        REQUIRE(Cli("links " + c.scene + " --eps 0.5" + c.options + " --format probe --out " +
+                    original)
+                    .exitCode == 0);
+        // Every link line with corner tokens (the first with its root given, the second
+        // found by the corners alone), and two lines of other kinds carrying tokens.
+        std::istringstream text(ReadFile(original));
+        std::string expected, converted, line;
+        int links = 0;
+        while (std::getline(text, line)) {
+            std::istringstream tokens(line);
+            std::string a, b, rest;
+            if (!line.empty() && isdigit(line[0]) && tokens >> a >> b && !(tokens >> rest)) {
+                converted += CornerToken(scene, c.mode, a, true) + "\t" +
+                             CornerToken(scene, c.mode, b, false) + "\n";
+                expected += a + "\t" + b + "\n";
+                if (++links == 1) {
+                    converted += "# a comment @ is copied as it is\n";
+                    expected += "# a comment @ is copied as it is\n";
+                    converted += "unlink " + CornerToken(scene, c.mode, a, false) + " " + b +
+                                 " x=" + CornerToken(scene, c.mode, b, true) + "\n";
+                    expected += "unlink " + a + " " + b + " x=" + b + "\n";
+                }
+            } else {
+                converted += line + "\n";
+                expected += line + "\n";
+            }
+        }
+        REQUIRE(links > 4);
+        std::ofstream(corners) << converted;
+        CliResult r = Cli("dump-paths " + c.scene + c.options + " --links " + corners +
+                          " --out " + back);
+        INFO(r.err);
+        REQUIRE(r.exitCode == 0);
+        CHECK(ReadFile(back) == expected);
+    }
+}
+
+TEST_CASE("dump-paths names the line of a token that matches no element", "[cli][dump-paths]") {
+    std::string dump = Scratch("bad_corners.dump"), out = Scratch("bad_out.dump");
+    auto check = [&](const std::string &token, const std::string &what) {
+        std::ofstream(dump) << "hrbench-link-dump 1\n0 1\n" << token << " 1\n";
+        CheckError("dump-paths parallel3d --links " + dump + " --out " + out, 2,
+                   dump + ":3: " + what);
+    };
+    // [0, 0.5] x [0, 0.25] on plate 0 is no element of the binary tree (the quarter
+    // [0, 0.5]^2 is halved across v0v1 on a tie), nor a rectangle between the plates,
+    // nor a third of the plate.
+    check("@0,0,0;0.5,0,0;0.5,0.25,0;0,0.25,0",
+          "element '@0,0,0;0.5,0,0;0.5,0.25,0;0,0.25,0' matches no element of root patch 0 under the subdivision within the tolerance "
+          "1e-05 of its diameter");
+    check("@0,0,0.5;1,0,0.5;1,1,0.5;0,1,0.5",
+          "element '@0,0,0.5;1,0,0.5;1,1,0.5;0,1,0.5' lies in no root patch within the tolerance 1e-05 of its diameter");
+    check("0@0,0,0;0.3,0,0;0.3,1,0;0,1,0",
+          "element '0@0,0,0;0.3,0,0;0.3,1,0;0,1,0' matches no element of root patch 0 under the subdivision within the tolerance "
+          "1e-05 of its diameter");
+    check("7@0,0,0;1,0,0;1,1,0",
+          "element '7@0,0,0;1,0,0;1,1,0': '7' before '@' is not a root patch of the scene (0 to 1)");
+    check("@0,0;1,0;1,1", "bad element '@0,0;1,0;1,1': a corner needs 3 coordinates separated by ',', got '0,0'");
+    check("@0,0,0;1,0,0", "bad element '@0,0,0;1,0,0': 3 or 4 corners separated by ';' in a 3D scene, got 2");
+    CheckError("dump-paths parallel3d --links " + dump + " --out " + out + " --tolerance 0.5",
+               2, "--tolerance of dump-paths must be at least 0 and below 0.01, not 0.5");
+    CheckError("dump-paths parallel3d --links " + dump, 2, "dump-paths needs --links IN");
+}

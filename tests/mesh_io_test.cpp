@@ -5,8 +5,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <cmath>
 #include <map>
 #include <optional>
+#include <sstream>
+#include <vector>
 
 #include <unistd.h>
 
@@ -121,7 +124,7 @@ struct ScratchFolder {
 
 }  // namespace
 
-TEST_CASE("Meshes round-trip through CGAL's OFF and OBJ writers and our readers", "[mesh]") {
+TEST_CASE("Meshes round-trip through our OFF and OBJ writers and our readers", "[mesh]") {
     Scene scene = MakeScene("random3d", {{"n", 12}, {"seed", 3}});
     scene.Get<Polygon>().push_back(MakeScene("cornell", {}).Get<Polygon>()[0]);  // a quad too
     const Patches<Polygon> &faces = scene.Get<Polygon>();
@@ -138,10 +141,55 @@ TEST_CASE("Meshes round-trip through CGAL's OFF and OBJ writers and our readers"
             REQUIRE(read[k].shape.n == faces[k].shape.n);
             for (int v = 0; v < faces[k].shape.n; ++v)
                 CHECK(read[k].shape.v[v] == faces[k].shape.v[v]);  // 17 digits
-            CHECK(read[k].material.reflectance == kMeshDefaultReflectance);
-            CHECK(read[k].material.emission == kMeshDefaultEmission);
+            // OBJ: the materials too (the MTL beside it); OFF: the defaults.
+            bool obj = std::string(ext) == "obj";
+            CHECK(read[k].material.reflectance ==
+                  (obj ? faces[k].material.reflectance : kMeshDefaultReflectance));
+            CHECK(read[k].material.emission ==
+                  (obj ? faces[k].material.emission : kMeshDefaultEmission));
         }
     }
+}
+
+TEST_CASE("OBJ + MTL keeps every reflectance and emission exactly, colours where they agree",
+          "[mesh]") {
+    Scene scene = MakeScene("parallel3d", {});
+    // Values whose mean of three equal copies is not the value in floating point: grey
+    // Kd and Ke must still read back exactly.
+    std::vector<double> inexact;
+    for (double r = 0.1; inexact.size() < 2; r = std::nextafter(r, 1.0))
+        if ((r + r + r) / 3 != r)
+            inexact.push_back(r);
+    Patches<Polygon> &plates = scene.Get<Polygon>();
+    plates[0].material = {inexact[0], inexact[1] * 7};
+    plates[1].material = {0.3, 0, Rgb{0.1, 0.2, 0.6}};  // mean(colour) == 0.3 exactly
+    plates.push_back(plates[0]);
+    plates.back().material = {0.4, 0, Rgb{0.1, 0.2, 0.6}};  // a colour whose mean is not rho
+    plates.back().shape = MakeScene("parallel3d", {{"d", 2}}).Get<Polygon>()[1].shape;
+    REQUIRE((0.1 + 0.2 + 0.6) / 3 == 0.3);
+    ScratchFolder folder("materials");
+    std::string path = folder.path + "/scene.obj";
+    SaveMesh(scene, path);
+    Scene back = LoadMesh(path);
+    CHECK(back.warnings.empty());
+    const Patches<Polygon> &read = back.Get<Polygon>();
+    REQUIRE(read.size() == 3);
+    for (size_t k = 0; k < 3; ++k) {
+        CHECK(read[k].material.reflectance == plates[k].material.reflectance);
+        CHECK(read[k].material.emission == plates[k].material.emission);
+    }
+    CHECK(read[1].material.colour == plates[1].material.colour);
+    CHECK(read[2].material.colour == Rgb{0.4, 0.4, 0.4});  // grey: Kd gives rho first
+    std::ifstream mtl(MaterialLibraryPath(path));
+    std::stringstream text;
+    text << mtl.rdbuf();
+    CHECK(text.str().find("newmtl m1\nKd 0.1 0.2 0.6\nKe 0 0 0\n") != std::string::npos);
+    CHECK(text.str().find("newmtl m2\nKd 0.4 0.4 0.4\nKe 0 0 0\n") != std::string::npos);
+    // A reflectance the reader would cap at kMeshMaxReflectance is refused.
+    plates[0].material.reflectance = 0.995;
+    CHECK_THROWS_WITH(SaveMesh(scene, path),
+                      "patch 0 has reflectance 0.995, above 0.99, the most an MTL Kd gives when "
+                      "read back (docs/3d.md)");
 }
 
 TEST_CASE("OBJ materials come from usemtl and the mtllib's Kd and Ke", "[mesh]") {
@@ -292,7 +340,7 @@ TEST_CASE("The data files parse to the same scenes as CGAL's readers gave", "[me
     plates.patches =
         Patches<Polygon>{{Polygon::Quad(o, x, Vec3(1, 1, 0), y), {0.5, 0}},
                          {Polygon::Quad(Vec3(0, 1, 1), Vec3(1, 1, 1), Vec3(1, 0, 1), z),
-                          {(0.8 + 0.8 + 0.8) / 3, 4}}};
+                          {0.8, 4}}};  // Kd 0.8 0.8 0.8: equal values give 0.8 exactly
     Scene read = LoadMesh(kData + "/two_plates.obj");
     CheckSameFaces(read, plates);
     CHECK(read.file == kData + "/two_plates.obj");
@@ -570,7 +618,7 @@ TEST_CASE("MTL libraries are read strictly, and a missing one gives the defaults
           at + "line 2: Ke value '1e999' overflows double precision (largest 1.8e308)");
     CHECK(error("newmtl red\r\nKe -1 0 0\r\n") ==
           at + "line 2: Ke gives a negative emission: the mean of its values is below 0");
-    CHECK(error("newmtl red\nKe 1e308 1e308 1e308\n") ==
+    CHECK(error("newmtl red\nKe 1e308 1e308 1.5e308\n") ==
           at + "line 2: Ke values overflow: their mean is not finite");
     CHECK(error("newmtl red green\n") == at + "line 1: newmtl needs one material name (one word)");
     CHECK(error("newmtl red\nfoo 1\n") ==
@@ -607,8 +655,7 @@ TEST_CASE("Mesh files and libraries are read within the input limit, never a fol
     std::filesystem::remove(dir.path + "/lib.mtl");
     std::ofstream(dir.path + "/lib.mtl") << "newmtl red\nKd 0.2 0.2 0.2\n"
                                          << std::string(1 << 20, '#');
-    CHECK(LoadMesh(objPath, 2 << 20).Get<Polygon>()[0].material.reflectance ==
-          (0.2 + 0.2 + 0.2) / 3);
+    CHECK(LoadMesh(objPath, 2 << 20).Get<Polygon>()[0].material.reflectance == 0.2);
     CHECK_THAT(LoadError(objPath, 1 << 20),
                Catch::StartsWith("mesh file '" + objPath + "', line 1: material library '" +
                                  dir.path + "/lib.mtl' has "));

@@ -1,8 +1,11 @@
 // Scene files, 2D and 3D: round trip and every kind of malformed input.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 #include "hrbench/generators/generators.h"
 #include "hrbench/hrbench.h"
+#include "hrbench/util/sha256.h"
 
 using namespace hrbench;
 
@@ -198,4 +201,44 @@ TEST_CASE("Bad 3D scene files are rejected with one line naming the problem", "[
     fails("", "no patches");
     fails(R"({"vertices":[[0,0,0],[1,0,0],[0,1,0]],"reflectance":1})", "reflectance");
     fails(R"({"vertices":[[0,0,0],[1,0,0],[0,1,0]]})", "dimension", 4);
+}
+
+TEST_CASE("SHA-256 gives the FIPS 180-4 digests at every padding boundary", "[scene_io][digest]") {
+    CHECK(Sha256Hex("") == "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+    CHECK(Sha256Hex("abc") == "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    // Lengths around the 56- and 64-byte boundaries, where the length field moves on.
+    const std::pair<size_t, const char *> cases[] = {
+        {55, "9f4390f8d30c2dd92ec9f095b65e2b9ae9b0a925a5258e241c9f1e910f734318"},
+        {56, "b35439a4ac6f0948b6d6f9e3c6af0f5f590ce20f1bde7090ef7970686ec6738a"},
+        {63, "7d3e74a05d7db15bce4ad9ec0658ea98e3f06eeecf16b4c6fff2da457ddc2f34"},
+        {64, "ffe054fe7ae0cb6dc65c3af9b61d5209f439851db43d0ba5997337df154668eb"},
+        {65, "635361c48bb9eab14198e76ea8ab7f1a41685d6ad62aa9146d301d4f17eb0ae0"},
+        {200, "c2a908d98f5df987ade41b5fce213067efbcc21ef2240212a41e54b5e7c28ae5"}};
+    for (const auto &[n, digest] : cases) {
+        INFO(n);
+        CHECK(Sha256Hex(std::string(n, 'a')) == digest);
+    }
+}
+
+TEST_CASE("The scene digest hashes the corners in order, and only them", "[scene_io][digest]") {
+    Scene plates = MakeScene("parallel3d", {});
+    CHECK(SceneGeometryText(plates) == "0 0 0 1 0 0 1 1 0 0 1 0\n0 1 1 1 1 1 1 0 1 0 0 1\n");
+    CHECK(SceneSha256(plates) ==
+          "08f184efc2701867f8585bb1ccb33c2ce1dadb3a79a7f8973ab01e357f36a6e4");
+    Scene segments = MakeScene("parallel", {{"l", 0.1}, {"d", 1}});
+    CHECK(SceneGeometryText(segments) ==
+          "0 0 0.10000000000000001 0\n0.10000000000000001 1 0 1\n");
+    // Materials do not count; a corner moved by one ulp, the order of corners, and -0 do.
+    Scene other = plates;
+    other.Get<Polygon>()[0].material = {0.25, 3.0};
+    CHECK(SceneSha256(other) == SceneSha256(plates));
+    other.Get<Polygon>()[0].shape.v[2].x() = std::nextafter(1.0, 2.0);
+    CHECK(SceneSha256(other) != SceneSha256(plates));
+    other = plates;
+    Polygon &p = other.Get<Polygon>()[0].shape;
+    p = Polygon::Quad(p.v[1], p.v[2], p.v[3], p.v[0]);
+    CHECK(SceneSha256(other) != SceneSha256(plates));
+    other = plates;
+    other.Get<Polygon>()[0].shape.v[0].x() = -0.0;
+    CHECK(SceneSha256(other) == SceneSha256(plates));
 }

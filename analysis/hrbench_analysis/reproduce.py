@@ -72,6 +72,7 @@ from .explorer import write_explorer
 from .loader import SCHEMA_VERSION, ResultFormatError, read_links_csv
 from .output import staged, write_file, write_stdout
 from .report import ClaimOutcome, get_claims_table, get_figures, print_claims_table, write_report
+from .scene_identity import reference_engine, scene_mismatch
 from .schedulers import LOCAL, SchedulerError, check_scheduler, open_scheduler
 from .solution import solution_figures
 from .store import ResultStore
@@ -470,12 +471,19 @@ def _sweep(args, setup):
                   "run again to resume", file=sys.stderr)
             return interrupt_exit_code(exc)
         measured, refusals = {}, []
+        # The scenes the engine reports (scene_sha256) are checked against hrbench's.
+        reference, digests = reference_engine(setup.engine), {}
         for c in setup.claims:
             if c.id in setup.skipped:
                 continue
             data = get_claim_data(c, points[c.id], store,
                                   setup.capabilities.scalar_counters)
             line = engine_refusals(c, data)
+            if line is None:
+                line, warnings = scene_mismatch(c, args.mode, points[c.id], store, reference,
+                                                digests)
+                for warning in warnings:
+                    print(f"warning: {one_line(warning)}", file=sys.stderr)
             if line is not None:
                 refusals.append(line)
                 continue

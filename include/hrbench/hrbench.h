@@ -3,6 +3,7 @@
 
 #include "hrbench/check_links.h"
 #include "hrbench/culling.h"
+#include "hrbench/dump_paths.h"
 #include "hrbench/forest.h"
 #include "hrbench/geometry/polygon.h"
 #include "hrbench/geometry/segment.h"

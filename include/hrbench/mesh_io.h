@@ -66,8 +66,14 @@ Scene ParseMesh(const std::string &text, MeshFormat format, const std::string &s
                     &readMaterialLibrary,
                 const MeshOptions &options = {});
 
-// Writes the geometry of the 3D _scene_ to _path_ as OFF or OBJ (by extension), with
-// 17 significant digits so that it reads back exactly. Materials are not written.
+// Writes the 3D _scene_ to _path_ as OFF or OBJ (by extension) so that LoadMesh reads
+// back the same patches, corners in order, exactly. OBJ: with its materials in the MTL
+// library MaterialLibraryPath(_path_) (`Kd`: reflectance, `Ke`: emission, as ParseMesh
+// reads them; docs/scene-format.md#obj-and-mtl); a reflectance above kMeshMaxReflectance
+// is an InputError. OFF: the geometry only.
 void SaveMesh(const Scene &scene, const std::string &path);
+
+// The MTL library written beside the OBJ file _objPath_: its name with the extension .mtl.
+std::string MaterialLibraryPath(const std::string &objPath);
 
 }  // namespace hrbench

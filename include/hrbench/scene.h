@@ -84,4 +84,14 @@ struct Scene {
 // shape's Problem()), materials in range. Throws InputError naming the patch.
 void ValidateScene(const Scene &scene);
 
+// The canonical text of the scene's geometry (docs/scene-format.md#scene-digest): one line
+// per root patch in scene order, its corners' coordinates (2D: a then b; 3D: every vertex
+// in order) written with "%.17g" (negative zero as 0), separated by one space. Materials
+// are left out: the counts depend on the geometry only.
+std::string SceneGeometryText(const Scene &scene);
+
+// The SHA-256 of SceneGeometryText as 64 lower-case hexadecimal digits: the run record's
+// `scene_sha256`, by which the analysis checks that two engines refine the same patches.
+std::string SceneSha256(const Scene &scene);
+
 }  // namespace hrbench

@@ -1,5 +1,6 @@
 // hrbench: refine a scene with ProjectKernel and report exact counters.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -82,6 +83,29 @@ int CheckLinksCommand(const Scene &scene, const Options &o) {
     return kExitOk;
 }
 
+// `hrbench save`: the scene as JSON (standard output, or a file), or as OBJ with its MTL
+// library where the file ends in .obj (docs/scene-format.md).
+int SaveCommand(const Scene &scene, const std::string &out) {
+    size_t dot = out.find_last_of('.');
+    std::string ext = dot == std::string::npos ? "" : out.substr(dot + 1);
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == "off")
+        throw InputError("save writes .json or .obj files, not OFF (it holds no emission)");
+    if (ext != "obj") {
+        if (out.empty())
+            std::cout << SceneToJson(scene);
+        else
+            SaveScene(scene, out);
+        return kExitOk;
+    }
+    if (scene.Dimension() != 3)
+        throw InputError("save --out " + out + ": an OBJ file holds 3D faces, and this scene is "
+                         "2D (segments); write it as .json");
+    SaveMesh(scene, out);
+    return kExitOk;
+}
+
 // `hrbench run --sweep`: one record per value, in the order given.
 int PrintSweep(const Scene &scene, Options o) {
     std::vector<RunRecord> records = CountSweep(scene, o.refine, *o.sweep);
@@ -122,13 +146,8 @@ int Main(int argc, char **argv) {
         std::cerr << "hrbench: warning: " << warning << std::endl;
     if (o.command == "solve" && !o.visibility)
         o.refine.visibility = DefaultSolveVisibility(scene);
-    if (o.command == "save") {
-        if (o.out.empty())
-            std::cout << SceneToJson(scene);
-        else
-            SaveScene(scene, o.out);
-        return kExitOk;
-    }
+    if (o.command == "save")
+        return SaveCommand(scene, o.out);
     // Refining: a warning when the scene's size and --min-area disagree by orders of
     // magnitude, and a progress line on a terminal (not with --json, which is for programs),
     // stopped before anything else is printed.
@@ -172,6 +191,14 @@ int Main(int argc, char **argv) {
     }
     if (o.command == "check-links")
         return CheckLinksCommand(scene, o);
+    if (o.command == "dump-paths") {
+        std::istringstream in(ReadRegularFile(o.linksFile, "link dump", o.maxInputBytes));
+        std::ostringstream out;
+        ConvertDumpPaths(scene, o.refine.subdivision, o.tolerance.value_or(kDefaultPathTolerance),
+                         in, o.linksFile, out);
+        WriteOutputFile(o.out, "link dump", out.str());
+        return kExitOk;
+    }
     if (o.command == "solve") {
         SolveResult result = Solve(scene, o.refine, o.solve);
         display.reset();

@@ -9,6 +9,7 @@
 #include "hrbench/refine.h"
 #include "hrbench/util/args.h"
 #include "hrbench/util/error.h"
+#include "hrbench/util/format.h"
 
 namespace hrbench {
 
@@ -83,7 +84,11 @@ const std::vector<std::string> kRefining = {"run", "links", "solve"};
 // The options that define what ProjectKernel links: check-links takes them too.
 const std::vector<std::string> kLinking = {"run", "links", "check-links", "solve"};
 // Where a scene comes from.
-const std::vector<std::string> kSceneInput = {"run", "links", "check-links", "save", "solve"};
+const std::vector<std::string> kSceneInput = {"run",  "links",      "check-links",
+                                              "save", "dump-paths", "solve"};
+// The commands that subdivide 3D patches (--subdivision).
+const std::vector<std::string> kSubdividing = {"run", "links", "check-links", "solve",
+                                               "dump-paths"};
 
 }  // namespace
 
@@ -97,7 +102,10 @@ const std::vector<CommandSpec> &Commands() {
          "validate a link dump (docs/probe.md): tiling, oracle, counts"},
         {"solve", "solve SCENE [key=value ...] --eps E [options]",
          "refine a scene and solve its radiosity on the hierarchy (docs/solve.md)"},
-        {"save", "save SCENE [key=value ...] [--out F.json]", "write a scene file"},
+        {"dump-paths", "dump-paths SCENE ... --links IN --out OUT",
+         "name a link dump's elements by paths, not corners (docs/dump-paths.md)"},
+        {"save", "save SCENE [key=value ...] [--out F.json|F.obj]",
+         "write a scene file (JSON), or a 3D scene as OBJ + MTL"},
         {"scenes", "scenes", "list scene families with their parameters, and the oracles"},
         {"capabilities", "capabilities --json",
          "describe families, oracles, methods, options and counters as JSON"},
@@ -249,7 +257,7 @@ const std::vector<OptionSpec> &OptionTable() {
          "--subdivision",
          "S",
          {"binary", "quadtree"},
-         kLinking,
+         kSubdividing,
          "3D: binary (default, two halves across the longer edges) or\nquadtree (four children)",
          [](Options &o, S v) { o.refine.subdivision = ParseSubdivision(v); }},
         {"visibility",
@@ -278,9 +286,10 @@ const std::vector<OptionSpec> &OptionTable() {
          "--out",
          "F",
          {},
-         {"links", "save", "solve"},
-         "output file (links: CSV; save: JSON, default standard output;\nsolve: CSV, one row per "
-         "leaf)",
+         {"links", "save", "solve", "dump-paths"},
+         "output file (links: CSV; save: JSON, default standard output,\nor OBJ with an MTL "
+         "library beside it where F ends in .obj;\nsolve: CSV, one row per leaf; dump-paths: "
+         "the converted dump)",
          [](Options &o, S v) { o.out = v; }},
         {"format",
          "--format",
@@ -293,17 +302,19 @@ const std::vector<OptionSpec> &OptionTable() {
          "--links",
          "F",
          {},
-         {"check-links"},
-         "the link dump to check (docs/probe.md)",
+         {"check-links", "dump-paths"},
+         "the link dump to check (docs/probe.md) or to convert",
          [](Options &o, S v) { o.linksFile = v; }},
         {"tolerance",
          "--tolerance",
          "T",
          {},
-         {"solve"},
-         "stop when the largest change of a leaf's radiosity in a sweep,\nover the largest "
-         "leaf radiosity, is below T (0 < T < 1;\ndefault 1e-6)",
-         [](Options &o, S v) { o.solve.tolerance = ParseDouble(v, "--tolerance"); }},
+         {"solve", "dump-paths"},
+         "solve: stop when the largest change of a leaf's radiosity in a\nsweep, over the "
+         "largest leaf radiosity, is below T (0 < T < 1;\ndefault 1e-6); dump-paths: match "
+         "corners within T times the\ndiameter of their root patch (0 <= T < 0.01; default "
+         "1e-5)",
+         [](Options &o, S v) { o.tolerance = ParseDouble(v, "--tolerance"); }},
         {"max_iterations",
          "--max-iterations",
          "K",
@@ -429,7 +440,7 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
     // Reject combinations that make no sense, naming the flags.
     bool refines = o.command == "run" || o.command == "links" || o.command == "check-links" ||
                    o.command == "solve";
-    if (refines || o.command == "save") {
+    if (refines || o.command == "save" || o.command == "dump-paths") {
         int sources = !o.scene.empty() + !o.sceneFile.empty() + !o.mesh.empty();
         if (sources != 1)
             throw InputError(o.command + " needs either a SCENE family, --scene-file or --mesh");
@@ -471,6 +482,13 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
         throw InputError("links needs --out F.csv");
     if (o.command == "check-links" && o.linksFile.empty())
         throw InputError("check-links needs --links F, the link dump to check");
+    if (o.command == "dump-paths" && (o.linksFile.empty() || o.out.empty()))
+        throw InputError("dump-paths needs --links IN, the dump to convert, and --out OUT");
+    if (o.command == "dump-paths" && o.tolerance && !(*o.tolerance >= 0 && *o.tolerance < 0.01))
+        throw InputError("--tolerance of dump-paths must be at least 0 and below 0.01, not " +
+                         FormatDouble(*o.tolerance));
+    if (o.command == "solve" && o.tolerance)
+        o.solve.tolerance = *o.tolerance;
     if (o.command == "capabilities" && !o.json)
         throw InputError("capabilities prints JSON only; add --json");
     o.refine.eps = o.eps.value_or(0);

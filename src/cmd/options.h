@@ -25,7 +25,8 @@ struct Options {
     std::optional<double> scale;  // --scale (mesh only)
     std::string out;
     std::string linksFormat = "csv";  // links --format: csv or probe
-    std::string linksFile;            // check-links --links: the dump to check
+    std::string linksFile;            // check-links, dump-paths --links: the dump to read
+    std::optional<double> tolerance;  // --tolerance as given (solve, dump-paths)
     std::optional<double> eps;
     RefineOptions refine;
     // --visibility as given. Without it, refine.visibility is the papers' none, except for

@@ -26,8 +26,11 @@ FAKE_HRBENCH_CHILD            "hang": a run starts a child that sleeps holding s
                               child and finishes normally, leaving the child behind
 FAKE_HRBENCH_PIDS             file to which a run appends its pid and its child's
 FAKE_HRBENCH_FLOOD            bytes a run prints on standard output before its record
+FAKE_HRBENCH_SCENE_SHA256     report this scene_sha256 in run records; "canonical": the
+                              digest of the plates' corners as docs/scene-format.md states
 """
 
+import hashlib
 import json
 import math
 import os
@@ -264,6 +267,14 @@ def main(argv):
               "min_area": None, "max_depth_limit": None, "future_field": "ignored",
               "method": os.environ.get("FAKE_HRBENCH_REPORT_METHOD", opts["--method"])}
     record.update(counters)
+    digest = os.environ.get("FAKE_HRBENCH_SCENE_SHA256")
+    if digest == "canonical":  # P (0,0)->(l,0), Q (offset+l2,d)->(offset,d)
+        p, d, o, l2 = params["l"], params["d"], params["offset"], params["l2"]
+        text = "".join(" ".join("%.17g" % (x + 0.0) for x in corners) + "\n"
+                       for corners in ((0, 0, p, 0), (o + l2, d, o, d)))
+        digest = hashlib.sha256(text.encode()).hexdigest()
+    if digest:
+        record["scene_sha256"] = digest
     print(json.dumps(record))
     return 0
 
