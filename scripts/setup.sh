@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(cmake ninja-build g++ make git libeigen3-dev catch2 libcgal-dev libembree-dev
-          libbenchmark-dev nlohmann-json3-dev python3 python3-venv clang-format)
+          libbenchmark-dev nlohmann-json3-dev libssl-dev python3 python3-venv clang-format)
 # `setup.sh --fuzz` (make build-fuzz, fuzz, fuzz-smoke) adds clang, its libFuzzer and
 # sanitizer runtimes (libclang-rt-14-dev, which Debian's clang only recommends) and
 # llvm-symbolizer (llvm) for the stacks of findings.

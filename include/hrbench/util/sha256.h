@@ -1,4 +1,5 @@
-// SHA-256 (FIPS 180-4) of a byte string, for the scene digest (docs/scene-format.md).
+// SHA-256 (FIPS 180-4) of a byte string, by OpenSSL, for the scene digest
+// (docs/scene-format.md).
 #pragma once
 
 #include <string>
