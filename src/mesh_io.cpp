@@ -1064,12 +1064,12 @@ void SaveObj(const Scene &scene, const std::string &path) {
             return o.reflectance == m.reflectance && o.emission == m.emission &&
                    o.colour == m.colour;
         };
-        size_t material = size_t(std::find_if(materials.begin(), materials.end(), same) -
-                                 materials.begin());
+        size_t material =
+            size_t(std::find_if(materials.begin(), materials.end(), same) - materials.begin());
         if (material == materials.size()) {
             materials.push_back(m);
-            mtl += "newmtl m" + std::to_string(material) + "\nKd " + RgbText(KdOf(m)) +
-                   "\nKe " + RgbText({m.emission, m.emission, m.emission}) + "\n";
+            mtl += "newmtl m" + std::to_string(material) + "\nKd " + RgbText(KdOf(m)) + "\nKe " +
+                   RgbText({m.emission, m.emission, m.emission}) + "\n";
         }
         if (material != current)
             faces += "usemtl m" + std::to_string(material) + "\n";

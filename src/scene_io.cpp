@@ -153,10 +153,10 @@ Scene SceneFromJson(const std::string &text, const std::string &source) {
     if (!doc.is_object())
         throw InputError(source + ": not an hrbench scene (the document is not an object)");
     // "scene_sha256" is informative, like "family" and "params": a run recomputes it.
-    CheckKeys(doc,
-              {"format", "schema_version", "dimension", "family", "params", "patches",
-               "scene_sha256"},
-              source + ":");
+    CheckKeys(
+        doc,
+        {"format", "schema_version", "dimension", "family", "params", "patches", "scene_sha256"},
+        source + ":");
     if (!doc.contains("format") || doc["format"] != "hrbench-scene")
         throw InputError(source + ": not an hrbench scene (\"format\": \"hrbench-scene\" missing)");
     if (!doc.contains("schema_version") || !doc["schema_version"].is_number_integer())

@@ -365,9 +365,9 @@ TEST_CASE("3D scenes save, load and write links with areas and centroids", "[cli
 }
 
 TEST_CASE("save --out F.obj gives the same patches and counts through --mesh", "[cli][3d][obj]") {
-    for (std::string scene : {std::string("parallel3d l=2 w=1 d=0.5"),
-                              std::string("perpendicular3d"), std::string("cornell"),
-                              "--mesh " + kData + "/two_plates.obj"}) {
+    for (std::string scene :
+         {std::string("parallel3d l=2 w=1 d=0.5"), std::string("perpendicular3d"),
+          std::string("cornell"), "--mesh " + kData + "/two_plates.obj"}) {
         INFO(scene);
         std::string obj = Scratch("saved.obj");
         REQUIRE(Cli("save " + scene + " --out " + obj).exitCode == 0);
@@ -802,8 +802,7 @@ std::string CornerToken(const hrbench::Scene &scene, hrbench::Subdivision mode,
 
 }  // namespace
 
-TEST_CASE("dump-paths turns corner tokens back into hrbench's paths exactly",
-          "[cli][dump-paths]") {
+TEST_CASE("dump-paths turns corner tokens back into hrbench's paths exactly", "[cli][dump-paths]") {
     struct Case {
         std::string scene, options;
         hrbench::Subdivision mode;
@@ -824,9 +823,9 @@ TEST_CASE("dump-paths turns corner tokens back into hrbench's paths exactly",
         hrbench::Scene scene = hrbench::MakeScene(family, params);
         std::string original = Scratch("paths.dump"), corners = Scratch("corners.dump"),
                     back = Scratch("back.dump");
-        REQUIRE(Cli("links " + c.scene + " --eps 0.5" + c.options + " --format probe --out " +
-                    original)
-                    .exitCode == 0);
+        REQUIRE(
+            Cli("links " + c.scene + " --eps 0.5" + c.options + " --format probe --out " + original)
+                .exitCode == 0);
         // Every link line with corner tokens (the first with its root given, the second
         // found by the corners alone), and two lines of other kinds carrying tokens.
         std::istringstream text(ReadFile(original));
@@ -853,8 +852,8 @@ TEST_CASE("dump-paths turns corner tokens back into hrbench's paths exactly",
         }
         REQUIRE(links > 4);
         std::ofstream(corners) << converted;
-        CliResult r = Cli("dump-paths " + c.scene + c.options + " --links " + corners +
-                          " --out " + back);
+        CliResult r =
+            Cli("dump-paths " + c.scene + c.options + " --links " + corners + " --out " + back);
         INFO(r.err);
         REQUIRE(r.exitCode == 0);
         CHECK(ReadFile(back) == expected);
@@ -872,18 +871,24 @@ TEST_CASE("dump-paths names the line of a token that matches no element", "[cli]
     // [0, 0.5]^2 is halved across v0v1 on a tie), nor a rectangle between the plates,
     // nor a third of the plate.
     check("@0,0,0;0.5,0,0;0.5,0.25,0;0,0.25,0",
-          "element '@0,0,0;0.5,0,0;0.5,0.25,0;0,0.25,0' matches no element of root patch 0 under the subdivision within the tolerance "
+          "element '@0,0,0;0.5,0,0;0.5,0.25,0;0,0.25,0' matches no element of root patch 0 under "
+          "the subdivision within the tolerance "
           "1e-05 of its diameter");
     check("@0,0,0.5;1,0,0.5;1,1,0.5;0,1,0.5",
-          "element '@0,0,0.5;1,0,0.5;1,1,0.5;0,1,0.5' lies in no root patch within the tolerance 1e-05 of its diameter");
-    check("0@0,0,0;0.3,0,0;0.3,1,0;0,1,0",
-          "element '0@0,0,0;0.3,0,0;0.3,1,0;0,1,0' matches no element of root patch 0 under the subdivision within the tolerance "
+          "element '@0,0,0.5;1,0,0.5;1,1,0.5;0,1,0.5' lies in no root patch within the tolerance "
           "1e-05 of its diameter");
-    check("7@0,0,0;1,0,0;1,1,0",
-          "element '7@0,0,0;1,0,0;1,1,0': '7' before '@' is not a root patch of the scene (0 to 1)");
-    check("@0,0;1,0;1,1", "bad element '@0,0;1,0;1,1': a corner needs 3 coordinates separated by ',', got '0,0'");
-    check("@0,0,0;1,0,0", "bad element '@0,0,0;1,0,0': 3 or 4 corners separated by ';' in a 3D scene, got 2");
-    CheckError("dump-paths parallel3d --links " + dump + " --out " + out + " --tolerance 0.5",
-               2, "--tolerance of dump-paths must be at least 0 and below 0.01, not 0.5");
+    check("0@0,0,0;0.3,0,0;0.3,1,0;0,1,0",
+          "element '0@0,0,0;0.3,0,0;0.3,1,0;0,1,0' matches no element of root patch 0 under the "
+          "subdivision within the tolerance "
+          "1e-05 of its diameter");
+    check(
+        "7@0,0,0;1,0,0;1,1,0",
+        "element '7@0,0,0;1,0,0;1,1,0': '7' before '@' is not a root patch of the scene (0 to 1)");
+    check("@0,0;1,0;1,1",
+          "bad element '@0,0;1,0;1,1': a corner needs 3 coordinates separated by ',', got '0,0'");
+    check("@0,0,0;1,0,0",
+          "bad element '@0,0,0;1,0,0': 3 or 4 corners separated by ';' in a 3D scene, got 2");
+    CheckError("dump-paths parallel3d --links " + dump + " --out " + out + " --tolerance 0.5", 2,
+               "--tolerance of dump-paths must be at least 0 and below 0.01, not 0.5");
     CheckError("dump-paths parallel3d --links " + dump, 2, "dump-paths needs --links IN");
 }

@@ -2,10 +2,10 @@
 // trips, materials, and every kind of bad or hostile file with its one-line message.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <cmath>
 #include <map>
 #include <optional>
 #include <sstream>

@@ -226,8 +226,7 @@ TEST_CASE("The scene digest hashes the corners in order, and only them", "[scene
     CHECK(SceneSha256(plates) ==
           "08f184efc2701867f8585bb1ccb33c2ce1dadb3a79a7f8973ab01e357f36a6e4");
     Scene segments = MakeScene("parallel", {{"l", 0.1}, {"d", 1}});
-    CHECK(SceneGeometryText(segments) ==
-          "0 0 0.10000000000000001 0\n0.10000000000000001 1 0 1\n");
+    CHECK(SceneGeometryText(segments) == "0 0 0.10000000000000001 0\n0.10000000000000001 1 0 1\n");
     // Materials do not count; a corner moved by one ulp, the order of corners, and -0 do.
     Scene other = plates;
     other.Get<Polygon>()[0].material = {0.25, 3.0};

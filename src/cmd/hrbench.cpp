@@ -100,7 +100,8 @@ int SaveCommand(const Scene &scene, const std::string &out) {
         return kExitOk;
     }
     if (scene.Dimension() != 3)
-        throw InputError("save --out " + out + ": an OBJ file holds 3D faces, and this scene is "
+        throw InputError("save --out " + out +
+                         ": an OBJ file holds 3D faces, and this scene is "
                          "2D (segments); write it as .json");
     SaveMesh(scene, out);
     return kExitOk;
