@@ -81,7 +81,8 @@ struct Scene {
 };
 
 // Checks what refinement relies on: at least one patch, every shape valid (see each
-// shape's Problem()), materials in range. Throws InputError naming the patch.
-void ValidateScene(const Scene &scene);
+// shape's Problem()), materials in range (reflectance only with _reflectance_: no
+// oracle reads it, and check-links takes any). Throws InputError naming the patch.
+void ValidateScene(const Scene &scene, bool reflectance = true);
 
 }  // namespace hrbench

@@ -26,6 +26,9 @@ struct Options {
     std::string out;
     std::string linksFormat = "csv";  // links --format: csv or probe
     std::string linksFile;            // check-links --links: the dump to check
+    std::string linkConventions;      // check-links --conventions
+    bool linkSummary = false;         // check-links --summary
+    bool oracleGiven = false, ffEstimateGiven = false;  // --oracle, --ff-estimate given
     std::optional<double> eps;
     RefineOptions refine;
     // --visibility as given. Without it, refine.visibility is the papers' none, except for
