@@ -710,8 +710,11 @@ const std::vector<std::pair<std::string, uint64_t Counters::*>> &ComparedCounter
 
 // The value of counter _name_ that the record gives, if it gives one.
 std::optional<uint64_t> FromRecord(const LinkCheck &check, const std::string &name) {
-    if (name == "total_oracle_calls")
+    if (name == "total_oracle_calls" &&
+        (check.oracleCallsFromRecord || (check.treeComplete && check.oracleCallsKnown)))
         return check.totalOracleCalls;
+    if (name == "total_oracle_calls")
+        return std::nullopt;
     if (name == "passes")
         return check.passes;
     if (name == "links")
