@@ -613,3 +613,29 @@ TEST_CASE("version 2 dumps: the probe's records and malformed ones", "[check-lin
     path = WriteScratch("conv2.dump", "hrbench-link-dump 2\nconventions oracle=hanrahan\n");
     CheckError(kSmall + path + " --oracle garmann", 2, "disagrees with the dump's oracle=hanrahan");
 }
+
+TEST_CASE("check-links judges a version 1 dump under conventions given on the command line",
+          "[check-links]") {
+    // Q split first, where hrbench's tie splits P: off the subdivision under hrbench's
+    // rules, consistent when the kernel's split is taken as it is and its oracle its own.
+    std::string path = WriteScratch("q_first2.dump", kHeader + "0 1/0\n0 1/1\n");
+    CheckError(kSmall + path, hrbench::kExitViolation, "link off the subdivision");
+    CHECK(Cli(kSmall + path + " --conventions split=recorded,oracle=own").exitCode == 0);
+    CheckError(kSmall + path + " --conventions split=recorded", hrbench::kExitViolation,
+               "unacceptable link: 0 1/0 is refused by the oracle garmann");
+    // garmann accepts P and Q at eps 1 exactly (max(A) = r = 1): with accept=lt the pair
+    // is on the boundary and may be split, with hrbench's <= it must be linked.
+    path = WriteScratch("halves.dump", kHeader + "0/0 1\n0/1 1\n");
+    std::string eps1 = "check-links parallel l=1 d=1 --eps 1 --links " + path;
+    CheckError(eps1, hrbench::kExitViolation, "lies below the pair 0 1, which the oracle garmann");
+    CliResult lt = Cli(eps1 + " --conventions accept=lt --json");
+    INFO(lt.err);
+    CHECK(lt.exitCode == 0);
+    nlohmann::json j = nlohmann::json::parse(lt.out);
+    CHECK(j["ok"] == true);
+    CHECK(j["conventions"]["accept"] == "lt");
+    CHECK(j["counters"]["dump"]["oracle_calls"] == 3);
+    CHECK(j["counters"]["hrbench"] == nullptr);  // hrbench's rules differ
+    CheckError(eps1 + " --conventions accept=maybe", 2, "convention accept=maybe");
+    CheckError(eps1 + " --conventions links=directed", 2, "links=directed needs a dump of version 2");
+}
