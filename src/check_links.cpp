@@ -84,8 +84,8 @@ class Violations {
             c = &summary_.categories.back();
         }
         if (c->first.size() < kFirst || summary_.total == 0) {
-            std::string message = summary_.file + (line ? ":" + std::to_string(line) : "") +
-                                  ": " + c->label + ": " + std::string(what());
+            std::string message = summary_.file + (line ? ":" + std::to_string(line) : "") + ": " +
+                                  c->label + ": " + std::string(what());
             if (summary_.total == 0)
                 summary_.firstMessage = message;
             if (c->first.size() < kFirst)
@@ -124,9 +124,8 @@ class Checker {
             const RefineOptions &options, const LinkConventions &conv, const LinkDump &dump,
             Violations &violations)
         : patches_(patches), oracle_(oracle), oracleBelow_(oracleBelow), options_(options),
-          conv_(conv), dump_(dump), v_(violations),
-          forest_(patches, SIZE_MAX, options.subdivision), arity_(forest_.Arity()),
-          minAreaBound_(MinAreaBound(options.minArea, conv.minAreaLe)),
+          conv_(conv), dump_(dump), v_(violations), forest_(patches, SIZE_MAX, options.subdivision),
+          arity_(forest_.Arity()), minAreaBound_(MinAreaBound(options.minArea, conv.minAreaLe)),
           depthLimit_(options.maxDepth >= 0 ? options.maxDepth : kSafetyDepth),
           decided_(!dump.decisions.empty()) {}
 
@@ -424,8 +423,8 @@ class Checker {
         const bool tieX = conv_.tie == LinkConventions::Tie::Receiver ||
                           (conv_.tie == LinkConventions::Tie::First && p < q) ||
                           (conv_.tie == LinkConventions::Tie::Second && p > q);
-        const bool ruleX = ei.sizeSquared > ej.sizeSquared ||
-                           (ei.sizeSquared == ej.sizeSquared && tieX);
+        const bool ruleX =
+            ei.sizeSquared > ej.sizeSquared || (ei.sizeSquared == ej.sizeSquared && tieX);
         auto belowMinArea = [&](bool sideX) {
             return (sideX ? ei : ej).sizeSquared < minAreaBound_;
         };
@@ -542,8 +541,8 @@ class Checker {
             const bool forced = d.action != DumpAction::Accept;
             if (lo == hi)
                 return v_.Add("missing-link", d.line, true, p, q, [&] {
-                    return "nothing covers the element pair " + pair() + ", which the kernel links" +
-                           decided();
+                    return "nothing covers the element pair " + pair() +
+                           ", which the kernel links" + decided();
                 });
             if (!exact)
                 return v_.Add("split-mismatch", Line(order_[lo]), true, p, q, [&] {
@@ -573,14 +572,15 @@ class Checker {
                     v_.Add("limit-mismatch", d.line, true, p, q, [&] {
                         return "the kernel forces " + pair() + " by " +
                                (minArea ? "min_area" : "max_depth") + ", but " +
-                               (minArea ? (options_.minArea > 0
-                                               ? "--min-area " + FormatDouble(options_.minArea) +
-                                                     " does not hold"
-                                               : std::string("no --min-area is given"))
-                                        : (options_.maxDepth >= 0
-                                               ? "--max-depth " + std::to_string(options_.maxDepth) +
-                                                     " does not hold"
-                                               : std::string("no --max-depth is given"))) +
+                               (minArea
+                                    ? (options_.minArea > 0
+                                           ? "--min-area " + FormatDouble(options_.minArea) +
+                                                 " does not hold"
+                                           : std::string("no --min-area is given"))
+                                    : (options_.maxDepth >= 0
+                                           ? "--max-depth " + std::to_string(options_.maxDepth) +
+                                                 " does not hold"
+                                           : std::string("no --max-depth is given"))) +
                                " for the limited element";
                     });
             }
@@ -597,8 +597,10 @@ class Checker {
             if (Side(order_[k], splitX).depth <= side.size())
                 return v_.Add("split-mismatch", Line(order_[k]), true, p, q, [&] {
                     return LinkName(order_[k]) + " keeps element " +
-                           ElementName(splitX ? p : q, side) + " whole, but the kernel splits it "
-                           "in the pair " + pair() + decided();
+                           ElementName(splitX ? p : q, side) +
+                           " whole, but the kernel splits it "
+                           "in the pair " +
+                           pair() + decided();
                 });
         if (j == Judgement::Accept)
             v_.Add("oracle-mismatch", d.line, true, p, q, [&] {
@@ -641,10 +643,14 @@ class Checker {
 
     const char *TieName() const {
         switch (conv_.tie) {
-        case LinkConventions::Tie::First: return "first";
-        case LinkConventions::Tie::Second: return "second";
-        case LinkConventions::Tie::Receiver: return "receiver";
-        default: return "source";
+        case LinkConventions::Tie::First:
+            return "first";
+        case LinkConventions::Tie::Second:
+            return "second";
+        case LinkConventions::Tie::Receiver:
+            return "receiver";
+        default:
+            return "source";
         }
     }
 
@@ -688,8 +694,8 @@ LinkCheck CheckShape(const Scene &scene, const RefineOptions &options, const Lin
                     lower.eps = std::nextafter(at.eps, 0.0);
                     below.emplace(MakeOracle<Oracle>(lower, patches));
                 }
-                check = Checker<Shape, Oracle>(patches, oracle, below ? &*below : nullptr, at,
-                                               conv, dump, violations)
+                check = Checker<Shape, Oracle>(patches, oracle, below ? &*below : nullptr, at, conv,
+                                               dump, violations)
                             .Run();
             }
         }
@@ -828,8 +834,8 @@ LinkConventions ResolveConventions(const LinkDump &dump, const CheckLinksOptions
             throw InputError(dump.name + ": oracle=" + name +
                              " is no documented oracle (hrbench scenes lists them), nor own");
         if (extra.oracleGiven && options.oracle != name)
-            throw InputError("--oracle " + options.oracle + " disagrees with the dump's oracle=" +
-                             name);
+            throw InputError("--oracle " + options.oracle +
+                             " disagrees with the dump's oracle=" + name);
         options.oracle = name;
     }
     if (keys.count("ff_estimate")) {
@@ -921,10 +927,9 @@ LinkCheck CheckLinks(const Scene &scene, const RefineOptions &given, const LinkD
     // dump that passes it is ProjectKernel's refinement link for link, so hrbench's own
     // refinement, run after it, makes as many links as the dump holds: a tiny dump
     // before a refinement too large to finish fails quickly instead of waiting on it.
-    LinkCheck check =
-        checked.Dimension() == 2
-            ? CheckShape<Segment>(checked, options, conv, resolved, violations)
-            : CheckShape<Polygon>(checked, options, conv, resolved, violations);
+    LinkCheck check = checked.Dimension() == 2
+                          ? CheckShape<Segment>(checked, options, conv, resolved, violations)
+                          : CheckShape<Polygon>(checked, options, conv, resolved, violations);
     check.conventions = conv;
     check.oracle = conv.ownOracle ? "own" : options.oracle;
     check.treeComplete = violations.Total() == 0;
@@ -957,9 +962,8 @@ LinkCheck CheckLinks(const Scene &scene, const RefineOptions &given, const LinkD
             if (check.engine.*field != check.fromLinks.*field &&
                 FromRecord(check, name).has_value())
                 violations.Add("counter-mismatch", 0, false, 0, 0, [&] {
-                    return "the links give " + name + " " +
-                           std::to_string(check.fromLinks.*field) + ", hrbench's refinement " +
-                           std::to_string(check.engine.*field);
+                    return "the links give " + name + " " + std::to_string(check.fromLinks.*field) +
+                           ", hrbench's refinement " + std::to_string(check.engine.*field);
                 });
     }
     if (violations.Total()) {
@@ -1078,8 +1082,9 @@ std::string LinkCheckJson(const LinkDump &dump, const LinkSummary *summary,
                 total += n;
                 byCategory[id] = n;
             }
-            pairs.push_back(
-                {{"pair", {pair.first, pair.second}}, {"count", total}, {"categories", byCategory}});
+            pairs.push_back({{"pair", {pair.first, pair.second}},
+                             {"count", total},
+                             {"categories", byCategory}});
         }
     }
     j["categories"] = categories;
@@ -1103,10 +1108,10 @@ std::string LinkCheckJson(const LinkDump &dump, const LinkSummary *summary,
         if (check->engineCompared)
             for (const auto &[name, field] : ComparedCounters())
                 engine[name] = check->engine.*field;
-        j["counters"] = {{"dump", record},
-                         {"kernel", dump.countersLine ? kernel : nlohmann::ordered_json(nullptr)},
-                         {"hrbench", check->engineCompared ? engine
-                                                           : nlohmann::ordered_json(nullptr)}};
+        j["counters"] = {
+            {"dump", record},
+            {"kernel", dump.countersLine ? kernel : nlohmann::ordered_json(nullptr)},
+            {"hrbench", check->engineCompared ? engine : nlohmann::ordered_json(nullptr)}};
     }
     return j.dump();
 }

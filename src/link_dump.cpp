@@ -91,8 +91,8 @@ class DumpReader {
                             "min_area, forced max_depth or cull";
         if (f.size() < 4)
             Fail(usage);
-        DumpDecision d{Element(f[1]), Element(f[2]), DumpAction::Accept, false, dump_.passes,
-                       line_};
+        DumpDecision d{Element(f[1]), Element(f[2]), DumpAction::Accept,
+                       false,         dump_.passes,  line_};
         const std::string &a = f[3];
         size_t want = 4;
         if (a == "accept")
@@ -186,7 +186,7 @@ class DumpReader {
     size_t numPatches_;
     LinkDump &dump_;
     size_t line_ = 0;
-    bool records_ = false;  // a link, unlink, decide or pass record came
+    bool records_ = false;             // a link, unlink, decide or pass record came
     std::vector<std::string> fields_;  // of the current line, reused
 };
 
@@ -211,8 +211,8 @@ const std::vector<std::string> &DumpCounterNames(int version) {
     static const std::vector<std::string> names1 = {"links", "oracle_calls", "nodes",
                                                     "forced_links", "max_depth"};
     static const std::vector<std::string> names2 = {
-        "links", "oracle_calls", "nodes", "forced_links", "max_depth", "total_oracle_calls",
-        "passes"};
+        "links",     "oracle_calls",       "nodes", "forced_links",
+        "max_depth", "total_oracle_calls", "passes"};
     return version >= 2 ? names2 : names1;
 }
 

@@ -419,8 +419,8 @@ class TwoPassKernel {
         if (live)
             probe_.Unlink(r.path, s.path);
         // The larger element; a tie splits the element of the patch later in the scene.
-        bool splitR = r.Size2() > s.Size2() ||
-                      (r.Size2() == s.Size2() && r.path.root > s.path.root);
+        bool splitR =
+            r.Size2() > s.Size2() || (r.Size2() == s.Size2() && r.path.root > s.path.root);
         const Seg &split = splitR ? r : s;
         probe_.Split(r.path, s.path, split.path);
         for (int c = 0; c < 2; ++c) {
@@ -505,8 +505,8 @@ TEST_CASE("check-links passes a two-pass kernel with its own conventions", "[che
     CHECK_FALSE(check.engineCompared);
     CHECK(check.fromLinks.links + 0 > 0);
     size_t at = text.find("total_oracle_calls=");
-    std::string wrong = text.substr(0, at) + "total_oracle_calls=1" +
-                        text.substr(text.find(' ', at));
+    std::string wrong =
+        text.substr(0, at) + "total_oracle_calls=1" + text.substr(text.find(' ', at));
     CliResult bad = Cli("check-links --scene-file " + scene + " --eps 0.5 --links " +
                         WriteScratch("tee_wrong.dump", wrong) + " --json");
     CHECK(bad.exitCode == hrbench::kExitViolation);
@@ -567,8 +567,7 @@ TEST_CASE("check-links sums up every violation by category, in text and JSON", "
     CHECK(all.exitCode == hrbench::kExitViolation);
     auto j = nlohmann::json::parse(all.out);
     CHECK(j["violations"] == 2);
-    CHECK(JsonCategories(all.out) ==
-          std::set<std::string>{"overlapping-link", "counter-mismatch"});
+    CHECK(JsonCategories(all.out) == std::set<std::string>{"overlapping-link", "counter-mismatch"});
     CHECK(j["root_pairs"][0]["pair"] == nlohmann::json({0, 1}));
     CHECK(j["root_pairs"][0]["count"] == 1);
     CHECK_THAT(all.err, Catch::Contains("the first of 2 violations"));
@@ -607,7 +606,8 @@ TEST_CASE("version 2 dumps: the probe's records and malformed ones", "[check-lin
     CHECK_THROWS_WITH(Parse("hrbench-link-dump 2\ndecide 0 1 split 0/1\n"),
                       Catch::Contains("neither 0 nor 1"));
     // Version 1 knows no such records.
-    CHECK_THROWS_WITH(Parse("hrbench-link-dump 1\npass 2\n"), Catch::Contains("d:2: bad element 'pass'"));
+    CHECK_THROWS_WITH(Parse("hrbench-link-dump 1\npass 2\n"),
+                      Catch::Contains("d:2: bad element 'pass'"));
     std::string path = WriteScratch("conv.dump", "hrbench-link-dump 2\nconventions tie=sideways\n");
     CheckError(kSmall + path, 2, "convention tie=sideways: the values are first, second");
     path = WriteScratch("conv2.dump", "hrbench-link-dump 2\nconventions oracle=hanrahan\n");
@@ -637,5 +637,6 @@ TEST_CASE("check-links judges a version 1 dump under conventions given on the co
     CHECK(j["counters"]["dump"]["oracle_calls"] == 3);
     CHECK(j["counters"]["hrbench"] == nullptr);  // hrbench's rules differ
     CheckError(eps1 + " --conventions accept=maybe", 2, "convention accept=maybe");
-    CheckError(eps1 + " --conventions links=directed", 2, "links=directed needs a dump of version 2");
+    CheckError(eps1 + " --conventions links=directed", 2,
+               "links=directed needs a dump of version 2");
 }

@@ -84,9 +84,9 @@ class LinkViolation : public Error {
 struct LinkCheck {
     uint64_t rootPairs = 0, culledPairs = 0;
     Counters fromLinks;  // recomputed from the record: ProjectKernel's recursion down to it
-    uint64_t totalOracleCalls = 0, passes = 1;  // from the decision records
+    uint64_t totalOracleCalls = 0, passes = 1;         // from the decision records
     bool oracleCallsKnown = true, forcedKnown = true;  // whether the record gives them
-    bool oracleCallsFromRecord = false;  // counted on the decision records
+    bool oracleCallsFromRecord = false;                // counted on the decision records
     bool treeComplete = true;  // the recursion down to the links went through: the
                                // counts it gives (nodes, max_depth, ...) are known
     bool engineCompared = false;
@@ -114,8 +114,7 @@ LinkCheck CheckLinks(const Scene &scene, const RefineOptions &options, const Lin
 void PrintLinkSummary(const LinkSummary &summary, std::ostream &out);
 
 // The result as JSON (docs/probe.md, "The summary"): _summary_ null for a dump that passed.
-std::string LinkCheckJson(const LinkDump &dump, const LinkSummary *summary,
-                          const LinkCheck *check);
+std::string LinkCheckJson(const LinkDump &dump, const LinkSummary *summary, const LinkCheck *check);
 
 // The summary of a passed check: one line, then the counters recomputed from the dump's
 // links ("dump"), hrbench's ("hrbench") and, when the dump has a counters line, the

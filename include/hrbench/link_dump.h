@@ -36,15 +36,15 @@ enum class DumpAction : uint8_t { Accept, Split, ForcedMinArea, ForcedMaxDepth, 
 struct DumpDecision {
     DumpElement i, j;
     DumpAction action;
-    bool splitI;   // with Split: the element split is i (else j)
+    bool splitI;    // with Split: the element split is i (else j)
     uint32_t pass;  // 1-based
     size_t line;
 };
 
 struct LinkDump {
-    std::string name;    // the file, for messages
+    std::string name;  // the file, for messages
     int version = 1;
-    std::string digits;  // child digits of every element, back to back
+    std::string digits;             // child digits of every element, back to back
     std::vector<DumpLink> links;    // every link line, in dump order
     std::vector<DumpLink> unlinks;  // every unlink record, in dump order
     std::vector<DumpDecision> decisions;

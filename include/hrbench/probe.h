@@ -44,11 +44,11 @@ struct ElementPath {
 
 // What a ProjectKernel counts, named as in `hrbench run`.
 struct Counters {
-    uint64_t oracleCalls = 0;  // ProjectKernel calls, one oracle evaluation each
-    uint64_t links = 0;        // forced links included
-    uint64_t nodes = 0;        // elements created, roots included
-    uint64_t forcedLinks = 0;  // links made by a recursion limit, not the oracle
-    uint64_t maxDepth = 0;     // depth of the deepest element; roots have depth 0
+    uint64_t oracleCalls = 0;       // ProjectKernel calls, one oracle evaluation each
+    uint64_t links = 0;             // forced links included
+    uint64_t nodes = 0;             // elements created, roots included
+    uint64_t forcedLinks = 0;       // links made by a recursion limit, not the oracle
+    uint64_t maxDepth = 0;          // depth of the deepest element; roots have depth 0
     uint64_t totalOracleCalls = 0;  // version 2: all passes; oracleCalls is the last pass's
     uint64_t passes = 1;            // version 2
 };

@@ -24,10 +24,10 @@ struct Options {
     bool triangulate = false;     // --triangulate (mesh only)
     std::optional<double> scale;  // --scale (mesh only)
     std::string out;
-    std::string linksFormat = "csv";  // links --format: csv or probe
-    std::string linksFile;            // check-links --links: the dump to check
-    std::string linkConventions;      // check-links --conventions
-    bool linkSummary = false;         // check-links --summary
+    std::string linksFormat = "csv";                    // links --format: csv or probe
+    std::string linksFile;                              // check-links --links: the dump to check
+    std::string linkConventions;                        // check-links --conventions
+    bool linkSummary = false;                           // check-links --summary
     bool oracleGiven = false, ffEstimateGiven = false;  // --oracle, --ff-estimate given
     std::optional<double> eps;
     RefineOptions refine;
