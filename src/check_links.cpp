@@ -55,17 +55,6 @@ class Violations {
 
     explicit Violations(const std::string &file) { summary_.file = file; }
 
-    // Whether a violation of _category_ would keep its message (else it is counted only,
-    // and its message need not be built).
-    bool Wants(const std::string &category) const {
-        if (summary_.total == 0)
-            return true;
-        for (const auto &c : summary_.categories)
-            if (c.id == category)
-                return c.first.size() < kFirst;
-        return true;
-    }
-
     // A violation of _category_; _line_ 0 for none, _p_ and _q_ its root pair (or
     // direction) when _hasPair_; _what_ the message after the label (built only if kept).
     template <typename What>

@@ -637,6 +637,15 @@ TEST_CASE("check-links judges a version 1 dump under conventions given on the co
     CHECK(j["counters"]["dump"]["oracle_calls"] == 3);
     CHECK(j["counters"]["hrbench"] == nullptr);  // hrbench's rules differ
     CheckError(eps1 + " --conventions accept=maybe", 2, "convention accept=maybe");
+    // Directed links judged by garmann: each direction tiled on its own, receiver first.
+    std::string both = "hrbench-link-dump 2\nconventions links=directed\n" + kQuarters +
+                       "1/0 0/0\n1/1 0/0\n1/0 0/1\n1/1 0/1\ncounters links=8 oracle_calls=14\n";
+    CliResult directed = Cli(kSmall + WriteScratch("directed.dump", both));
+    INFO(directed.err);
+    CHECK(directed.exitCode == 0);
+    std::string one = "hrbench-link-dump 2\nconventions links=directed\n" + kQuarters;
+    CheckError(kSmall + WriteScratch("one_way.dump", one), hrbench::kExitViolation,
+               "missing link: nothing covers the element pair 1 0 of patches 1 and 0");
     CheckError(eps1 + " --conventions links=directed", 2,
                "links=directed needs a dump of version 2");
 }
