@@ -646,6 +646,17 @@ TEST_CASE("check-links judges a version 1 dump under conventions given on the co
     std::string one = "hrbench-link-dump 2\nconventions links=directed\n" + kQuarters;
     CheckError(kSmall + WriteScratch("one_way.dump", one), hrbench::kExitViolation,
                "missing link: nothing covers the element pair 1 0 of patches 1 and 0");
+
+    // Plates back to back: culled under hrbench's rules, refined with cull=none.
+    std::string scene = WriteScratch(
+        "back.json", R"({"format": "hrbench-scene", "schema_version": 1, "dimension": 2,
+        "patches": [{"a": [0, 0], "b": [1, 0]}, {"a": [1, -1], "b": [0, -1]}]})");
+    std::string back = "check-links --scene-file " + scene + " --eps 1 --links ";
+    path = WriteScratch("back.dump", kHeader + "0 1\n");
+    CheckError(back + path, hrbench::kExitViolation, "link between a culled pair: 0 1");
+    CHECK(Cli(back + path + " --conventions cull=none,oracle=own").exitCode == 0);
+    CheckError(back + WriteScratch("back_none.dump", kHeader) + " --conventions cull=none",
+               hrbench::kExitViolation, "missing link: nothing covers the element pair 0 1");
     CheckError(eps1 + " --conventions links=directed", 2,
                "links=directed needs a dump of version 2");
 }
