@@ -2,8 +2,13 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
+#include <unordered_map>
+
+#include <nlohmann/json.hpp>
 
 #include "hrbench/culling.h"
 #include "hrbench/forest.h"
@@ -20,6 +25,83 @@ std::string ElementName(uint32_t root, const std::string &digits) {
     return digits.empty() ? std::to_string(root) : std::to_string(root) + "/" + digits;
 }
 
+// The categories of violations, in the order the summary lists them when tied: id (JSON)
+// and the label that starts each message.
+const std::vector<std::pair<std::string, std::string>> &Categories() {
+    static const std::vector<std::pair<std::string, std::string>> categories = {
+        {"link-within-patch", "link within one patch"},
+        {"culled-pair-linked", "link between a culled pair"},
+        {"bad-unlink", "unlink of no link"},
+        {"missing-link", "missing link"},
+        {"overlapping-link", "overlapping links"},
+        {"off-subdivision", "link off the subdivision"},
+        {"split-mismatch", "split inconsistent with its decision"},
+        {"unacceptable-link", "unacceptable link"},
+        {"oracle-mismatch", "decision against the oracle"},
+        {"limit-mismatch", "recursion limit inconsistent"},
+        {"cull-mismatch", "cull inconsistent"},
+        {"missing-decision", "missing decision"},
+        {"stray-decision", "stray decision"},
+        {"counter-mismatch", "counts"},
+    };
+    return categories;
+}
+
+// Collects violations with bounded memory: counts, the first few messages of each
+// category and the counts of the first root pairs.
+class Violations {
+  public:
+    static constexpr size_t kFirst = 3, kPairs = 100;
+
+    explicit Violations(const std::string &file) { summary_.file = file; }
+
+    // A violation of _category_; _line_ 0 for none, _p_ and _q_ its root pair (or
+    // direction) when _hasPair_; _what_ the message after the label (built only if kept).
+    template <typename What>
+    void Add(const std::string &category, size_t line, bool hasPair, uint32_t p, uint32_t q,
+             const What &what) {
+        LinkSummary::Category *c = nullptr;
+        for (auto &k : summary_.categories)
+            if (k.id == category)
+                c = &k;
+        if (!c) {
+            std::string label;
+            for (const auto &[id, l] : Categories())
+                if (id == category)
+                    label = l;
+            summary_.categories.push_back({category, label, 0, {}});
+            c = &summary_.categories.back();
+        }
+        if (c->first.size() < kFirst || summary_.total == 0) {
+            std::string message = summary_.file + (line ? ":" + std::to_string(line) : "") + ": " +
+                                  c->label + ": " + std::string(what());
+            if (summary_.total == 0)
+                summary_.firstMessage = message;
+            if (c->first.size() < kFirst)
+                c->first.push_back({line, hasPair, p, q, message});
+        }
+        ++c->count;
+        ++summary_.total;
+        if (hasPair) {
+            auto key = std::make_pair(p, q);
+            if (summary_.pairs.count(key) || summary_.pairs.size() < kPairs)
+                ++summary_.pairs[key][category];
+            else
+                ++summary_.pairsLeftOff;
+        }
+    }
+
+    uint64_t Total() const { return summary_.total; }
+    LinkSummary Take() { return std::move(summary_); }
+
+  private:
+    LinkSummary summary_;
+};
+
+// A decision's tri-state judgement by a documented oracle: under accept=lt a pair between
+// the oracle at eps and at the next double below may go either way.
+enum class Judgement { Refuse, Accept, Either };
+
 // The checks of one dump for one shape and one oracle. Every element pair is a region
 // of its root pair's parameter domain: element x stands for the part of its root that
 // its descendants cover, so pairs of tree elements tile exactly when their paths do,
@@ -27,46 +109,74 @@ std::string ElementName(uint32_t root, const std::string &digits) {
 template <typename Shape, typename Oracle>
 class Checker {
   public:
-    Checker(const Patches<Shape> &patches, const Oracle &oracle, const RefineOptions &options,
-            const LinkDump &dump)
-        : patches_(patches), oracle_(oracle), options_(options), dump_(dump),
-          forest_(patches, SIZE_MAX, options.subdivision), arity_(forest_.Arity()),
-          minAreaBound_(SquaredSizeBound(options.minArea)),
-          depthLimit_(options.maxDepth >= 0 ? options.maxDepth : kSafetyDepth) {}
+    Checker(const Patches<Shape> &patches, const Oracle &oracle, const Oracle *oracleBelow,
+            const RefineOptions &options, const LinkConventions &conv, const LinkDump &dump,
+            Violations &violations)
+        : patches_(patches), oracle_(oracle), oracleBelow_(oracleBelow), options_(options),
+          conv_(conv), dump_(dump), v_(violations), forest_(patches, SIZE_MAX, options.subdivision),
+          arity_(forest_.Arity()), minAreaBound_(MinAreaBound(options.minArea, conv.minAreaLe)),
+          depthLimit_(options.maxDepth >= 0 ? options.maxDepth : kSafetyDepth),
+          decided_(!dump.decisions.empty()) {}
 
     LinkCheck Run() {
         LinkCheck check;
-        // The refined root pairs in scene order, classified as Refine() does (touching
-        // patches without a recursion limit refused first, as it refuses them). Each
-        // needs a link of its own, so a dump of L links tiles at most L of them: L + 1
-        // suffice to find the first it misses, and keep this check's memory, like its
-        // work, within the dump's size however large the scene's refinement.
-        std::vector<std::pair<uint32_t, uint32_t>> refined;
+        IndexDecisions();
+        CheckPatches();
+        SortByPair();
+        // The refined root pairs (each direction of them) in scene order, classified as
+        // Refine() does (touching patches without a recursion limit refused first, as it
+        // refuses them), each checked as it comes: no list of pairs is kept, so that this
+        // check's memory stays within the dump's size however large the scene.
         const uint32_t n = uint32_t(patches_.size());
         for (uint32_t p = 0; p < n; ++p)
             for (uint32_t q = p + 1; q < n; ++q) {
                 ++check.rootPairs;
                 PairRelation relation = ClassifyPair(patches_[p].shape, patches_[q].shape);
-                if (!RefinesRootPair(relation, p, q, options_))
+                bool refined = conv_.cull == LinkConventions::Cull::None
+                                   ? relation != PairRelation::Touching ||
+                                         RefinesRootPair(relation, p, q, options_)
+                                   : RefinesRootPair(relation, p, q, options_);
+                if (!refined) {
                     ++check.culledPairs;
-                else if (refined.size() <= dump_.links.size())
-                    refined.push_back({p, q});
+                    continue;
+                }
+                CheckPair(p, q);
+                if (conv_.directed)
+                    CheckPair(q, p);
             }
-        CheckPatches();
-        SortByPair();
-        for (auto [p, q] : refined) {
-            auto [lo, hi] = Range(p, q);
-            std::string x, y;
-            Tile(lo, hi, p, q, x, y);
-        }
-        SortByPair();  // dump order again within each pair: violations name the first line
-        for (auto [p, q] : refined) {
-            auto [lo, hi] = Range(p, q);
-            std::string x, y;
-            Guide(lo, hi, p, q, x, y);
-        }
+        // Elements split by decisions the final links no longer follow (an earlier
+        // pass's) were created all the same.
+        for (const DumpDecision &d : dump_.decisions)
+            if (d.action == DumpAction::Split)
+                CreateChildren(d.splitI ? d.i : d.j);
+        // With one pass every decision lies on the recursion; only where it went through
+        // everywhere does an unreached one say more than the violations already found.
+        if (decided_ && dump_.passes == 1 && v_.Total() == 0)
+            for (size_t k = 0; k < dump_.decisions.size(); ++k)
+                if (!reached_[k]) {
+                    const DumpDecision &d = dump_.decisions[k];
+                    v_.Add("stray-decision", d.line, true, d.i.root, d.j.root, [&] {
+                        return "decide " + dump_.Name(d.i) + " " + dump_.Name(d.j) +
+                               " is on a pair that ProjectKernel, following the recorded "
+                               "decisions, never reaches (one pass)";
+                    });
+                }
         Counters &c = check.fromLinks;
-        c.links = links_, c.oracleCalls = calls_, c.forcedLinks = forced_;
+        c.links = links_, c.forcedLinks = forced_;
+        c.oracleCalls = calls_;
+        check.forcedKnown = decided_ || !conv_.ownOracle;
+        if (decided_) {
+            c.oracleCalls = 0;
+            for (const DumpDecision &d : dump_.decisions) {
+                bool call = d.action != DumpAction::Cull;
+                check.totalOracleCalls += call;
+                c.oracleCalls += call && d.pass == dump_.passes;
+            }
+        } else {
+            check.totalOracleCalls = calls_;
+            check.oracleCallsKnown = dump_.passes == 1;
+        }
+        check.passes = dump_.passes;
         c.nodes = forest_.Size();
         c.leaves = forest_.NumLeaves();
         c.nodesPerDepth = forest_.NodesPerDepth();
@@ -76,6 +186,16 @@ class Checker {
     }
 
   private:
+    // The least square that --min-area does not force: A_p < A (lt) or A_p <= A (le)
+    // exactly when A_p^2 is below it.
+    static double MinAreaBound(double minArea, bool le) {
+        double bound = SquaredSizeBound(minArea);
+        if (le && minArea > 0)
+            while (std::sqrt(bound) <= minArea)
+                bound = std::nextafter(bound, HUGE_VAL);
+        return bound;
+    }
+
     const DumpElement &Side(uint32_t link, bool first) const {
         const DumpLink &l = dump_.links[link];
         return first ? l.i : l.j;
@@ -84,16 +204,47 @@ class Checker {
         const DumpLink &l = dump_.links[link];
         return dump_.Name(l.i) + " " + dump_.Name(l.j);
     }
-    [[noreturn]] void Fail(uint32_t link, const std::string &what) const {
-        throw LinkViolation(dump_.name + ":" + std::to_string(dump_.links[link].line) + ": " +
-                            what);
-    }
+    size_t Line(uint32_t link) const { return dump_.links[link].line; }
+
     // Two links overlap: name the later line, and the earlier one.
-    [[noreturn]] void Overlap(uint32_t a, uint32_t b) const {
-        if (dump_.links[a].line < dump_.links[b].line)
+    void Overlap(uint32_t a, uint32_t b, uint32_t p, uint32_t q) {
+        if (Line(a) < Line(b))
             std::swap(a, b);
-        Fail(a, "overlapping links: " + LinkName(a) + " overlaps " + LinkName(b) + " of line " +
-                    std::to_string(dump_.links[b].line));
+        v_.Add("overlapping-link", Line(a), true, p, q, [&] {
+            return LinkName(a) + " overlaps " + LinkName(b) + " of line " + std::to_string(Line(b));
+        });
+    }
+
+    // Creates the children of the element _e_ of the dump, and its ancestors' (within the
+    // safety depth), as a kernel splitting it does.
+    void CreateChildren(const DumpElement &e) {
+        if (e.depth >= kSafetyDepth)
+            return;
+        uint32_t id = e.root;
+        for (int level = 0; level < e.depth; ++level)
+            id = forest_.Children(id) + dump_.Digit(e, level);
+        forest_.Children(id);
+    }
+
+    // Decisions by pair: the last one of each pair counts; with one pass none repeats.
+    void IndexDecisions() {
+        reached_.assign(dump_.decisions.size(), false);
+        for (uint32_t k = 0; k < dump_.decisions.size(); ++k) {
+            const DumpDecision &d = dump_.decisions[k];
+            auto [it, fresh] = decisionOf_.emplace(dump_.Name(d.i) + " " + dump_.Name(d.j), k);
+            if (!fresh) {
+                if (dump_.passes == 1) {
+                    size_t earlier = dump_.decisions[it->second].line;
+                    v_.Add("stray-decision", d.line, true, d.i.root, d.j.root, [&] {
+                        return "decide " + dump_.Name(d.i) + " " + dump_.Name(d.j) +
+                               " repeats the decision of line " + std::to_string(earlier) +
+                               " in one pass";
+                    });
+                    reached_[it->second] = true;  // reported once, as the repeat
+                }
+                it->second = k;
+            }
+        }
     }
 
     // Dump order: no link within one patch, none between a culled pair.
@@ -101,29 +252,50 @@ class Checker {
         for (uint32_t k = 0; k < dump_.links.size(); ++k) {
             const DumpLink &l = dump_.links[k];
             if (l.i.root == l.j.root)
-                Fail(k, "link within one patch: " + LinkName(k) + " (both elements of patch " +
-                            std::to_string(l.i.root) + ")");
-            if (Culled(l.i.root, l.j.root))
-                Fail(k, "link between a culled pair: " + LinkName(k) + " (patches " +
-                            std::to_string(l.i.root) + " and " + std::to_string(l.j.root) +
-                            " cannot exchange light; hrbench never refines them)");
+                v_.Add("link-within-patch", l.line, false, 0, 0, [&] {
+                    return LinkName(k) + " (both elements of patch " + std::to_string(l.i.root) +
+                           ")";
+                });
+            else if (conv_.cull != LinkConventions::Cull::None && Culled(l.i.root, l.j.root))
+                v_.Add("culled-pair-linked", l.line, true, l.i.root, l.j.root, [&] {
+                    return LinkName(k) + " (patches " + std::to_string(l.i.root) + " and " +
+                           std::to_string(l.j.root) +
+                           " cannot exchange light; hrbench never refines them)";
+                });
         }
     }
 
     // Whether the root pair of a dump link is culled, cached by pair: the dump's pairs
     // only, so that the cache stays within the dump's size.
     bool Culled(uint32_t p, uint32_t q) {
-        auto key = std::make_pair(p, q);
+        auto key = std::minmax(p, q);
         auto it = culled_.find(key);
         if (it == culled_.end())
             it = culled_
-                     .emplace(key, ClassifyPair(patches_[p].shape, patches_[q].shape) ==
-                                       PairRelation::Culled)
+                     .emplace(key, ClassifyPair(patches_[key.first].shape,
+                                                patches_[key.second].shape) == PairRelation::Culled)
                      .first;
         return it->second;
     }
 
-    // The links in order of root pair, each pair's in dump order.
+    // cull=elements: the element pair faces away, centre against front normal
+    // (docs/probe.md), each dot product summed in coordinate order.
+    bool ElementCulled(uint32_t ex, uint32_t ey) const {
+        if (conv_.cull != LinkConventions::Cull::Elements)
+            return false;
+        const auto &a = forest_[ex], &b = forest_[ey];
+        auto facing = [&](const auto &from, const auto &to, uint32_t root) {
+            const auto n = patches_[root].shape.Normal();
+            double dot = 0;
+            for (int k = 0; k < int(n.size()); ++k)
+                dot += n[k] * (to.center[k] - from.center[k]);
+            return dot > 0;
+        };
+        return !facing(a, b, a.root) || !facing(b, a, b.root);
+    }
+
+    // The links in order of root pair (as written for directed links), each pair's in
+    // dump order.
     void SortByPair() {
         order_.resize(dump_.links.size());
         for (uint32_t k = 0; k < order_.size(); ++k)
@@ -145,6 +317,19 @@ class Checker {
         return {size_t(lo - order_.begin()), size_t(hi - order_.begin())};
     }
 
+    // One refined root pair (one direction with directed links): its tiling, then, if
+    // it tiles, ProjectKernel guided by its links and decisions.
+    void CheckPair(uint32_t p, uint32_t q) {
+        auto [lo, hi] = Range(p, q);
+        std::string x, y;
+        uint64_t before = v_.Total();
+        Tile(lo, hi, p, q, x, y);
+        if (v_.Total() != before)
+            return;
+        std::sort(order_.begin() + lo, order_.begin() + hi);  // dump order again
+        Guide(lo, hi, p, q, p, q, x, y);
+    }
+
     // Reorders order_[lo, hi) stably by the path digit at _level_ of side _first_;
     // returns where each child's links begin (and the end).
     std::array<size_t, 5> Partition(size_t lo, size_t hi, bool first, int level) {
@@ -164,12 +349,18 @@ class Checker {
     // Tiling: the links order_[lo, hi) (those inside the region x * y of root pair p, q)
     // must cover it without overlap. Where no link covers the region whole, one side of
     // it has every link finer than the region: split that side (x first). If neither
-    // side has, a link whole in x and one whole in y cross, so they overlap.
+    // side has, a link whole in x and one whole in y cross, so they overlap. An empty
+    // region is left to Guide where decisions or element culling may explain it.
     void Tile(size_t lo, size_t hi, uint32_t p, uint32_t q, std::string &x, std::string &y) {
-        if (lo == hi)
-            throw LinkViolation(dump_.name + ": missing link: nothing covers the element pair " +
-                                ElementName(p, x) + " " + ElementName(q, y) + " of patches " +
-                                std::to_string(p) + " and " + std::to_string(q));
+        if (lo == hi) {
+            if (!decided_ && conv_.cull != LinkConventions::Cull::Elements)
+                v_.Add("missing-link", 0, true, p, q, [&] {
+                    return "nothing covers the element pair " + ElementName(p, x) + " " +
+                           ElementName(q, y) + " of patches " + std::to_string(p) + " and " +
+                           std::to_string(q);
+                });
+            return;
+        }
         const size_t dx = x.size(), dy = y.size();
         size_t wholeX = hi, wholeY = hi;
         for (size_t k = lo; k < hi; ++k) {
@@ -177,7 +368,7 @@ class Checker {
             bool coarseY = Side(order_[k], false).depth <= dy;
             if (coarseX && coarseY) {
                 if (hi - lo > 1)
-                    Overlap(order_[k], order_[k == lo ? lo + 1 : lo]);
+                    Overlap(order_[k], order_[k == lo ? lo + 1 : lo], p, q);
                 return;
             }
             if (coarseX && wholeX == hi)
@@ -186,7 +377,7 @@ class Checker {
                 wholeY = k;
         }
         if (wholeX != hi && wholeY != hi)
-            Overlap(order_[wholeX], order_[wholeY]);
+            return Overlap(order_[wholeX], order_[wholeY], p, q);
         bool splitX = wholeX == hi;
         std::string &side = splitX ? x : y;
         std::array<size_t, 5> begin = Partition(lo, hi, splitX, int(side.size()));
@@ -197,88 +388,304 @@ class Checker {
         }
     }
 
-    // ProjectKernel, guided by the links of the region (which tile it): the call on the
-    // pair of elements ex (path x) and ey (path y) either links them, and then the
-    // region is one link, or splits the larger element, and then every link lies in one
-    // of its children.
-    void Guide(size_t lo, size_t hi, uint32_t ex, uint32_t ey, std::string &x, std::string &y) {
-        ++calls_;
+    Judgement Judge(const typename Forest<Shape>::ElementType &ei,
+                    const typename Forest<Shape>::ElementType &ej) const {
+        bool at = oracle_.Acceptable(ei, ej);
+        if (!oracleBelow_)
+            return at ? Judgement::Accept : Judgement::Refuse;
+        bool below = oracleBelow_->Acceptable(ei, ej);
+        return below ? Judgement::Accept : at ? Judgement::Either : Judgement::Refuse;
+    }
+
+    // ProjectKernel on the pair of elements ex (path x, root p) and ey (path y, root q),
+    // guided by the links of the region (which tile it) and, where the dump has them, by
+    // the recorded decisions.
+    void Guide(size_t lo, size_t hi, uint32_t p, uint32_t q, uint32_t ex, uint32_t ey,
+               std::string &x, std::string &y) {
         const auto ei = forest_[ex], ej = forest_[ey];
-        const bool accept = oracle_.Acceptable(ei, ej);
-        const bool splitX = ei.sizeSquared >= ej.sizeSquared;
-        const double preferredSquared = splitX ? ei.sizeSquared : ej.sizeSquared;
-        const int preferredDepth = int(splitX ? x.size() : y.size());
-        const bool belowMinArea = preferredSquared < minAreaBound_;
-        const bool atMaxDepth = options_.maxDepth >= 0 && preferredDepth >= depthLimit_;
-        const bool forced = !accept && (belowMinArea || atMaxDepth);
-        const uint32_t first = order_[lo];
-        // The names for messages, built only for a violation.
-        auto pair = [&] { return ElementName(ei.root, x) + " " + ElementName(ej.root, y); };
+        auto pair = [&] { return ElementName(p, x) + " " + ElementName(q, y); };
         auto oracle = [&] {
             return std::string("the oracle ") + Oracle::kInfo.name + " (eps " +
                    FormatDouble(options_.eps) + ")";
         };
-        if (hi - lo == 1 && Side(first, true).depth == x.size() &&
-            Side(first, false).depth == y.size()) {
-            if (!accept && !forced)
-                Fail(first, "unacceptable link: " + pair() + " is refused by " + oracle() +
-                                " and no recursion limit forces it");
-            ++links_;
-            forced_ += forced;
+        // The element the rule splits, and the limits on an element.
+        const bool tieX = conv_.tie == LinkConventions::Tie::Receiver ||
+                          (conv_.tie == LinkConventions::Tie::First && p < q) ||
+                          (conv_.tie == LinkConventions::Tie::Second && p > q);
+        const bool ruleX =
+            ei.sizeSquared > ej.sizeSquared || (ei.sizeSquared == ej.sizeSquared && tieX);
+        auto belowMinArea = [&](bool sideX) {
+            return (sideX ? ei : ej).sizeSquared < minAreaBound_;
+        };
+        auto atMaxDepth = [&](bool sideX) {
+            int depth = int(sideX ? x.size() : y.size());
+            return options_.maxDepth >= 0 &&
+                   (conv_.maxDepthGt ? depth > depthLimit_ : depth >= depthLimit_);
+        };
+        auto limited = [&](bool sideX) { return belowMinArea(sideX) || atMaxDepth(sideX); };
+        auto limitName = [&](bool sideX) {
+            return belowMinArea(sideX) ? "--min-area " + FormatDouble(options_.minArea)
+                                       : "--max-depth " + std::to_string(options_.maxDepth);
+        };
+        const bool exact = hi - lo == 1 && Side(order_[lo], true).depth == x.size() &&
+                           Side(order_[lo], false).depth == y.size();
+        const bool culled = ElementCulled(ex, ey);
+        const bool judged = !conv_.ownOracle;
+
+        if (!decided_) {
+            if (culled) {  // no call: the region holds no link
+                for (size_t k = lo; k < hi; ++k)
+                    v_.Add("culled-pair-linked", Line(order_[k]), true, p, q, [&] {
+                        return LinkName(order_[k]) + " lies in the element pair " + pair() +
+                               ", culled (cull=elements)";
+                    });
+                return;
+            }
+            ++calls_;
+            if (lo == hi)
+                return v_.Add("missing-link", 0, true, p, q, [&] {
+                    return "nothing covers the element pair " + pair() + " of patches " +
+                           std::to_string(p) + " and " + std::to_string(q);
+                });
+            const Judgement j = judged ? Judge(ei, ej) : Judgement::Either;
+            // The element split: the rule's, or with split=recorded the side every link
+            // inside is finer on (the first where both are).
+            bool splitX = ruleX;
+            if (conv_.splitRecorded && !exact) {
+                splitX = true;
+                for (size_t k = lo; k < hi && splitX; ++k)
+                    splitX = Side(order_[k], true).depth > x.size();
+            }
+            const bool limitHolds = limited(splitX);
+            if (exact) {
+                if (j == Judgement::Refuse && !limitHolds)
+                    return v_.Add("unacceptable-link", Line(order_[lo]), true, p, q, [&] {
+                        return pair() + " is refused by " + oracle() +
+                               " and no recursion limit forces it";
+                    });
+                ++links_;
+                forced_ += j == Judgement::Refuse;
+                return;
+            }
+            if (j == Judgement::Accept)
+                return v_.Add("unacceptable-link", Line(order_[lo]), true, p, q, [&] {
+                    return LinkName(order_[lo]) + " lies below the pair " + pair() + ", which " +
+                           oracle() + " accepts";
+                });
+            if (limitHolds && j != Judgement::Either)
+                return v_.Add("unacceptable-link", Line(order_[lo]), true, p, q, [&] {
+                    return LinkName(order_[lo]) + " lies below the pair " + pair() + ", where " +
+                           limitName(splitX) + " forces a link";
+                });
+            if (limitHolds)
+                return v_.Add("limit-mismatch", Line(order_[lo]), true, p, q, [&] {
+                    return LinkName(order_[lo]) + " lies below the pair " + pair() + ", where " +
+                           limitName(splitX) + " forces a link";
+                });
+            std::string &side = splitX ? x : y;
+            for (size_t k = lo; k < hi; ++k)
+                if (Side(order_[k], splitX).depth <= side.size())
+                    return v_.Add("off-subdivision", Line(order_[k]), true, p, q, [&] {
+                        return LinkName(order_[k]) + " keeps element " +
+                               ElementName(splitX ? p : q, side) +
+                               " whole, but ProjectKernel splits it in the refused pair " + pair() +
+                               " (the larger element, ties the " + TieName() + ")";
+                    });
+            return Descend(lo, hi, p, q, ex, ey, x, y, splitX);
+        }
+
+        // The recorded decision on this pair.
+        auto found = decisionOf_.find(pair());
+        if (found == decisionOf_.end())
+            return v_.Add("missing-decision", lo < hi ? Line(order_[lo]) : 0, true, p, q, [&] {
+                return "no decision is recorded for the pair " + pair() +
+                       ", which ProjectKernel reaches through the recorded decisions";
+            });
+        const DumpDecision &d = dump_.decisions[found->second];
+        reached_[found->second] = true;
+        auto decided = [&] { return " (decide, line " + std::to_string(d.line) + ")"; };
+        if (d.action == DumpAction::Cull) {
+            if (!culled)
+                v_.Add("cull-mismatch", d.line, true, p, q, [&] {
+                    return "the pair " + pair() + " is culled, but " +
+                           (conv_.cull == LinkConventions::Cull::Elements
+                                ? std::string("its centres do not face away (cull=elements)")
+                                : "the conventions cull no element pair (cull=elements does)");
+                });
+            for (size_t k = lo; k < hi; ++k)
+                v_.Add("culled-pair-linked", Line(order_[k]), true, p, q, [&] {
+                    return LinkName(order_[k]) + " lies in the element pair " + pair() +
+                           ", which the kernel culls" + decided();
+                });
             return;
         }
-        if (accept)
-            Fail(first, "unacceptable link: " + LinkName(first) + " lies below the pair " + pair() +
-                            ", which " + oracle() + " accepts");
-        if (forced)
-            Fail(first, "unacceptable link: " + LinkName(first) + " lies below the pair " + pair() +
-                            ", where " +
-                            (belowMinArea ? "--min-area " + FormatDouble(options_.minArea)
-                                          : "--max-depth " + std::to_string(options_.maxDepth)) +
-                            " forces a link");
+        ++calls_;
+        if (culled)
+            v_.Add("cull-mismatch", d.line, true, p, q, [&] {
+                return "the pair " + pair() + " faces away (cull=elements), but the kernel " +
+                       "calls the oracle on it" + decided();
+            });
+        const Judgement j = judged ? Judge(ei, ej) : Judgement::Either;
+        if (d.action != DumpAction::Split) {
+            const bool forced = d.action != DumpAction::Accept;
+            if (lo == hi)
+                return v_.Add("missing-link", d.line, true, p, q, [&] {
+                    return "nothing covers the element pair " + pair() +
+                           ", which the kernel links" + decided();
+                });
+            if (!exact)
+                return v_.Add("split-mismatch", Line(order_[lo]), true, p, q, [&] {
+                    return LinkName(order_[lo]) + " lies below the pair " + pair() +
+                           ", which the kernel links whole" + decided();
+                });
+            ++links_;
+            forced_ += forced;
+            if (!forced && j == Judgement::Refuse)
+                v_.Add("unacceptable-link", Line(order_[lo]), true, p, q, [&] {
+                    return pair() + " is accepted by the kernel but refused by " + oracle() +
+                           decided();
+                });
+            if (forced && j == Judgement::Accept)
+                v_.Add("oracle-mismatch", d.line, true, p, q, [&] {
+                    return "the kernel forces a link on " + pair() + ", which " + oracle() +
+                           " accepts";
+                });
+            if (forced) {
+                bool minArea = d.action == DumpAction::ForcedMinArea;
+                auto holds = [&](bool sideX) {
+                    return minArea ? options_.minArea > 0 && belowMinArea(sideX)
+                                   : atMaxDepth(sideX);
+                };
+                bool ok = conv_.splitRecorded ? holds(true) || holds(false) : holds(ruleX);
+                if (!ok)
+                    v_.Add("limit-mismatch", d.line, true, p, q, [&] {
+                        return "the kernel forces " + pair() + " by " +
+                               (minArea ? "min_area" : "max_depth") + ", but " +
+                               (minArea
+                                    ? (options_.minArea > 0
+                                           ? "--min-area " + FormatDouble(options_.minArea) +
+                                                 " does not hold"
+                                           : std::string("no --min-area is given"))
+                                    : (options_.maxDepth >= 0
+                                           ? "--max-depth " + std::to_string(options_.maxDepth) +
+                                                 " does not hold"
+                                           : std::string("no --max-depth is given"))) +
+                               " for the limited element";
+                    });
+            }
+            return;
+        }
+        const bool splitX = d.splitI;
         std::string &side = splitX ? x : y;
+        if (exact)
+            return v_.Add("split-mismatch", Line(order_[lo]), true, p, q, [&] {
+                return pair() + " is linked whole, but the kernel splits " +
+                       ElementName(splitX ? p : q, side) + decided();
+            });
         for (size_t k = lo; k < hi; ++k)
             if (Side(order_[k], splitX).depth <= side.size())
-                Fail(order_[k], "link off the subdivision: " + LinkName(order_[k]) +
-                                    " keeps element " +
-                                    ElementName(splitX ? ei.root : ej.root, side) +
-                                    " whole, but ProjectKernel splits it in the refused pair " +
-                                    pair() + " (the larger element, ties the first)");
+                return v_.Add("split-mismatch", Line(order_[k]), true, p, q, [&] {
+                    return LinkName(order_[k]) + " keeps element " +
+                           ElementName(splitX ? p : q, side) +
+                           " whole, but the kernel splits it "
+                           "in the pair " +
+                           pair() + decided();
+                });
+        if (j == Judgement::Accept)
+            v_.Add("oracle-mismatch", d.line, true, p, q, [&] {
+                return "the kernel splits the pair " + pair() + ", which " + oracle() + " accepts";
+            });
+        if (!conv_.splitRecorded && splitX != ruleX)
+            v_.Add("off-subdivision", d.line, true, p, q, [&] {
+                return "the kernel splits " + ElementName(splitX ? p : q, side) + " in the pair " +
+                       pair() + ", but the rule splits the larger element, ties the " + TieName() +
+                       " (split=larger)";
+            });
+        if (limited(conv_.splitRecorded ? splitX : ruleX))
+            v_.Add("limit-mismatch", d.line, true, p, q, [&] {
+                return "the kernel splits the pair " + pair() + ", where " +
+                       limitName(conv_.splitRecorded ? splitX : ruleX) + " forces a link";
+            });
+        if (int(side.size()) >= kSafetyDepth)
+            return v_.Add("limit-mismatch", d.line, true, p, q, [&] {
+                return "the kernel splits " + ElementName(splitX ? p : q, side) +
+                       " beyond the safety depth " + std::to_string(kSafetyDepth);
+            });
+        Descend(lo, hi, p, q, ex, ey, x, y, splitX);
+    }
+
+    // The calls on the children of the split element, first child first.
+    void Descend(size_t lo, size_t hi, uint32_t p, uint32_t q, uint32_t ex, uint32_t ey,
+                 std::string &x, std::string &y, bool splitX) {
+        std::string &side = splitX ? x : y;
         uint32_t child = forest_.Children(splitX ? ex : ey);
         std::array<size_t, 5> begin = Partition(lo, hi, splitX, int(side.size()));
         for (int c = 0; c < arity_; ++c) {
             side.push_back(char('0' + c));
             if (splitX)
-                Guide(begin[c], begin[c + 1], child + c, ey, x, y);
+                Guide(begin[c], begin[c + 1], p, q, child + c, ey, x, y);
             else
-                Guide(begin[c], begin[c + 1], ex, child + c, x, y);
+                Guide(begin[c], begin[c + 1], p, q, ex, child + c, x, y);
             side.pop_back();
+        }
+    }
+
+    const char *TieName() const {
+        switch (conv_.tie) {
+        case LinkConventions::Tie::First:
+            return "first";
+        case LinkConventions::Tie::Second:
+            return "second";
+        case LinkConventions::Tie::Receiver:
+            return "receiver";
+        default:
+            return "source";
         }
     }
 
     const Patches<Shape> &patches_;
     const Oracle &oracle_;
+    const Oracle *oracleBelow_;  // accept=lt: the oracle at the next double below eps
     const RefineOptions &options_;
+    const LinkConventions &conv_;
     const LinkDump &dump_;
+    Violations &v_;
     Forest<Shape> forest_;  // the elements ProjectKernel creates, in its order
     const int arity_;
     const double minAreaBound_;
     const int depthLimit_;
+    const bool decided_;  // the dump records decisions
     std::map<std::pair<uint32_t, uint32_t>, bool> culled_;
+    std::unordered_map<std::string, uint32_t> decisionOf_;  // pair -> its last decision
+    std::vector<bool> reached_;
     std::vector<uint32_t> order_, scratch_;
     uint64_t calls_ = 0, links_ = 0, forced_ = 0;
 };
 
 template <typename Shape>
-LinkCheck CheckShape(const Scene &scene, const RefineOptions &options, const LinkDump &dump) {
+LinkCheck CheckShape(const Scene &scene, const RefineOptions &options, const LinkConventions &conv,
+                     const LinkDump &dump, Violations &violations) {
     const Patches<Shape> &patches = scene.Get<Shape>();
     LinkCheck check;
+    // oracle=own judges nothing: any oracle type will do, garmann's costs nothing to make.
+    const std::string name = conv.ownOracle ? "garmann" : options.oracle;
     AllOracles::ForEach([&](auto tag) {
         using Oracle = typename decltype(tag)::template Type<Shape>;
         if constexpr (Oracle::kInfo.Supports(Shape::kDimension)) {
-            if (options.oracle == Oracle::kInfo.name) {
-                Oracle oracle = MakeOracle<Oracle>(options, patches);
-                check = Checker<Shape, Oracle>(patches, oracle, options, dump).Run();
+            if (name == Oracle::kInfo.name) {
+                RefineOptions at = options;
+                if (conv.ownOracle)
+                    at.oracle = name;
+                Oracle oracle = MakeOracle<Oracle>(at, patches);
+                std::optional<Oracle> below;
+                if (conv.acceptLt && !conv.ownOracle) {
+                    RefineOptions lower = at;
+                    lower.eps = std::nextafter(at.eps, 0.0);
+                    below.emplace(MakeOracle<Oracle>(lower, patches));
+                }
+                check = Checker<Shape, Oracle>(patches, oracle, below ? &*below : nullptr, at, conv,
+                                               dump, violations)
+                            .Run();
             }
         }
     });
@@ -296,37 +703,265 @@ const std::vector<std::pair<std::string, uint64_t Counters::*>> &ComparedCounter
     return counters;
 }
 
+// The value of counter _name_ that the record gives, if it gives one.
+std::optional<uint64_t> FromRecord(const LinkCheck &check, const std::string &name) {
+    if (name == "total_oracle_calls" &&
+        (check.oracleCallsFromRecord || (check.treeComplete && check.oracleCallsKnown)))
+        return check.totalOracleCalls;
+    if (name == "total_oracle_calls")
+        return std::nullopt;
+    if (name == "passes")
+        return check.passes;
+    if (name == "links")
+        return check.fromLinks.links;
+    // The rest come from ProjectKernel's recursion down to the links, once it went through.
+    if (name == "oracle_calls" && check.oracleCallsKnown && check.oracleCallsFromRecord)
+        return check.fromLinks.oracleCalls;
+    if (!check.treeComplete || (name == "oracle_calls" && !check.oracleCallsKnown) ||
+        (name == "forced_links" && !check.forcedKnown))
+        return std::nullopt;
+    for (const auto &[key, field] : ComparedCounters())
+        if (key == name)
+            return check.fromLinks.*field;
+    return std::nullopt;
+}
+
+// Parses conventions tokens (KEY=VALUE, or the set name with an empty value) into
+// _conv_, noting each key in _keys_; _where_ names the source for messages.
+void ApplyConventions(const std::vector<std::pair<std::string, std::string>> &tokens,
+                      const std::string &where, std::map<std::string, std::string> &keys) {
+    static const std::map<std::string, std::vector<std::string>> values = {
+        {"links", {"undirected", "directed"}},
+        {"tie", {"first", "second", "receiver", "source"}},
+        {"split", {"larger", "recorded"}},
+        {"accept", {"le", "lt"}},
+        {"min_area", {"lt", "le"}},
+        {"max_depth", {"ge", "gt"}},
+        {"cull", {"roots", "elements", "none"}},
+        {"oracle", {}},
+        {"ff_estimate", {}}};
+    for (const auto &[key, value] : tokens) {
+        if (value.empty() && key == "hrbench")
+            continue;
+        auto it = values.find(key);
+        if (it == values.end())
+            throw InputError(where + ": unknown convention '" + key +
+                             "' (the named set hrbench, or links, tie, split, accept, min_area, "
+                             "max_depth, cull, oracle, ff_estimate as KEY=VALUE)");
+        if (!it->second.empty() &&
+            std::find(it->second.begin(), it->second.end(), value) == it->second.end()) {
+            std::string list;
+            for (const auto &v : it->second)
+                list += (list.empty() ? "" : ", ") + v;
+            throw InputError(where + ": convention " + key + "=" + value + ": the values are " +
+                             list);
+        }
+        if (value.empty())
+            throw InputError(where + ": convention " + key + " needs a value, as " + key + "=...");
+        if (keys.count(key))
+            throw InputError(where + ": convention " + key + " is given twice");
+        keys[key] = value;
+    }
+}
+
+// The conventions of a dump: its line and --conventions merged (a key given by both
+// must agree), and the oracle options they name.
+LinkConventions ResolveConventions(const LinkDump &dump, const CheckLinksOptions &extra,
+                                   RefineOptions &options) {
+    std::map<std::string, std::string> fromDump, fromLine;
+    ApplyConventions(dump.conventions, dump.name + ":" + std::to_string(dump.conventionsLine),
+                     fromDump);
+    std::vector<std::pair<std::string, std::string>> tokens;
+    for (size_t begin = 0; begin <= extra.conventions.size() && !extra.conventions.empty();) {
+        size_t end = std::min(extra.conventions.find(',', begin), extra.conventions.size());
+        std::string token = extra.conventions.substr(begin, end - begin);
+        size_t eq = token.find('=');
+        tokens.push_back(
+            {token.substr(0, eq), eq == std::string::npos ? "" : token.substr(eq + 1)});
+        begin = end + 1;
+    }
+    ApplyConventions(tokens, "--conventions", fromLine);
+    std::map<std::string, std::string> keys = fromDump;
+    for (const auto &[key, value] : fromLine) {
+        auto it = fromDump.find(key);
+        if (it != fromDump.end() && it->second != value)
+            throw InputError("--conventions " + key + "=" + value + " disagrees with the dump's " +
+                             key + "=" + it->second + " (" + dump.name + ":" +
+                             std::to_string(dump.conventionsLine) + ")");
+        keys[key] = value;
+    }
+    LinkConventions c;
+    auto is = [&](const char *key, const char *value) {
+        auto it = keys.find(key);
+        return it != keys.end() && it->second == value;
+    };
+    c.directed = is("links", "directed");
+    if (c.directed && dump.version == 1)
+        throw InputError(dump.name + ": links=directed needs a dump of version 2 (version 1 "
+                                     "links stand for both directions)");
+    c.tie = is("tie", "second")     ? LinkConventions::Tie::Second
+            : is("tie", "receiver") ? LinkConventions::Tie::Receiver
+            : is("tie", "source")   ? LinkConventions::Tie::Source
+                                    : LinkConventions::Tie::First;
+    if (!c.directed &&
+        (c.tie == LinkConventions::Tie::Receiver || c.tie == LinkConventions::Tie::Source))
+        throw InputError(dump.name + ": tie=" + keys["tie"] + " needs links=directed");
+    c.splitRecorded = is("split", "recorded");
+    c.acceptLt = is("accept", "lt");
+    c.minAreaLe = is("min_area", "le");
+    c.maxDepthGt = is("max_depth", "gt");
+    c.cull = is("cull", "elements") ? LinkConventions::Cull::Elements
+             : is("cull", "none")   ? LinkConventions::Cull::None
+                                    : LinkConventions::Cull::Roots;
+    c.ownOracle = is("oracle", "own");
+    if (keys.count("oracle") && !c.ownOracle) {
+        const std::string &name = keys["oracle"];
+        bool known = false;
+        for (const auto &info : OracleInfos())
+            known = known || name == info.name;
+        if (!known)
+            throw InputError(dump.name + ": oracle=" + name +
+                             " is no documented oracle (hrbench scenes lists them), nor own");
+        if (extra.oracleGiven && options.oracle != name)
+            throw InputError("--oracle " + options.oracle +
+                             " disagrees with the dump's oracle=" + name);
+        options.oracle = name;
+    }
+    if (keys.count("ff_estimate")) {
+        const std::string &name = keys["ff_estimate"];
+        FfEstimate estimate = ParseFfEstimate(name);
+        if (extra.ffEstimateGiven && options.ffEstimate != estimate)
+            throw InputError("--ff-estimate " + FfEstimateName(options.ffEstimate) +
+                             " disagrees with the dump's ff_estimate=" + name);
+        options.ffEstimate = estimate;
+    }
+    c.given.assign(keys.begin(), keys.end());
+    return c;
+}
+
+// The dump as check-links checks it: undirected links (and decisions, unlinks) ordered
+// by root, the unlinked links removed.
+LinkDump Resolve(const LinkDump &dump, const LinkConventions &conv, Violations &violations) {
+    LinkDump d = dump;
+    if (!conv.directed) {
+        for (DumpLink &l : d.links)
+            if (l.i.root > l.j.root)
+                std::swap(l.i, l.j);
+        for (DumpLink &l : d.unlinks)
+            if (l.i.root > l.j.root)
+                std::swap(l.i, l.j);
+        for (DumpDecision &x : d.decisions)
+            if (x.i.root > x.j.root) {
+                std::swap(x.i, x.j);
+                x.splitI = !x.splitI;
+            }
+    }
+    if (d.unlinks.empty())
+        return d;
+    std::unordered_map<std::string, std::vector<uint32_t>> live;
+    std::vector<bool> removed(d.links.size(), false);
+    size_t u = 0;
+    auto unlink = [&](const DumpLink &l) {
+        auto it = live.find(d.Name(l.i) + " " + d.Name(l.j));
+        if (it == live.end() || it->second.empty())
+            return violations.Add("bad-unlink", l.line, true, l.i.root, l.j.root, [&] {
+                return "unlink " + d.Name(l.i) + " " + d.Name(l.j) + " removes no live link";
+            });
+        removed[it->second.back()] = true;
+        it->second.pop_back();
+    };
+    for (uint32_t k = 0; k < d.links.size(); ++k) {
+        for (; u < d.unlinks.size() && d.unlinks[u].line < d.links[k].line; ++u)
+            unlink(d.unlinks[u]);
+        live[d.Name(d.links[k].i) + " " + d.Name(d.links[k].j)].push_back(k);
+    }
+    for (; u < d.unlinks.size(); ++u)
+        unlink(d.unlinks[u]);
+    std::vector<DumpLink> kept;
+    for (uint32_t k = 0; k < d.links.size(); ++k)
+        if (!removed[k])
+            kept.push_back(d.links[k]);
+    d.links = std::move(kept);
+    return d;
+}
+
 }  // namespace
 
-LinkCheck CheckLinks(const Scene &scene, const RefineOptions &options, const LinkDump &dump) {
-    if (options.visibility != VisibilityMode::None)
+bool LinkConventions::IsHrbench() const {
+    return !directed && tie == Tie::First && !splitRecorded && !acceptLt && !minAreaLe &&
+           !maxDepthGt && cull == Cull::Roots && !ownOracle;
+}
+
+LinkCheck CheckLinks(const Scene &scene, const RefineOptions &given, const LinkDump &dump,
+                     const CheckLinksOptions &extra) {
+    if (given.visibility != VisibilityMode::None)
         throw InputError("check-links checks refinement without visibility: the links of a "
                          "root pair tile it only when no pair is occluded");
+    RefineOptions options = given;
+    const LinkConventions conv = ResolveConventions(dump, extra, options);
     RefineOptions counting = options;
     counting.storeLinks = false;
     counting.threads = 1;
-    ValidateScene(scene);
+    // Reflectance is read by no oracle: check-links takes any (docs/probe.md).
+    ValidateScene(scene, false);
     ValidateOptions(counting, scene.Dimension());
+    const Scene &checked = scene;
+    Violations violations(dump.name);
+    // A version 1 dump is read ordered and has no unlinks: checked as it is, uncopied.
+    std::optional<LinkDump> copy;
+    if (dump.version >= 2)
+        copy = Resolve(dump, conv, violations);
+    const LinkDump &resolved = copy ? *copy : dump;
     // The dump first: that check's work and memory grow with the dump (Checker::Run). A
     // dump that passes it is ProjectKernel's refinement link for link, so hrbench's own
     // refinement, run after it, makes as many links as the dump holds: a tiny dump
     // before a refinement too large to finish fails quickly instead of waiting on it.
-    LinkCheck check = scene.Dimension() == 2 ? CheckShape<Segment>(scene, options, dump)
-                                             : CheckShape<Polygon>(scene, options, dump);
-    check.engine =
-        std::visit([&](auto &&r) { return std::move(r.record.counters); }, Refine(scene, counting));
-    for (const auto &[name, field] : ComparedCounters()) {
-        uint64_t fromLinks = check.fromLinks.*field;
-        for (const auto &[key, value] : dump.counters)
-            if (key == name && value != fromLinks)
-                throw LinkViolation(dump.name + ":" + std::to_string(dump.countersLine) +
-                                    ": counts: the counters line says " + name + "=" +
-                                    std::to_string(value) + ", the links give " +
-                                    std::to_string(fromLinks));
-        if (check.engine.*field != fromLinks)
-            throw LinkViolation(dump.name + ": counts: the links give " + name + " " +
-                                std::to_string(fromLinks) + ", hrbench's refinement " +
-                                std::to_string(check.engine.*field));
+    LinkCheck check = checked.Dimension() == 2
+                          ? CheckShape<Segment>(checked, options, conv, resolved, violations)
+                          : CheckShape<Polygon>(checked, options, conv, resolved, violations);
+    check.conventions = conv;
+    check.oracle = conv.ownOracle ? "own" : options.oracle;
+    check.treeComplete = violations.Total() == 0;
+    check.oracleCallsFromRecord = !resolved.decisions.empty();
+    check.fromLinks.links = resolved.links.size();
+    for (const auto &[key, value] : dump.counters) {
+        std::optional<uint64_t> record = FromRecord(check, key);
+        if (record && *record != value)
+            violations.Add("counter-mismatch", dump.countersLine, false, 0, 0, [&] {
+                return "the counters line says " + key + "=" + std::to_string(value) +
+                       (resolved.decisions.empty() ? ", the links give " : ", the record gives ") +
+                       std::to_string(*record);
+            });
+    }
+    check.engineCompared = violations.Total() == 0 && conv.IsHrbench() && check.passes == 1;
+    if (check.engineCompared) {
+        // Refine() validates every material: hand it the scene with the reflectance
+        // that no count reads put in range.
+        Scene inRange = scene;
+        std::visit(
+            [](auto &patches) {
+                for (auto &patch : patches)
+                    if (!(patch.material.reflectance >= 0 && patch.material.reflectance < 1))
+                        patch.material.reflectance = 0;
+            },
+            inRange.patches);
+        check.engine = std::visit([&](auto &&r) { return std::move(r.record.counters); },
+                                  Refine(inRange, counting));
+        for (const auto &[name, field] : ComparedCounters())
+            if (check.engine.*field != check.fromLinks.*field &&
+                FromRecord(check, name).has_value())
+                violations.Add("counter-mismatch", 0, false, 0, 0, [&] {
+                    return "the links give " + name + " " + std::to_string(check.fromLinks.*field) +
+                           ", hrbench's refinement " + std::to_string(check.engine.*field);
+                });
+    }
+    if (violations.Total()) {
+        auto summary = std::make_shared<LinkSummary>(violations.Take());
+        std::string message = summary->firstMessage;
+        if (summary->total > 1)
+            message += " (the first of " + std::to_string(summary->total) +
+                       " violations; --summary or --json lists them)";
+        throw LinkViolation(message, summary, std::make_shared<LinkCheck>(check));
     }
     return check;
 }
@@ -336,21 +971,43 @@ void PrintLinkCheck(const LinkCheck &check, const LinkDump &dump, const RefineOp
     const Counters &c = check.fromLinks;
     uint64_t refined = check.rootPairs - check.culledPairs;
     out << dump.name << ": ok: " << c.links << " links tile the " << refined << " refined root pair"
-        << (refined == 1 ? "" : "s") << " exactly (" << check.culledPairs
-        << " culled); every link is where ProjectKernel links with " << options.oracle << " eps "
-        << FormatDouble(options.eps) << "; the counts agree\n";
+        << (refined == 1 ? "" : "s") << (check.conventions.directed ? ", each direction," : "")
+        << " exactly (" << check.culledPairs << " culled); ";
+    if (check.oracle == "own")
+        out << "every decision is consistent with the links (the kernel's own oracle)";
+    else
+        out << "every link is where ProjectKernel links with " << check.oracle << " eps "
+            << FormatDouble(options.eps);
+    out << "; the counts agree\n";
+    if (!check.conventions.IsHrbench()) {
+        out << "conventions:";
+        for (const auto &[key, value] : check.conventions.given)
+            out << " " << key << "=" << value;
+        out << "\n";
+    }
     bool kernel = dump.countersLine != 0;
     char row[96];
-    std::snprintf(row, sizeof row, "%-14s %14s %14s%s\n", "", "dump", "hrbench",
+    const int width = dump.version >= 2 ? 18 : 14;  // total_oracle_calls
+    std::snprintf(row, sizeof row, "%-*s %14s %14s%s\n", width, "", "dump", "hrbench",
                   kernel ? "         kernel" : "");
     out << row;
-    for (const auto &[name, field] : ComparedCounters()) {
-        std::string reported = "-";
+    std::vector<std::string> names;
+    for (const auto &[name, field] : ComparedCounters())
+        names.push_back(name);
+    if (dump.version >= 2)
+        names.insert(names.end(), {"total_oracle_calls", "passes"});
+    for (const std::string &name : names) {
+        std::string reported = "-", engine = "-", record = "-";
         for (const auto &[key, value] : dump.counters)
             if (key == name)
                 reported = std::to_string(value);
-        std::snprintf(row, sizeof row, "%-14s %14llu %14llu", name.c_str(),
-                      (unsigned long long)(c.*field), (unsigned long long)(check.engine.*field));
+        if (auto v = FromRecord(check, name))
+            record = std::to_string(*v);
+        for (const auto &[key, field] : ComparedCounters())
+            if (key == name && check.engineCompared)
+                engine = std::to_string(check.engine.*field);
+        std::snprintf(row, sizeof row, "%-*s %14s %14s", width, name.c_str(), record.c_str(),
+                      engine.c_str());
         out << row;
         if (kernel) {
             std::snprintf(row, sizeof row, " %14s", reported.c_str());
@@ -358,6 +1015,94 @@ void PrintLinkCheck(const LinkCheck &check, const LinkDump &dump, const RefineOp
         }
         out << "\n";
     }
+}
+
+void PrintLinkSummary(const LinkSummary &summary, std::ostream &out) {
+    out << summary.file << ": " << summary.total << " violation" << (summary.total == 1 ? "" : "s")
+        << " in " << summary.categories.size() << " categor"
+        << (summary.categories.size() == 1 ? "y" : "ies") << "\n";
+    for (const auto &c : summary.categories) {
+        out << c.id << " (" << c.label << "): " << c.count << "\n";
+        for (const auto &item : c.first)
+            out << "  " << item.message << "\n";
+        if (c.count > c.first.size())
+            out << "  ... " << c.count - c.first.size() << " more\n";
+    }
+    if (!summary.pairs.empty())
+        out << "by root pair:\n";
+    for (const auto &[pair, counts] : summary.pairs) {
+        uint64_t total = 0;
+        std::string list;
+        for (const auto &[id, n] : counts) {
+            total += n;
+            list += (list.empty() ? "" : ", ") + id + " " + std::to_string(n);
+        }
+        out << "  " << pair.first << " " << pair.second << ": " << total << " (" << list << ")\n";
+    }
+    if (summary.pairsLeftOff)
+        out << "  ... " << summary.pairsLeftOff << " more on further root pairs\n";
+}
+
+std::string LinkCheckJson(const LinkDump &dump, const LinkSummary *summary,
+                          const LinkCheck *check) {
+    nlohmann::ordered_json j;
+    j["file"] = dump.name;
+    j["ok"] = summary == nullptr;
+    j["violations"] = summary ? summary->total : 0;
+    nlohmann::ordered_json categories = nlohmann::ordered_json::array();
+    nlohmann::ordered_json pairs = nlohmann::ordered_json::array();
+    if (summary) {
+        for (const auto &c : summary->categories) {
+            nlohmann::ordered_json first = nlohmann::ordered_json::array();
+            for (const auto &item : c.first) {
+                nlohmann::ordered_json i;
+                i["line"] = item.line ? nlohmann::ordered_json(item.line) : nullptr;
+                i["pair"] = item.hasPair ? nlohmann::ordered_json({item.p, item.q}) : nullptr;
+                i["message"] = item.message;
+                first.push_back(i);
+            }
+            categories.push_back(
+                {{"category", c.id}, {"label", c.label}, {"count", c.count}, {"first", first}});
+        }
+        for (const auto &[pair, counts] : summary->pairs) {
+            uint64_t total = 0;
+            nlohmann::ordered_json byCategory = nlohmann::ordered_json::object();
+            for (const auto &[id, n] : counts) {
+                total += n;
+                byCategory[id] = n;
+            }
+            pairs.push_back({{"pair", {pair.first, pair.second}},
+                             {"count", total},
+                             {"categories", byCategory}});
+        }
+    }
+    j["categories"] = categories;
+    j["root_pairs"] = pairs;
+    j["root_pairs_left_off"] = summary ? summary->pairsLeftOff : 0;
+    if (check) {
+        nlohmann::ordered_json conventions = nlohmann::ordered_json::object();
+        for (const auto &[key, value] : check->conventions.given)
+            conventions[key] = value;
+        j["conventions"] = conventions;
+        j["oracle"] = check->oracle;
+        nlohmann::ordered_json record = nlohmann::ordered_json::object(),
+                               kernel = nlohmann::ordered_json::object(),
+                               engine = nlohmann::ordered_json::object();
+        for (const std::string &name : DumpCounterNames(2)) {
+            auto v = FromRecord(*check, name);
+            record[name] = v ? nlohmann::ordered_json(*v) : nullptr;
+        }
+        for (const auto &[key, value] : dump.counters)
+            kernel[key] = value;
+        if (check->engineCompared)
+            for (const auto &[name, field] : ComparedCounters())
+                engine[name] = check->engine.*field;
+        j["counters"] = {
+            {"dump", record},
+            {"kernel", dump.countersLine ? kernel : nlohmann::ordered_json(nullptr)},
+            {"hrbench", check->engineCompared ? engine : nlohmann::ordered_json(nullptr)}};
+    }
+    return j.dump();
 }
 
 }  // namespace hrbench

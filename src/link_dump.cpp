@@ -34,13 +34,16 @@ class DumpReader {
             return;
         if (fields[0] == "counters")
             return Counters(fields);
+        if (dump_.version >= 2 && Record(fields))
+            return;
         if (fields.size() != 2)
             Fail("expected a link, two elements ROOT or ROOT/PATH, or a counters line; got " +
                  std::to_string(fields.size()) + " fields");
         DumpLink link{Element(fields[0]), Element(fields[1]), line_};
-        if (link.i.root > link.j.root)
+        if (dump_.version == 1 && link.i.root > link.j.root)
             std::swap(link.i, link.j);
         dump_.links.push_back(link);
+        records_ = true;
     }
 
     [[noreturn]] void Fail(const std::string &what) const {
@@ -48,6 +51,74 @@ class DumpReader {
     }
 
   private:
+    // The records of version 2 other than links; false for a link line.
+    bool Record(const std::vector<std::string> &f) {
+        const std::string &kind = f[0];
+        if (kind == "conventions") {
+            if (dump_.conventionsLine != 0)
+                Fail("a second conventions line (the first is line " +
+                     std::to_string(dump_.conventionsLine) + ")");
+            if (records_)
+                Fail("the conventions line must come before every link, unlink, decide and "
+                     "pass record");
+            dump_.conventionsLine = line_;
+            for (size_t k = 1; k < f.size(); ++k) {
+                size_t eq = f[k].find('=');
+                dump_.conventions.push_back(
+                    {f[k].substr(0, eq), eq == std::string::npos ? "" : f[k].substr(eq + 1)});
+            }
+            return true;
+        }
+        if (kind == "pass") {
+            uint32_t expected = records_ ? dump_.passes + 1 : 1;
+            if (f.size() != 2 || f[1] != std::to_string(expected))
+                Fail("expected 'pass " + std::to_string(expected) +
+                     "': passes are numbered 1, 2, ... in order, pass 1 before any record");
+            dump_.passes = expected;
+            records_ = true;
+            return true;
+        }
+        if (kind == "unlink") {
+            if (f.size() != 3)
+                Fail("expected 'unlink X Y', two elements");
+            dump_.unlinks.push_back({Element(f[1]), Element(f[2]), line_});
+            records_ = true;
+            return true;
+        }
+        if (kind != "decide")
+            return false;
+        const char *usage = "expected 'decide X Y ACTION', ACTION accept, split Z, forced "
+                            "min_area, forced max_depth or cull";
+        if (f.size() < 4)
+            Fail(usage);
+        DumpDecision d{Element(f[1]), Element(f[2]), DumpAction::Accept,
+                       false,         dump_.passes,  line_};
+        const std::string &a = f[3];
+        size_t want = 4;
+        if (a == "accept")
+            d.action = DumpAction::Accept;
+        else if (a == "cull")
+            d.action = DumpAction::Cull;
+        else if (a == "forced" && f.size() == 5 && (f[4] == "min_area" || f[4] == "max_depth")) {
+            d.action = f[4] == "min_area" ? DumpAction::ForcedMinArea : DumpAction::ForcedMaxDepth;
+            want = 5;
+        } else if (a == "split" && f.size() == 5) {
+            if (f[4] != f[1] && f[4] != f[2])
+                Fail("decide: the split element '" + f[4] + "' is neither " + f[1] + " nor " +
+                     f[2]);
+            d.action = DumpAction::Split;
+            d.splitI = f[4] == f[1];
+            want = 5;
+        } else {
+            Fail(usage);
+        }
+        if (f.size() != want)
+            Fail(usage);
+        dump_.decisions.push_back(d);
+        records_ = true;
+        return true;
+    }
+
     DumpElement Element(const std::string &token) {
         size_t slash = token.find('/');
         std::string root = token.substr(0, slash);
@@ -79,16 +150,19 @@ class DumpReader {
             Fail("a second counters line (the first is line " + std::to_string(dump_.countersLine) +
                  ")");
         dump_.countersLine = line_;
-        const auto &names = DumpCounterNames();
+        const auto &names = DumpCounterNames(dump_.version);
         for (size_t k = 1; k < fields.size(); ++k) {
             size_t eq = fields[k].find('=');
             std::string key = fields[k].substr(0, eq), value;
             if (eq != std::string::npos)
                 value = fields[k].substr(eq + 1);
-            if (std::find(names.begin(), names.end(), key) == names.end())
-                Fail("unknown counter '" + key +
-                     "' (the counters line takes links, "
-                     "oracle_calls, nodes, forced_links, max_depth as NAME=VALUE)");
+            if (std::find(names.begin(), names.end(), key) == names.end()) {
+                std::string list;
+                for (const auto &n : names)
+                    list += (list.empty() ? "" : ", ") + n;
+                Fail("unknown counter '" + key + "' (the counters line takes " + list +
+                     " as NAME=VALUE)");
+            }
             // Digits only (std::from_chars alone would take a sign or leave a tail), then
             // any value a counter can hold, up to 2^64 - 1.
             uint64_t number = 0;
@@ -112,6 +186,7 @@ class DumpReader {
     size_t numPatches_;
     LinkDump &dump_;
     size_t line_ = 0;
+    bool records_ = false;             // a link, unlink, decide or pass record came
     std::vector<std::string> fields_;  // of the current line, reused
 };
 
@@ -132,10 +207,13 @@ std::string LinkDump::Name(const DumpElement &e) const {
     return e.depth == 0 ? root : root + "/" + digits.substr(e.offset, e.depth);
 }
 
-const std::vector<std::string> &DumpCounterNames() {
-    static const std::vector<std::string> names = {"links", "oracle_calls", "nodes", "forced_links",
-                                                   "max_depth"};
-    return names;
+const std::vector<std::string> &DumpCounterNames(int version) {
+    static const std::vector<std::string> names1 = {"links", "oracle_calls", "nodes",
+                                                    "forced_links", "max_depth"};
+    static const std::vector<std::string> names2 = {
+        "links",     "oracle_calls",       "nodes", "forced_links",
+        "max_depth", "total_oracle_calls", "passes"};
+    return version >= 2 ? names2 : names1;
 }
 
 LinkDump ReadLinkDump(std::istream &in, const std::string &name, int arity, size_t numPatches) {
@@ -151,7 +229,9 @@ LinkDump ReadLinkDump(std::istream &in, const std::string &name, int arity, size
         if (line == 1) {
             if (text.find_last_not_of(" \t") != std::string::npos)
                 text.erase(text.find_last_not_of(" \t") + 1);
-            if (text != probe::kDumpHeader)
+            if (text == probe::kDumpHeader2)
+                dump.version = 2;
+            else if (text != probe::kDumpHeader)
                 reader.Fail(std::string("not a link dump: the first line must be '") +
                             probe::kDumpHeader + "'");
             continue;

@@ -8,8 +8,8 @@
 
 namespace hrbench {
 
-static void ValidateMaterial(const Material &m, const std::string &name) {
-    if (!(m.reflectance >= 0 && m.reflectance < 1))
+static void ValidateMaterial(const Material &m, const std::string &name, bool reflectance) {
+    if (reflectance && !(m.reflectance >= 0 && m.reflectance < 1))
         throw InputError(name + " has reflectance outside [0, 1)");
     if (!(m.emission >= 0) || !std::isfinite(m.emission))
         throw InputError(name + " has emission that is negative or not finite");
@@ -19,9 +19,9 @@ static void ValidateMaterial(const Material &m, const std::string &name) {
                 throw InputError(name + " has a colour component outside [0, 1]");
 }
 
-void ValidateScene(const Scene &scene) {
+void ValidateScene(const Scene &scene, bool reflectance) {
     std::visit(
-        [](const auto &patches) {
+        [&](const auto &patches) {
             if (patches.empty())
                 throw InputError("scene has no patches");
             for (size_t k = 0; k < patches.size(); ++k) {
@@ -29,7 +29,7 @@ void ValidateScene(const Scene &scene) {
                 std::string problem = patches[k].shape.Problem();
                 if (!problem.empty())
                     throw InputError(name + " " + problem);
-                ValidateMaterial(patches[k].material, name);
+                ValidateMaterial(patches[k].material, name, reflectance);
             }
         },
         scene.patches);

@@ -148,7 +148,7 @@ std::optional<Rgb> Colour(const json &patch, const std::string &where) {
 
 }  // namespace
 
-Scene SceneFromJson(const std::string &text, const std::string &source) {
+Scene SceneFromJson(const std::string &text, const std::string &source, bool reflectance) {
     json doc = ParseStrict(text, source);
     if (!doc.is_object())
         throw InputError(source + ": not an hrbench scene (the document is not an object)");
@@ -204,15 +204,15 @@ Scene SceneFromJson(const std::string &text, const std::string &source) {
                 {{Point(p, "a", where), Point(p, "b", where)}, material});
     }
     try {
-        ValidateScene(scene);
+        ValidateScene(scene, reflectance);
     } catch (const InputError &e) {
         throw InputError(source + ": " + e.what());
     }
     return scene;
 }
 
-Scene LoadScene(const std::string &path, size_t maxBytes) {
-    Scene scene = SceneFromJson(ReadInputFile(path, "scene file", maxBytes), path);
+Scene LoadScene(const std::string &path, size_t maxBytes, bool reflectance) {
+    Scene scene = SceneFromJson(ReadInputFile(path, "scene file", maxBytes), path, reflectance);
     scene.file = path;
     return scene;
 }

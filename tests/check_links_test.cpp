@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <set>
@@ -11,10 +12,13 @@
 
 #include <sys/stat.h>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_helpers.h"
 #include "hrbench/generators/generators.h"
 #include "hrbench/hrbench.h"
 #include "hrbench/probe.h"
+#include "hrbench/scene_io.h"
 
 using namespace hrbench_test;
 
@@ -342,4 +346,317 @@ TEST_CASE("check-links on a small dump ends quickly however large the scene's re
                "first.dump: missing link: nothing covers the element pair 0 3001 of patches 0 "
                "and 3001");
     CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(8));
+}
+
+// ---------------------------------------------------------------------------------------
+// Version 2: a kernel judged on its own conventions and decisions
+
+namespace {
+
+// A small kernel of its own, on 2D segments, with conventions unlike hrbench's: a link
+// per direction (receiver, source), ties split the second patch's element, element
+// pairs whose centres face away culled, its own oracle (max(A_r, A_s) <= eps * distance
+// of the centres), and two passes: refine at eps 1, then re-evaluate every link at
+// eps 0.5, unlinking and refining the refused ones.
+class TwoPassKernel {
+  public:
+    struct Seg {
+        double ax, ay, bx, by;
+        double nx, ny;  // the root's front normal: (b - a) turned +90 degrees
+        hrbench::probe::ElementPath path;
+        double Size2() const {
+            double dx = bx - ax, dy = by - ay;
+            return dx * dx + dy * dy;
+        }
+        double Cx() const { return 0.5 * (ax + bx); }
+        double Cy() const { return 0.5 * (ay + by); }
+        Seg Child(int c) const {
+            double mx = 0.5 * (ax + bx), my = 0.5 * (ay + by);
+            return c == 0 ? Seg{ax, ay, mx, my, nx, ny, path.Child(0)}
+                          : Seg{mx, my, bx, by, nx, ny, path.Child(1)};
+        }
+    };
+
+    TwoPassKernel(std::ostream &out, std::vector<Seg> roots)
+        : probe_(&out, "links=directed tie=second cull=elements oracle=own"),
+          roots_(std::move(roots)) {
+        for (size_t k = 0; k < roots_.size(); ++k)
+            Created(roots_[k].path);
+    }
+
+    void Run() {
+        for (size_t r = 0; r < roots_.size(); ++r)
+            for (size_t s = 0; s < roots_.size(); ++s)
+                if (r != s)
+                    Call(roots_[r], roots_[s], 1.0, false);
+        probe_.Pass();
+        std::vector<std::pair<Seg, Seg>> live = std::move(links_);
+        links_.clear();
+        for (const auto &[r, s] : live)
+            Call(r, s, 0.5, true);
+        probe_.Finish();
+    }
+
+  private:
+    static bool Faces(const Seg &from, const Seg &to) {
+        return from.nx * (to.Cx() - from.Cx()) + from.ny * (to.Cy() - from.Cy()) > 0;
+    }
+    void Created(const hrbench::probe::ElementPath &path) {
+        if (created_.insert(path.ToString()).second)
+            probe_.ElementCreated(path.Depth());
+    }
+    // One call on receiver _r_ and source _s_; _live_ when (r, s) is a link of an
+    // earlier pass.
+    void Call(const Seg &r, const Seg &s, double eps, bool live) {
+        if (!Faces(r, s) || !Faces(s, r))
+            return probe_.Cull(r.path, s.path);
+        double dx = r.Cx() - s.Cx(), dy = r.Cy() - s.Cy();
+        double a = std::sqrt(std::max(r.Size2(), s.Size2()));
+        if (a <= eps * std::sqrt(dx * dx + dy * dy)) {
+            links_.push_back({r, s});
+            return probe_.Accept(r.path, s.path, !live);
+        }
+        if (live)
+            probe_.Unlink(r.path, s.path);
+        // The larger element; a tie splits the element of the patch later in the scene.
+        bool splitR =
+            r.Size2() > s.Size2() || (r.Size2() == s.Size2() && r.path.root > s.path.root);
+        const Seg &split = splitR ? r : s;
+        probe_.Split(r.path, s.path, split.path);
+        for (int c = 0; c < 2; ++c) {
+            Seg child = split.Child(c);
+            Created(child.path);
+            if (splitR)
+                Call(child, s, eps, false);
+            else
+                Call(r, child, eps, false);
+        }
+    }
+
+    hrbench::probe::Probe probe_;
+    std::vector<Seg> roots_;
+    std::vector<std::pair<Seg, Seg>> links_;
+    std::set<std::string> created_;
+};
+
+// P: (0,0) -> (3,0), facing +y; Q: (1,2) -> (1,0.5), facing +x. P's left part lies
+// behind Q's line, so the kernel culls element pairs there.
+const char *kTeeScene =
+    R"({"format": "hrbench-scene", "schema_version": 1, "dimension": 2, "patches": [
+        {"a": [0, 0], "b": [3, 0], "reflectance": 1.0},
+        {"a": [1, 2], "b": [1, 0.5], "reflectance": 1.0}]})";
+
+std::string TeeDump() {
+    using Seg = TwoPassKernel::Seg;
+    std::ostringstream out;
+    TwoPassKernel kernel(out, {Seg{0, 0, 3, 0, 0, 1, hrbench::probe::ElementPath::Root(0)},
+                               Seg{1, 2, 1, 0.5, 1.5, 0, hrbench::probe::ElementPath::Root(1)}});
+    kernel.Run();
+    return out.str();
+}
+
+// The category ids of a check-links --json answer.
+std::set<std::string> JsonCategories(const std::string &out) {
+    std::set<std::string> ids;
+    nlohmann::json j = nlohmann::json::parse(out);
+    for (const auto &c : j["categories"])
+        ids.insert(c["category"].get<std::string>());
+    return ids;
+}
+
+// The decisions of `parallel l=1 d=1 --eps 0.5` (docs/conventions.md's worked example),
+// hrbench's conventions: P split (a tie, the first), then Q in each half.
+const std::string kDecided = "hrbench-link-dump 2\n"
+                             "decide 0 1 split 0\n"
+                             "decide 0/0 1 split 1\n"
+                             "decide 0/0 1/0 accept\n0/0 1/0\n"
+                             "decide 0/0 1/1 accept\n0/0 1/1\n"
+                             "decide 0/1 1 split 1\n"
+                             "decide 0/1 1/0 accept\n0/1 1/0\n"
+                             "decide 0/1 1/1 accept\n0/1 1/1\n";
+
+}  // namespace
+
+TEST_CASE("check-links passes a two-pass kernel with its own conventions", "[check-links]") {
+    std::string text = TeeDump();
+    INFO(text);
+    // Both directions refined, culled element pairs, pass 2 unlinking and refining.
+    CHECK(text.rfind("hrbench-link-dump 2\nconventions links=directed", 0) == 0);
+    CHECK(text.find("decide 1 0 ") != std::string::npos);
+    CHECK(text.find(" cull\n") != std::string::npos);
+    CHECK(text.find("pass 2\n") != std::string::npos);
+    CHECK(text.find("unlink ") != std::string::npos);
+    std::string scene = WriteScratch("tee.json", kTeeScene);
+    std::string dump = WriteScratch("tee.dump", text);
+    // Reflectance 1.0, which no oracle reads: check-links takes the scene.
+    CliResult r = Cli("check-links --scene-file " + scene + " --eps 0.5 --links " + dump);
+    INFO(r.err);
+    CHECK(r.exitCode == 0);
+    CHECK_THAT(r.out, Catch::Contains("each direction, exactly"));
+    CHECK_THAT(r.out, Catch::Contains("the kernel's own oracle"));
+    CHECK(Cli("run --scene-file " + scene + " --eps 0.5").exitCode == 2);
+    // The kernel's counters agree with the record; a wrong one is a counter mismatch.
+    hrbench::Scene tee = hrbench::SceneFromJson(kTeeScene, "tee", false);
+    hrbench::RefineOptions options;
+    options.eps = 0.5;
+    hrbench::LinkDump parsed = Parse(text, 2, 2);
+    hrbench::LinkCheck check = hrbench::CheckLinks(tee, options, parsed);
+    CHECK(check.passes == 2);
+    CHECK_FALSE(check.engineCompared);
+    CHECK(check.fromLinks.links + 0 > 0);
+    size_t at = text.find("total_oracle_calls=");
+    std::string wrong =
+        text.substr(0, at) + "total_oracle_calls=1" + text.substr(text.find(' ', at));
+    CliResult bad = Cli("check-links --scene-file " + scene + " --eps 0.5 --links " +
+                        WriteScratch("tee_wrong.dump", wrong) + " --json");
+    CHECK(bad.exitCode == hrbench::kExitViolation);
+    CHECK(JsonCategories(bad.out) == std::set<std::string>{"counter-mismatch"});
+    // The same links under hrbench's conventions are not where ProjectKernel links.
+    CHECK(Cli("check-links --scene-file " + scene + " --eps 0.5 --links " + dump +
+              " --conventions links=undirected")
+              .exitCode == 2);  // disagrees with the dump's line
+}
+
+TEST_CASE("check-links sums up every violation by category, in text and JSON", "[check-links]") {
+    // The decided dump passes, counted against hrbench's refinement.
+    std::string ok = WriteScratch("decided.dump", kDecided + "counters links=4 oracle_calls=7 "
+                                                             "nodes=6 total_oracle_calls=7 "
+                                                             "passes=1\n");
+    CliResult r = Cli(kSmall + ok);
+    INFO(r.err);
+    CHECK(r.exitCode == 0);
+    CHECK_THAT(r.out, Catch::Contains("total_oracle_calls"));
+
+    auto expect = [&](const std::string &name, const std::string &text, const std::string &id,
+                      const std::string &label) {
+        std::string path = WriteScratch(name, text);
+        CliResult summary = Cli(kSmall + path + " --summary");
+        INFO(summary.out << summary.err);
+        CHECK(summary.exitCode == hrbench::kExitViolation);
+        CHECK_THAT(summary.out, Catch::Contains(id + " (" + label + "): "));
+        CHECK_THAT(summary.err, Catch::Contains(label));
+        CliResult json = Cli(kSmall + path + " --json");
+        CHECK(json.exitCode == hrbench::kExitViolation);
+        CHECK(JsonCategories(json.out).count(id) == 1);
+        CHECK(nlohmann::json::parse(json.out)["ok"] == false);
+    };
+    auto without = [](std::string text, const std::string &line) {
+        return text.erase(text.find(line), line.size());
+    };
+    // The kernel decides to link 0/1 1/0, but no link line says so.
+    expect("d_missing.dump", without(kDecided, "0/1 1/0\n"), "missing-link", "missing link");
+    // A link on top of two.
+    expect("d_overlap.dump", kDecided + "0/1 1\n", "overlapping-link", "overlapping links");
+    // The kernel says it splits P, but its links keep P whole.
+    expect("d_split.dump",
+           "hrbench-link-dump 2\nconventions oracle=own\ndecide 0 1 split 0\n"
+           "decide 0 1/0 accept\n0 1/0\ndecide 0 1/1 accept\n0 1/1\n",
+           "split-mismatch", "split inconsistent with its decision");
+    // A link that the declared oracle, garmann, refuses: 0/0 against all of Q.
+    expect("d_refused.dump",
+           "hrbench-link-dump 2\nconventions oracle=garmann\ndecide 0 1 split 0\n"
+           "decide 0/0 1 accept\n0/0 1\n"
+           "decide 0/1 1 split 1\ndecide 0/1 1/0 accept\n0/1 1/0\n"
+           "decide 0/1 1/1 accept\n0/1 1/1\n",
+           "unacceptable-link", "unacceptable link");
+
+    // Several at once: each category counted, by root pair, the first line on stderr.
+    std::string many = WriteScratch("d_many.dump", without(kDecided, "0/1 1/0\n") + "0/0 1\n" +
+                                                       "counters links=9\n");
+    CliResult all = Cli(kSmall + many + " --json");
+    CHECK(all.exitCode == hrbench::kExitViolation);
+    auto j = nlohmann::json::parse(all.out);
+    CHECK(j["violations"] == 2);
+    CHECK(JsonCategories(all.out) == std::set<std::string>{"overlapping-link", "counter-mismatch"});
+    CHECK(j["root_pairs"][0]["pair"] == nlohmann::json({0, 1}));
+    CHECK(j["root_pairs"][0]["count"] == 1);
+    CHECK_THAT(all.err, Catch::Contains("the first of 2 violations"));
+}
+
+TEST_CASE("version 2 dumps: the probe's records and malformed ones", "[check-links]") {
+    using namespace hrbench::probe;
+    std::ostringstream dump;
+    Probe probe(&dump, "split=recorded");
+    ElementPath p = ElementPath::Root(0), q = ElementPath::Root(1);
+    probe.Split(p, q, q);
+    probe.Accept(p, q.Child(0));
+    probe.Forced(p, q.Child(1), Limit::MaxDepth);
+    probe.Pass();
+    probe.Unlink(p, q.Child(1), true);
+    probe.Cull(p, q.Child(1));
+    probe.Finish();
+    CHECK(dump.str() == "hrbench-link-dump 2\nconventions split=recorded\n"
+                        "decide 0 1 split 1\ndecide 0 1/0 accept\n0 1/0\n"
+                        "decide 0 1/1 forced max_depth\n0 1/1\npass 2\nunlink 0 1/1\n"
+                        "decide 0 1/1 cull\ncounters links=1 oracle_calls=0 "
+                        "total_oracle_calls=3 passes=2 nodes=0 forced_links=0 max_depth=0\n");
+    std::ostringstream other;
+    Probe v1(&other);
+    CHECK_THROWS_AS(v1.Pass(), std::logic_error);
+
+    hrbench::LinkDump d = Parse(dump.str());
+    CHECK(d.version == 2);
+    CHECK(d.decisions.size() == 4);
+    CHECK(d.unlinks.size() == 1);
+    CHECK(d.passes == 2);
+    CHECK_THROWS_WITH(Parse("hrbench-link-dump 2\n0 1\npass 3\n"),
+                      Catch::Contains("d:3: expected 'pass 2'"));
+    CHECK_THROWS_WITH(Parse("hrbench-link-dump 2\n0 1\nconventions tie=second\n"),
+                      Catch::Contains("d:3: the conventions line must come before"));
+    CHECK_THROWS_WITH(Parse("hrbench-link-dump 2\ndecide 0 1 split 0/1\n"),
+                      Catch::Contains("neither 0 nor 1"));
+    // Version 1 knows no such records.
+    CHECK_THROWS_WITH(Parse("hrbench-link-dump 1\npass 2\n"),
+                      Catch::Contains("d:2: bad element 'pass'"));
+    std::string path = WriteScratch("conv.dump", "hrbench-link-dump 2\nconventions tie=sideways\n");
+    CheckError(kSmall + path, 2, "convention tie=sideways: the values are first, second");
+    path = WriteScratch("conv2.dump", "hrbench-link-dump 2\nconventions oracle=hanrahan\n");
+    CheckError(kSmall + path + " --oracle garmann", 2, "disagrees with the dump's oracle=hanrahan");
+}
+
+TEST_CASE("check-links judges a version 1 dump under conventions given on the command line",
+          "[check-links]") {
+    // Q split first, where hrbench's tie splits P: off the subdivision under hrbench's
+    // rules, consistent when the kernel's split is taken as it is and its oracle its own.
+    std::string path = WriteScratch("q_first2.dump", kHeader + "0 1/0\n0 1/1\n");
+    CheckError(kSmall + path, hrbench::kExitViolation, "link off the subdivision");
+    CHECK(Cli(kSmall + path + " --conventions split=recorded,oracle=own").exitCode == 0);
+    CheckError(kSmall + path + " --conventions split=recorded", hrbench::kExitViolation,
+               "unacceptable link: 0 1/0 is refused by the oracle garmann");
+    // garmann accepts P and Q at eps 1 exactly (max(A) = r = 1): with accept=lt the pair
+    // is on the boundary and may be split, with hrbench's <= it must be linked.
+    path = WriteScratch("halves.dump", kHeader + "0/0 1\n0/1 1\n");
+    std::string eps1 = "check-links parallel l=1 d=1 --eps 1 --links " + path;
+    CheckError(eps1, hrbench::kExitViolation, "lies below the pair 0 1, which the oracle garmann");
+    CliResult lt = Cli(eps1 + " --conventions accept=lt --json");
+    INFO(lt.err);
+    CHECK(lt.exitCode == 0);
+    nlohmann::json j = nlohmann::json::parse(lt.out);
+    CHECK(j["ok"] == true);
+    CHECK(j["conventions"]["accept"] == "lt");
+    CHECK(j["counters"]["dump"]["oracle_calls"] == 3);
+    CHECK(j["counters"]["hrbench"] == nullptr);  // hrbench's rules differ
+    CheckError(eps1 + " --conventions accept=maybe", 2, "convention accept=maybe");
+    // Directed links judged by garmann: each direction tiled on its own, receiver first.
+    std::string both = "hrbench-link-dump 2\nconventions links=directed\n" + kQuarters +
+                       "1/0 0/0\n1/1 0/0\n1/0 0/1\n1/1 0/1\ncounters links=8 oracle_calls=14\n";
+    CliResult directed = Cli(kSmall + WriteScratch("directed.dump", both));
+    INFO(directed.err);
+    CHECK(directed.exitCode == 0);
+    std::string one = "hrbench-link-dump 2\nconventions links=directed\n" + kQuarters;
+    CheckError(kSmall + WriteScratch("one_way.dump", one), hrbench::kExitViolation,
+               "missing link: nothing covers the element pair 1 0 of patches 1 and 0");
+
+    // Plates back to back: culled under hrbench's rules, refined with cull=none.
+    std::string scene = WriteScratch(
+        "back.json", R"({"format": "hrbench-scene", "schema_version": 1, "dimension": 2,
+        "patches": [{"a": [0, 0], "b": [1, 0]}, {"a": [1, -1], "b": [0, -1]}]})");
+    std::string back = "check-links --scene-file " + scene + " --eps 1 --links ";
+    path = WriteScratch("back.dump", kHeader + "0 1\n");
+    CheckError(back + path, hrbench::kExitViolation, "link between a culled pair: 0 1");
+    CHECK(Cli(back + path + " --conventions cull=none,oracle=own").exitCode == 0);
+    CheckError(back + WriteScratch("back_none.dump", kHeader) + " --conventions cull=none",
+               hrbench::kExitViolation, "missing link: nothing covers the element pair 0 1");
+    CheckError(eps1 + " --conventions links=directed", 2,
+               "links=directed needs a dump of version 2");
 }

@@ -22,17 +22,36 @@ struct DumpElement {
     size_t offset;
 };
 
-// One link line of a dump, its elements ordered so that i.root < j.root where they
-// differ (a kernel may write either order).
+// One link line of a dump (or an unlink record), its elements as written; check-links
+// orders them so that i.root < j.root for undirected links (a kernel may write either
+// order) and keeps receiver, source for directed ones.
 struct DumpLink {
     DumpElement i, j;
     size_t line;  // 1-based line number in the dump
 };
 
+// What a kernel did in one ProjectKernel call (version 2, "decide X Y ACTION").
+enum class DumpAction : uint8_t { Accept, Split, ForcedMinArea, ForcedMaxDepth, Cull };
+
+struct DumpDecision {
+    DumpElement i, j;
+    DumpAction action;
+    bool splitI;    // with Split: the element split is i (else j)
+    uint32_t pass;  // 1-based
+    size_t line;
+};
+
 struct LinkDump {
-    std::string name;    // the file, for messages
-    std::string digits;  // child digits of every element, back to back
-    std::vector<DumpLink> links;
+    std::string name;  // the file, for messages
+    int version = 1;
+    std::string digits;             // child digits of every element, back to back
+    std::vector<DumpLink> links;    // every link line, in dump order
+    std::vector<DumpLink> unlinks;  // every unlink record, in dump order
+    std::vector<DumpDecision> decisions;
+    uint32_t passes = 1;
+    // The conventions line's tokens (KEY=VALUE, or a set name with an empty value).
+    std::vector<std::pair<std::string, std::string>> conventions;
+    size_t conventionsLine = 0;
     // The kernel's own counters from the counters line, by name, in the line's order.
     std::vector<std::pair<std::string, uint64_t>> counters;
     size_t countersLine = 0;  // its line number, 0 when the dump has none
@@ -42,8 +61,8 @@ struct LinkDump {
     std::string Name(const DumpElement &e) const;
 };
 
-// The names the counters line may use.
-const std::vector<std::string> &DumpCounterNames();
+// The names the counters line of a dump of _version_ may use.
+const std::vector<std::string> &DumpCounterNames(int version = 1);
 
 // Reads a dump for a scene of _numPatches_ patches and a subdivision of _arity_ children.
 // Throws InputError "NAME:LINE: ..." for the first malformed line (bad header, token,

@@ -81,8 +81,9 @@ struct Scene {
 };
 
 // Checks what refinement relies on: at least one patch, every shape valid (see each
-// shape's Problem()), materials in range. Throws InputError naming the patch.
-void ValidateScene(const Scene &scene);
+// shape's Problem()), materials in range (reflectance only with _reflectance_: no
+// oracle reads it, and check-links takes any). Throws InputError naming the patch.
+void ValidateScene(const Scene &scene, bool reflectance = true);
 
 // The canonical text of the scene's geometry (docs/scene-format.md#scene-digest): one line
 // per root patch in scene order, its corners' coordinates (2D: a then b; 3D: every vertex

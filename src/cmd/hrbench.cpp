@@ -32,7 +32,7 @@ Scene SceneOf(const Options &o) {
     if (!o.mesh.empty())
         return LoadMesh(o.mesh, o.maxInputBytes, {o.triangulate, o.scale.value_or(1)});
     if (!o.sceneFile.empty())
-        return LoadScene(o.sceneFile, o.maxInputBytes);
+        return LoadScene(o.sceneFile, o.maxInputBytes, o.command != "check-links");
     return MakeScene(o.scene, ParseParams(o.params));
 }
 
@@ -79,7 +79,21 @@ int CheckLinksCommand(const Scene &scene, const Options &o) {
     std::istringstream text(ReadRegularFile(o.linksFile, "link dump", o.maxInputBytes));
     LinkDump dump =
         ReadLinkDump(text, o.linksFile, SubdivisionArity(o.refine.subdivision), scene.NumPatches());
-    PrintLinkCheck(CheckLinks(scene, o.refine, dump), dump, o.refine, std::cout);
+    CheckLinksOptions extra{o.linkConventions, o.oracleGiven, o.ffEstimateGiven};
+    try {
+        LinkCheck check = CheckLinks(scene, o.refine, dump, extra);
+        if (o.json)
+            std::cout << LinkCheckJson(dump, nullptr, &check) << "\n";
+        else
+            PrintLinkCheck(check, dump, o.refine, std::cout);
+    } catch (const LinkViolation &v) {
+        // The summary on stdout when asked; the first violation, one line, on stderr.
+        if (v.summary && o.json)
+            std::cout << LinkCheckJson(dump, v.summary.get(), v.check.get()) << "\n";
+        else if (v.summary && o.linkSummary)
+            PrintLinkSummary(*v.summary, std::cout);
+        throw;
+    }
     return kExitOk;
 }
 

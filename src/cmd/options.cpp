@@ -215,7 +215,7 @@ const std::vector<OptionSpec> &OptionTable() {
          "--json",
          "",
          {},
-         {"run", "capabilities", "solve"},
+         {"run", "capabilities", "solve", "check-links"},
          "print one JSON object instead of a table",
          [](Options &o, S) { o.json = true; }},
         {"scene_file",
@@ -305,6 +305,21 @@ const std::vector<OptionSpec> &OptionTable() {
          {"check-links", "dump-paths"},
          "the link dump to check (docs/probe.md) or to convert",
          [](Options &o, S v) { o.linksFile = v; }},
+        {"conventions",
+         "--conventions",
+         "C",
+         {},
+         {"check-links"},
+         "the kernel's conventions: hrbench or KEY=VALUE,... (docs/probe.md);\na key the dump's "
+         "conventions line also gives must agree",
+         [](Options &o, S v) { o.linkConventions = v; }},
+        {"summary",
+         "--summary",
+         "",
+         {},
+         {"check-links"},
+         "list every violation by category and root pair on stdout",
+         [](Options &o, S) { o.linkSummary = true; }},
         {"tolerance",
          "--tolerance",
          "T",
@@ -489,6 +504,8 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
                          FormatDouble(*o.tolerance));
     if (o.command == "solve" && o.tolerance)
         o.solve.tolerance = *o.tolerance;
+    o.oracleGiven = seen.count("--oracle");
+    o.ffEstimateGiven = seen.count("--ff-estimate");
     if (o.command == "capabilities" && !o.json)
         throw InputError("capabilities prints JSON only; add --json");
     o.refine.eps = o.eps.value_or(0);

@@ -24,9 +24,12 @@ struct Options {
     bool triangulate = false;     // --triangulate (mesh only)
     std::optional<double> scale;  // --scale (mesh only)
     std::string out;
-    std::string linksFormat = "csv";  // links --format: csv or probe
-    std::string linksFile;            // check-links, dump-paths --links: the dump to read
-    std::optional<double> tolerance;  // --tolerance as given (solve, dump-paths)
+    std::string linksFormat = "csv";                    // links --format: csv or probe
+    std::string linksFile;                              // check-links, dump-paths --links
+    std::optional<double> tolerance;                    // --tolerance as given (solve, dump-paths)
+    std::string linkConventions;                        // check-links --conventions
+    bool linkSummary = false;                           // check-links --summary
+    bool oracleGiven = false, ffEstimateGiven = false;  // --oracle, --ff-estimate given
     std::optional<double> eps;
     RefineOptions refine;
     // --visibility as given. Without it, refine.visibility is the papers' none, except for
