@@ -159,9 +159,9 @@ fuzz: build-fuzz
 fuzz-smoke: build-fuzz
 	@FUZZ_FLAGS=-seed=1 bash fuzz/run.sh $(FUZZ_SMOKE_SECONDS) $(FUZZ_HARNESSES)
 
-# Formatting and lint: clang-format (.clang-format) on the C++ sources, ruff
-# (pyproject.toml) on the Python. `make format` rewrites the C++ in place.
-CXX_SOURCES = git ls-files --cached --others --exclude-standard '*.cpp' '*.h'
+# Formatting and lint: clang-format (.clang-format) on the C++ and C sources, ruff
+# (pyproject.toml) on the Python. `make format` rewrites the C++ and C in place.
+CXX_SOURCES = git ls-files --cached --others --exclude-standard '*.cpp' '*.h' '*.c'
 lint: setup
 	@$(CXX_SOURCES) | xargs clang-format --dry-run --Werror
 	@.venv/bin/ruff check analysis tools tests examples

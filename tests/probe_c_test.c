@@ -14,12 +14,12 @@
 #include <hrbench/probe_c.h>
 
 static int failures = 0;
-#define CHECK(cond)                                                                    \
-    do {                                                                               \
-        if (!(cond)) {                                                                 \
-            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
-            ++failures;                                                                \
-        }                                                                              \
+#define CHECK(cond)                                                                                \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond);               \
+            ++failures;                                                                            \
+        }                                                                                          \
     } while (0)
 
 /* One probe call of the recorded refinement. */
@@ -102,10 +102,18 @@ static void replay(hrbench_probe *probe, const events *list, size_t offset, size
     for (k = offset; k < list->n; k += stride) {
         const event *e = &list->e[k];
         switch (e->kind) {
-        case CREATED: hrbench_probe_element_created(probe, e->value); break;
-        case ACCEPT: hrbench_probe_accept(probe, &e->i, &e->j); break;
-        case SPLIT: hrbench_probe_split(probe, &e->i, &e->j, e->value ? &e->j : &e->i); break;
-        case UNLINK: hrbench_probe_unlink(probe, &e->i, &e->j, 0); break;
+        case CREATED:
+            hrbench_probe_element_created(probe, e->value);
+            break;
+        case ACCEPT:
+            hrbench_probe_accept(probe, &e->i, &e->j);
+            break;
+        case SPLIT:
+            hrbench_probe_split(probe, &e->i, &e->j, e->value ? &e->j : &e->i);
+            break;
+        case UNLINK:
+            hrbench_probe_unlink(probe, &e->i, &e->j, 0);
+            break;
         }
     }
 }
@@ -171,7 +179,8 @@ static hrbench_probe_counters record(FILE *f, const events passes[2], int thread
         }
         for (t = 0; t < threads; ++t) {
             hrbench_probe_part(&jobs[t].part, &probe);
-            jobs[t].list = &passes[pass], jobs[t].offset = (size_t)t, jobs[t].stride = (size_t)threads;
+            jobs[t].list = &passes[pass], jobs[t].offset = (size_t)t,
+            jobs[t].stride = (size_t)threads;
             CHECK(pthread_create(&ids[t], NULL, run_job, &jobs[t]) == 0);
         }
         for (t = 0; t < threads; ++t) {

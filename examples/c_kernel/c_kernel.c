@@ -23,9 +23,9 @@
 #define SAFETY_DEPTH 48
 
 typedef struct {
-    double ax, ay, bx, by;  /* the segment a -> b */
-    uint32_t parent;        /* the element itself for a root */
-    uint32_t first_child;   /* 0 until the element is split */
+    double ax, ay, bx, by; /* the segment a -> b */
+    uint32_t parent;       /* the element itself for a root */
+    uint32_t first_child;  /* 0 until the element is split */
     uint32_t root;
     int depth;
 } element;
@@ -40,7 +40,7 @@ typedef struct {
     link_rec *links; /* the links of pass 1, which pass 2 evaluates again */
     size_t nlinks, links_cap;
     int pass;
-    size_t unlinks; /* links of pass 1 that pass 2 removed */
+    size_t unlinks;  /* links of pass 1 that pass 2 removed */
     double *nx, *ny; /* the front normal of each root, b - a turned by +90 degrees */
     hrbench_probe *probe;
 } kernel;
@@ -58,8 +58,8 @@ static void *grow(void *p, size_t *cap, size_t size) {
     return p;
 }
 
-static uint32_t add_element(kernel *k, double ax, double ay, double bx, double by,
-                            uint32_t parent, uint32_t root, int depth) {
+static uint32_t add_element(kernel *k, double ax, double ay, double bx, double by, uint32_t parent,
+                            uint32_t root, int depth) {
     element *e;
     if (k->n == k->cap)
         k->e = grow(k->e, &k->cap, sizeof *k->e);
@@ -291,7 +291,8 @@ int main(int argc, char **argv) {
     k.pass = 1;
     for (r = 0; r < roots; ++r)
         for (s = 0; s < roots; ++s)
-            if (r != s && !behind(&k, (uint32_t)r, (uint32_t)s) && !behind(&k, (uint32_t)s, (uint32_t)r))
+            if (r != s && !behind(&k, (uint32_t)r, (uint32_t)s) &&
+                !behind(&k, (uint32_t)s, (uint32_t)r))
                 project(&k, (uint32_t)r, (uint32_t)s, 4 * eps);
     second_pass(&k, eps);
     if (hrbench_probe_finish(&probe) != 0 || (dump && fclose(dump) != 0))

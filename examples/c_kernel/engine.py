@@ -46,7 +46,8 @@ def number(text, what):
 def run(kernel, args):
     if not args or args[0] != "parallel":
         raise UsageError("run: the only scene is 'parallel'")
-    params, eps, oracle, as_json = {name: default for name, default, _ in PARAMS}, None, "garmann", False
+    params = {name: default for name, default, _ in PARAMS}
+    eps, oracle, as_json = None, "garmann", False
     words = iter(args[1:])
     for word in words:
         if word in ("--count-only", "--json"):
@@ -73,7 +74,8 @@ def run(kernel, args):
     if done.returncode != 0:
         sys.stderr.write(done.stderr)
         return done.returncode
-    counts = {name: int(value) for name, value in (line.split() for line in done.stdout.splitlines())}
+    counts = {name: int(value)
+              for name, value in (line.split() for line in done.stdout.splitlines())}
     record = {
         "schema_version": 1, "version": VERSION, "context": {"engine": NAME},
         "scene": "parallel", "params": params, "patches": 2, "dimension": 2, "eps": eps,

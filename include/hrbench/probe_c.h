@@ -195,9 +195,9 @@ static inline void hrbench_probe_split(hrbench_probe *probe, const hrbench_probe
 static inline void hrbench_probe_forced(hrbench_probe *probe, const hrbench_probe_path *i,
                                         const hrbench_probe_path *j, hrbench_probe_limit limit) {
     hrbench_probe_oracle_call(probe);
-    hrbench_probe_record_(probe, "decide", i, j,
-                          limit == HRBENCH_PROBE_MIN_AREA ? " forced min_area" : " forced max_depth",
-                          NULL);
+    hrbench_probe_record_(
+        probe, "decide", i, j,
+        limit == HRBENCH_PROBE_MIN_AREA ? " forced min_area" : " forced max_depth", NULL);
     hrbench_probe_link(probe, i, j, 1);
 }
 
@@ -219,8 +219,8 @@ static inline void hrbench_probe_unlink(hrbench_probe *probe, const hrbench_prob
 static inline void hrbench_probe_pass(hrbench_probe *probe) {
     ++probe->counters.passes;
     probe->counters.oracle_calls = 0;
-    if (probe->dump && fprintf(probe->dump, "pass %llu\n",
-                               (unsigned long long)probe->counters.passes) < 0)
+    if (probe->dump &&
+        fprintf(probe->dump, "pass %llu\n", (unsigned long long)probe->counters.passes) < 0)
         probe->failed = 1;
 }
 
