@@ -143,10 +143,14 @@ static void add_link(kernel *k, uint32_t receiver, uint32_t source) {
 
 static void project(kernel *k, uint32_t i, uint32_t j, double eps);
 
-/* Splits the larger of the refused pair (i <- j), a tie on the source, and refines the
- * children's pairs. */
+/* Whether a refused pair (i <- j) splits its source: the larger on A^2, ties the source. */
+static int splits_source(const kernel *k, uint32_t i, uint32_t j) {
+    return size2(&k->e[j]) >= size2(&k->e[i]);
+}
+
+/* Splits the element splits_source picks and refines the children's pairs. */
 static void split(kernel *k, uint32_t i, uint32_t j, double eps) {
-    int split_source = size2(&k->e[j]) >= size2(&k->e[i]);
+    int split_source = splits_source(k, i, j);
     uint32_t p = split_source ? j : i, c;
     if (k->e[p].depth == SAFETY_DEPTH)
         die(3, "the recursion reached the safety depth 48", NULL);
@@ -161,7 +165,7 @@ static int decide(kernel *k, uint32_t i, uint32_t j, double eps) {
     if (ok)
         hrbench_probe_accept(k->probe, &r, &s);
     else
-        hrbench_probe_split(k->probe, &r, &s, size2(&k->e[j]) >= size2(&k->e[i]) ? &s : &r);
+        hrbench_probe_split(k->probe, &r, &s, splits_source(k, i, j) ? &s : &r);
     return ok;
 }
 
