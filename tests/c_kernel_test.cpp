@@ -126,4 +126,13 @@ TEST_CASE("check-links accepts the C kernel's dumps on their conventions", "[c-k
     r = Cli("check-links parallel l=64 d=1 --eps 0.25 --links " + plates);
     INFO(r.err);
     CHECK(r.exitCode == 0);
+
+    // 30 segments, read from the scene file hrbench writes: element pairs are culled.
+    std::string scene = Scratch("ck_random.json"), random = Scratch("ck_random.dump");
+    REQUIRE(Cli("save random n=30 seed=3 --out " + scene).exitCode == 0);
+    RunCKernel("0.05 " + scene + " " + random);
+    CHECK(ReadFile(random).find(" cull\n") != std::string::npos);
+    r = Cli("check-links --scene-file " + scene + " --eps 0.05 --links " + random);
+    INFO(r.err);
+    CHECK(r.exitCode == 0);
 }

@@ -15,11 +15,18 @@ gcc -std=c99 -pedantic -Wall -Wextra -Werror -O2 -ffp-contract=off -Iinclude \
   examples/c_kernel/c_kernel.c -o "$scratch/c_kernel" -lm
 echo "examples: c_kernel built with gcc -std=c99 -pedantic (no C++ runtime)"
 
+# The plates (ties at every level), and a scene of 30 segments where element pairs are
+# culled, read from the JSON `hrbench save` writes.
 "$scratch/c_kernel" 0.25 parallel 64 1 "$scratch/plates.dump" >/dev/null
-"$build/hrbench" check-links parallel l=64 d=1 --eps 0.25 --links "$scratch/plates.dump" \
-  >"$scratch/check.txt" ||
-  { echo "examples: check-links rejected the C kernel's dump" >&2; exit 1; }
-echo "examples: check-links accepts the C kernel's dump: $(head -n 1 "$scratch/check.txt")"
+"$build/hrbench" save random n=30 seed=3 >"$scratch/random.json"
+"$scratch/c_kernel" 0.05 "$scratch/random.json" "$scratch/random.dump" >/dev/null
+for scene in "parallel l=64 d=1 --eps 0.25 --links $scratch/plates.dump" \
+  "--scene-file $scratch/random.json --eps 0.05 --links $scratch/random.dump"; do
+  # shellcheck disable=SC2086 # the words of a command line
+  "$build/hrbench" check-links $scene >"$scratch/check.txt" ||
+    { echo "examples: check-links rejected the C kernel's dump ($scene)" >&2; exit 1; }
+  echo "examples: check-links accepts the C kernel's dump: $(head -n 1 "$scratch/check.txt")"
+done
 
 "$python" -m hrbench_analysis.reproduce --quick --no-pictures \
   --engine "python3 examples/c_kernel/engine.py $scratch/c_kernel" \
