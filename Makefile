@@ -107,9 +107,12 @@ gates: setup
 
 # The example consumer project, built against the package installed from build/ and
 # with hrbench as a subproject, and the tiny kernel of examples/tiny_kernel, whose link
-# dump the installed `hrbench check-links` must accept (examples/build_consumer.sh).
+# dump the installed `hrbench check-links` must accept (examples/build_consumer.sh); then
+# the C kernel of examples/c_kernel, built with gcc -std=c99, its dump checked and claims
+# run on it through the engine contract (examples/c_kernel/check.sh).
 examples: build
 	@bash examples/build_consumer.sh build
+	@bash examples/c_kernel/check.sh build $(PYTHON)
 
 # The analysis as another project installs it: `pip install .` into a fresh venv, then,
 # from /, its import, its commands, and a reproduction on the external engine of
@@ -156,9 +159,9 @@ fuzz: build-fuzz
 fuzz-smoke: build-fuzz
 	@FUZZ_FLAGS=-seed=1 bash fuzz/run.sh $(FUZZ_SMOKE_SECONDS) $(FUZZ_HARNESSES)
 
-# Formatting and lint: clang-format (.clang-format) on the C++ sources, ruff
-# (pyproject.toml) on the Python. `make format` rewrites the C++ in place.
-CXX_SOURCES = git ls-files --cached --others --exclude-standard '*.cpp' '*.h'
+# Formatting and lint: clang-format (.clang-format) on the C++ and C sources, ruff
+# (pyproject.toml) on the Python. `make format` rewrites the C++ and C in place.
+CXX_SOURCES = git ls-files --cached --others --exclude-standard '*.cpp' '*.h' '*.c'
 lint: setup
 	@$(CXX_SOURCES) | xargs clang-format --dry-run --Werror
 	@.venv/bin/ruff check analysis tools tests examples

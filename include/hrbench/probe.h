@@ -68,6 +68,12 @@ inline void WriteCountersLine(std::ostream &out, const Counters &c) {
 }
 
 // Counts what a kernel reports and, given a stream, writes the link dump.
+//
+// Thread safety: a Probe is not thread safe (its counters are plain integers and a
+// record takes several stream operations), so two threads must never call one Probe at
+// the same time: a kernel that refines on several threads guards every call with a mutex
+// of its own. (The C probe, include/hrbench/probe_c.h, also offers a part per thread,
+// merged at the end; docs/probe-c.md.)
 class Probe {
   public:
     // _dump_ (may be null: count only) receives the header now, a line per link and
