@@ -270,7 +270,11 @@ def check_claims(claims, mode, capabilities):
     """
     errors, skipped = [], {}
     for c in claims:
-        message = resolve_oracle(c, capabilities)[1] or oracle_error(c, capabilities)
+        # A selector ("@default", "@kind=...") is checked as the oracle it names.
+        name, message = resolve_oracle(c, capabilities)
+        if message is None:
+            c = replace(c, oracle=name)
+            message = oracle_error(c, capabilities)
         if message is not None:
             errors.append(f"{c.path}:{c.line}: claim {c.id!r}: {message}")
             continue
