@@ -16,14 +16,7 @@ using namespace hrbench_test;
 namespace {
 
 std::string RunCKernel(const std::string &args) {
-    FILE *pipe = popen((std::string(HRBENCH_C_KERNEL) + " " + args).c_str(), "r");
-    REQUIRE(pipe);
-    std::string out;
-    char buffer[4096];
-    while (size_t n = fread(buffer, 1, sizeof buffer, pipe))
-        out.append(buffer, n);
-    REQUIRE(pclose(pipe) == 0);
-    return out;
+    return RunOk(std::string(HRBENCH_C_KERNEL) + " " + args);
 }
 
 // The links a dump ends with: link lines less the links its unlink lines remove, and the

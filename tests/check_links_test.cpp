@@ -48,14 +48,7 @@ std::multiset<std::string> LinkLines(const std::string &dump) {
 
 // Runs the tiny kernel on parallel plates l, d with _eps_; returns its standard output.
 std::string RunTinyKernel(const std::string &args) {
-    FILE *pipe = popen((std::string(HRBENCH_TINY_KERNEL) + " " + args).c_str(), "r");
-    REQUIRE(pipe);
-    std::string out;
-    char buffer[4096];
-    while (size_t n = fread(buffer, 1, sizeof buffer, pipe))
-        out.append(buffer, n);
-    REQUIRE(pclose(pipe) == 0);
-    return out;
+    return RunOk(std::string(HRBENCH_TINY_KERNEL) + " " + args);
 }
 
 hrbench::LinkDump Parse(const std::string &text, int arity = 2, size_t patches = 2) {

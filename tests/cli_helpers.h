@@ -37,12 +37,10 @@ inline std::string ReadFile(const std::string &path) {
     return text.str();
 }
 
-// Runs `hrbench ARGS` through the shell, after the shell commands _before_ (a ulimit, say),
-// and captures both streams and the exit code.
-inline CliResult Cli(const std::string &args, const std::string &before = "") {
+// Runs a shell command and captures both streams and the exit code.
+inline CliResult Run(const std::string &command) {
     std::string errPath = Scratch("stderr.txt");
-    std::string command = before + std::string(HRBENCH_CLI) + " " + args + " 2>" + errPath;
-    FILE *pipe = popen(command.c_str(), "r");
+    FILE *pipe = popen((command + " 2>" + errPath).c_str(), "r");
     REQUIRE(pipe);
     std::string out;
     char buffer[4096];
@@ -50,6 +48,20 @@ inline CliResult Cli(const std::string &args, const std::string &before = "") {
         out.append(buffer, n);
     int status = pclose(pipe);
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, ReadFile(errPath)};
+}
+
+// The standard output of a shell command that must succeed (an example kernel, say).
+inline std::string RunOk(const std::string &command) {
+    CliResult r = Run(command);
+    INFO(command << ": " << r.err);
+    REQUIRE(r.exitCode == 0);
+    return r.out;
+}
+
+// Runs `hrbench ARGS` through the shell, after the shell commands _before_ (a ulimit, say),
+// and captures both streams and the exit code.
+inline CliResult Cli(const std::string &args, const std::string &before = "") {
+    return Run(before + std::string(HRBENCH_CLI) + " " + args);
 }
 
 // An error is exactly one line on stderr and the given exit code.
