@@ -327,7 +327,7 @@ TEST_CASE("check-links on a small dump ends quickly however large the scene's re
     // parallel l=1000 at eps 1e-6 refines to 5.8e15 links (--method translation): the
     // dump is checked first, and its one link is refused at once.
     std::string path = WriteScratch("one.dump", kHeader + "0 1\n");
-    auto start = std::chrono::steady_clock::now();
+    [[maybe_unused]] auto start = std::chrono::steady_clock::now();
     CheckError("check-links parallel l=1000 d=1 --eps 1e-6 --links " + path,
                hrbench::kExitViolation,
                "one.dump:2: unacceptable link: 0 1 is refused by the oracle garmann (eps 1e-06)");
@@ -338,7 +338,12 @@ TEST_CASE("check-links on a small dump ends quickly however large the scene's re
     CheckError("check-links array k=3000 --eps 100 --links " + path, hrbench::kExitViolation,
                "first.dump: missing link: nothing covers the element pair 0 3001 of patches 0 "
                "and 3001");
+#ifndef __SANITIZE_ADDRESS__
+    // Every one of the 9 million pairs is visited to count its violation (0.5 s in a
+    // release build); the sanitizers make that some 30 times slower, so the bound that
+    // tells a scan from a refinement holds only without them.
     CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(8));
+#endif
 }
 
 // ---------------------------------------------------------------------------------------
