@@ -924,7 +924,10 @@ LinkCheck CheckLinks(const Scene &scene, const RefineOptions &given, const LinkD
     check.treeComplete = violations.Total() == 0;
     check.oracleCallsFromRecord = !resolved.decisions.empty();
     check.fromLinks.links = resolved.links.size();
-    for (const auto &[key, value] : dump.counters) {
+    // Named pairs, not structured bindings: C++17 lambdas cannot capture those.
+    for (const auto &counter : dump.counters) {
+        const std::string &key = counter.first;
+        uint64_t value = counter.second;
         std::optional<uint64_t> record = FromRecord(check, key);
         if (record && *record != value)
             violations.Add("counter-mismatch", dump.countersLine, false, 0, 0, [&] {
@@ -947,13 +950,16 @@ LinkCheck CheckLinks(const Scene &scene, const RefineOptions &given, const LinkD
             inRange.patches);
         check.engine = std::visit([&](auto &&r) { return std::move(r.record.counters); },
                                   Refine(inRange, counting));
-        for (const auto &[name, field] : ComparedCounters())
+        for (const auto &compared : ComparedCounters()) {
+            const std::string &name = compared.first;
+            uint64_t Counters::*field = compared.second;
             if (check.engine.*field != check.fromLinks.*field &&
                 FromRecord(check, name).has_value())
                 violations.Add("counter-mismatch", 0, false, 0, 0, [&] {
                     return "the links give " + name + " " + std::to_string(check.fromLinks.*field) +
                            ", hrbench's refinement " + std::to_string(check.engine.*field);
                 });
+        }
     }
     if (violations.Total()) {
         auto summary = std::make_shared<LinkSummary>(violations.Take());
