@@ -38,16 +38,21 @@ SAVE_TIMEOUT = 600
 
 def reference_engine(engine):
     """hrbench, to compare an engine's scenes with: ``build/hrbench`` under the current
-    directory, else ``hrbench`` on the ``PATH``; ``None`` when there is none, or when it
-    is `engine` itself (nothing to compare)."""
+    directory, else ``hrbench`` on the ``PATH``.
+
+    Returns
+    -------
+    reference : str or None
+        Its path; ``None`` when there is none.
+    same : bool
+        Whether `engine` is that hrbench itself: then there is nothing to compare.
+    """
     local = Path("build") / "hrbench"
     found = str(local) if local.exists() else shutil.which("hrbench")
     if found is None:
-        return None
+        return None, False
     words = engine_argv(engine)
-    if len(words) == 1 and os.path.realpath(words[0]) == os.path.realpath(found):
-        return None
-    return found
+    return found, len(words) == 1 and os.path.realpath(words[0]) == os.path.realpath(found)
 
 
 def _reported(points, store):

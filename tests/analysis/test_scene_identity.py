@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from hrbench_analysis.reproduce import main
+from hrbench_analysis.scene_identity import reference_engine
 
 HRBENCH = Path("build") / "hrbench"
 
@@ -77,3 +78,14 @@ def test_hrbench_reports_the_digest_in_run_solve_and_save():
                              text=True).stdout
         assert json.loads(out)["scene_sha256"] == digest
     assert digest == "08f184efc2701867f8585bb1ccb33c2ce1dadb3a79a7f8973ab01e357f36a6e4"
+
+
+def test_hrbench_itself_is_not_checked_against_itself(tmp_path, data_dir, capsys):
+    # The engine is build/hrbench: nothing to compare, and nothing to warn about.
+    assert reference_engine(str(HRBENCH)) == (str(HRBENCH), True)
+    assert reference_engine(["python3", "engine.py"]) == (str(HRBENCH), False)
+    code, out, err = run(["--claims", str(data_dir / "short_claim.toml"), "--hrbench",
+                          str(HRBENCH), "--results", str(tmp_path / "results"),
+                          "--no-pictures"], capsys)
+    assert code == 0, err
+    assert "scene_sha256" not in err
