@@ -1,5 +1,5 @@
 """Scene identity: an outside engine's scene_sha256 against hrbench's own
-(docs/engine-contract.md#scene-identity). hrbench is build/hrbench under the worktree."""
+(docs/engine-contract.md#scene-identity). hrbench is build/hrbench under the repository root."""
 
 import json
 import subprocess
