@@ -16,6 +16,7 @@
 #include "hrbench/refine.h"
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
+#include "hrbench/util/named.h"
 #include "reference_solve.h"
 #include "solve_internal.h"
 
@@ -349,13 +350,7 @@ const std::vector<SolveMethodInfo> &SolveMethods() {
 }
 
 SolveMethod ParseSolveMethod(const std::string &name) {
-    std::string names;
-    for (const SolveMethodInfo &m : SolveMethods()) {
-        if (m.name == name)
-            return m.method;
-        names += (names.empty() ? "" : ", ") + std::string(m.name);
-    }
-    throw InputError("unknown solve method '" + name + "' (choose one of: " + names + ")");
+    return FindNamed(SolveMethods(), name, "solve method").method;
 }
 
 std::string SolveMethodName(SolveMethod method) {

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "hrbench/util/error.h"
+#include "hrbench/util/named.h"
 
 namespace hrbench {
 
@@ -48,13 +49,7 @@ const FfEstimateInfo &FfEstimateInfoOf(FfEstimate estimate) {
 std::string FfEstimateName(FfEstimate estimate) { return FfEstimateInfoOf(estimate).name; }
 
 FfEstimate ParseFfEstimate(const std::string &name) {
-    std::string names;
-    for (const FfEstimateInfo &info : FfEstimates()) {
-        if (info.name == name)
-            return info.estimate;
-        names += (names.empty() ? "" : ", ") + std::string(info.name);
-    }
-    throw InputError("unknown form-factor estimate '" + name + "' (choose one of: " + names + ")");
+    return FindNamed(FfEstimates(), name, "form-factor estimate").estimate;
 }
 
 }  // namespace hrbench

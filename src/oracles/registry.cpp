@@ -1,6 +1,7 @@
 #include "hrbench/oracles/registry.h"
 
 #include "hrbench/util/error.h"
+#include "hrbench/util/named.h"
 
 namespace hrbench {
 
@@ -12,13 +13,7 @@ std::vector<OracleInfo> OracleInfos() {
 
 const OracleInfo &FindOracle(const std::string &name) {
     static const std::vector<OracleInfo> infos = OracleInfos();
-    std::string names;
-    for (const OracleInfo &info : infos) {
-        if (info.name == name)
-            return info;
-        names += (names.empty() ? "" : ", ") + std::string(info.name);
-    }
-    throw InputError("unknown oracle '" + name + "' (choose one of: " + names + ")");
+    return FindNamed(infos, name, "oracle");
 }
 
 std::vector<std::string> OraclesReading(const std::string &option) {
