@@ -281,6 +281,12 @@ class WindowSlopes:
     width: float
 
 
+def _slope(lx, ly):
+    # The least-squares slope of ly against lx (at least two distinct lx).
+    dx = lx - lx.mean()
+    return float(dx @ (ly - ly.mean()) / (dx @ dx))
+
+
 def window_slopes(x, y, width=1.0, step=0.1):
     """Fit the exponent over sliding windows of `width` decades of x.
 
@@ -310,8 +316,7 @@ def window_slopes(x, y, width=1.0, step=0.1):
         sel = (lx >= start - 1e-9) & (lx <= start + width + 1e-9)
         if sel.sum() >= 3 and np.unique(lx[sel]).size >= 2:
             sx, sy = lx[sel], ly[sel]
-            dx = sx - sx.mean()
-            slopes.append(float(dx @ (sy - sy.mean()) / (dx @ dx)))
+            slopes.append(_slope(sx, sy))
             centres.append(10 ** (start + width / 2))
             counts.append(int(sel.sum()))
         start += step
@@ -357,8 +362,7 @@ def octave_window_slopes(x, y, octaves):
         if np.unique(lx[sel]).size < 3:
             continue
         sx, sy = lx[sel], ly[sel]
-        dx = sx - sx.mean()
-        slopes.append(float(dx @ (sy - sy.mean()) / (dx @ dx)))
+        slopes.append(_slope(sx, sy))
         centres.append(2 ** (start + octaves / 2))
         counts.append(int(sel.sum()))
     return WindowSlopes(x=np.array(centres), slope=np.array(slopes),
@@ -394,10 +398,9 @@ def point_window_slopes(x, y, points):
     centres, slopes, width = [], [], 0.0
     for start in range(x.size - points + 1):
         sx, sy = lx[start:start + points], ly[start:start + points]
-        dx = sx - sx.mean()
-        if not dx.any():
+        if not (sx != sx[0]).any():
             continue
-        slopes.append(float(dx @ (sy - sy.mean()) / (dx @ dx)))
+        slopes.append(_slope(sx, sy))
         centres.append(10 ** ((sx[0] + sx[-1]) / 2))
         width = max(width, float(sx[-1] - sx[0]))
     return WindowSlopes(x=np.array(centres), slope=np.array(slopes),
