@@ -121,8 +121,9 @@ def _verdict_iv(x, y, expected_exponent, tolerance, min_points, min_decades,
 
 def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
                 min_points=8, min_decades=1.5, window_decades=1.0, theta_band=10.0,
-                step_octaves=1, one_per_step=False, n_boot=2000, seed=None):
-    """Judge whether measured points follow ``y = Theta(x^k)``.
+                step_octaves=1, one_per_step=False, n_boot=2000, seed=None,
+                bound="theta"):
+    """Judge whether measured points follow ``y = Theta(x^k)``, or ``y = O(x^k)``.
 
     Parameters
     ----------
@@ -151,6 +152,10 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
         (:func:`hrbench_analysis.fit.plateau_ends`): then the windows, of the interval and
         of the settling check alike, are runs of 3 consecutive points (two periods), and
         no staircase is left for the bootstrap's blocks.
+    bound : {"theta", "upper"}, optional
+        What the claim states: ``"theta"`` (the default) ``y = Theta(x^k)``, judged on
+        both sides; ``"upper"`` only ``y = O(x^k)``, as a paper states a complexity
+        bound: any exponent up to ``k + tolerance`` reproduces it.
     n_boot : int, optional
         Bootstrap resamples of the exponent's interval (default 2000).
     seed : int, optional
@@ -180,7 +185,13 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
        a bounded, flat band (:func:`hrbench_analysis.fit.theta_check`).
     5. ``inconclusive`` otherwise (the interval straddles the edge of the band, or the
        ratio's band is too wide).
+
+    With ``bound="upper"`` the band is ``(-inf, k + tolerance]`` in steps 3 to 5 and the
+    ratio's band is not checked: an upper bound says nothing of how far below it the
+    counts grow (``O(k log k)`` holds for counts that grow like ``k``).
     """
+    if bound not in ("theta", "upper"):
+        raise ValueError(f"bound must be 'theta' or 'upper', not {bound!r}")
     x, y = _verdict_iv(x, y, expected_exponent, tolerance, min_points, min_decades,
                        window_decades, theta_band)
     k, tol = float(expected_exponent), float(tolerance)
@@ -247,6 +258,17 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
                          f"fit over the whole regime, more than the tolerance {tol:g}; "
                          f"{measured}")
         return result
+    if bound == "upper":
+        if interval.low > k + tol:
+            result.verdict = "refuted"
+            result.reason = (f"{measured}: the interval lies above {k:g} + {tol:g}, the "
+                             f"bound; best model {result.models.best}")
+        elif interval.high <= k + tol:
+            result.verdict = "reproduced"
+            result.reason = f"{measured}: at most {k:g} + {tol:g}, the bound"
+        else:
+            result.reason = f"{measured}: the interval straddles {k:g} + {tol:g}, the bound"
+        return result
     if interval.high < k - tol or interval.low > k + tol:
         result.verdict = "refuted"
         result.reason = (f"{measured}: the interval excludes {k:g} +/- {tol:g}; "
@@ -265,6 +287,13 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
                          f"{result.theta.band:.2f} (bounded: at most {theta_band:g}) with "
                          f"trend {result.theta.trend:+.3f} per decade")
     return result
+
+
+def _hypothesis(claim):
+    """The exponent a claim expects, as its verdicts name it: "2 +/- 0.15", "<= 1 + 0.15"."""
+    if getattr(claim, "bound", "theta") == "upper":
+        return f"<= {claim.expected_exponent:g} + {claim.tolerance:g}"
+    return f"{claim.expected_exponent:g} +/- {claim.tolerance:g}"
 
 
 def _regime_text(x_min, x_max):
@@ -309,7 +338,8 @@ def assess_claim(claim, data, n_boot=2000):
             x_max=claim.x_max, min_points=claim.min_points, min_decades=claim.min_decades,
             window_decades=claim.window_decades, theta_band=claim.theta_band,
             step_octaves=claim.step_octaves,
-            one_per_step=getattr(claim, "plateaus", None) is not None, n_boot=n_boot)
+            one_per_step=getattr(claim, "plateaus", None) is not None, n_boot=n_boot,
+            bound=getattr(claim, "bound", "theta"))
     if not getattr(claim, "published", True) and result.interval is not None:
         # Nothing published to judge against: report the fit, and what the hypothesis
         # of the claims file would have been judged.
@@ -317,7 +347,7 @@ def assess_claim(claim, data, n_boot=2000):
         result.reason = (f"no published value: measured exponent {i.fit.exponent:.3f} "
                          f"[{i.low:.3f}, {i.high:.3f}] over {result.decades:.1f} decades "
                          f"({result.n_regime} points); against the hypothesis "
-                         f"{claim.expected_exponent:g} +/- {claim.tolerance:g} it would be "
+                         f"{_hypothesis(claim)} it would be "
                          f"{result.verdict}")
         result.verdict = MEASURED
     if fitted is not None:

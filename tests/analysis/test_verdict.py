@@ -59,3 +59,26 @@ def test_verdict_validates_its_inputs():
         get_verdict([1, 2, 3], [1, 2, 3], 1.0, 0.0)
     with pytest.raises(ValueError, match="positive"):
         get_verdict([1, 2, 3], [1, 0, 3], 1.0, 0.1)
+
+
+def test_upper_bound_holds_below_it_and_fails_above():
+    # y = k, judged against x = k log k: the exponent is about 0.87, under the bound
+    # O(k log k) (exponent 1), so the upper bound is reproduced where Theta is not.
+    k = np.logspace(np.log10(64), np.log10(16384), 25)
+    x = k * np.log(k)
+    theta = get_verdict(x, k, 1.0, 0.05)
+    upper = get_verdict(x, k, 1.0, 0.05, bound="upper")
+    assert theta.verdict != "reproduced"
+    assert upper.verdict == "reproduced", upper.reason
+    assert "the bound" in upper.reason
+    # y = k^2 grows faster than k log k: refuted.
+    above = get_verdict(x, k ** 2, 1.0, 0.15, bound="upper")
+    assert above.verdict == "refuted", above.reason
+    # y = x exactly on the bound: reproduced.
+    assert get_verdict(x, 3 * x, 1.0, 0.15, bound="upper").verdict == "reproduced"
+
+
+def test_unknown_bound_is_refused():
+    x = np.logspace(0, 3, 20)
+    with pytest.raises(ValueError, match="bound"):
+        get_verdict(x, x, 1.0, 0.1, bound="lower")
