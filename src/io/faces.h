@@ -23,6 +23,11 @@ struct MeshPatches {
     std::vector<std::pair<size_t, size_t>> origins;  // line, face
     std::vector<std::string> warnings;               // Scene::warnings
 
+    void Reserve(size_t faces) {
+        patches.reserve(faces);
+        origins.reserve(faces);
+    }
+
     void Add(const Polygon &shape, const Material &material, size_t line, size_t face) {
         patches.push_back({shape, material});
         origins.emplace_back(line, face);

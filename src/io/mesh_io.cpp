@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <utility>
 
 #include "formats.h"
 #include "hrbench/util/error.h"
@@ -55,16 +56,17 @@ Scene ParseMesh(const std::string &text, MeshFormat format, const std::string &s
         scene.params["scale"] = options.scale;
     if (options.triangulate)
         scene.params["triangulate"] = 1;
-    scene.patches = read.patches;
-    scene.warnings = read.warnings;
+    scene.patches = std::move(read.patches);  // a copy would double the memory of a large mesh
+    scene.warnings = std::move(read.warnings);
     // The readers check each face where they read it; this keeps the scene contract
     // should ValidateScene come to check more, naming the face's line.
     try {
         ValidateScene(scene);
     } catch (const InputError &) {
-        for (size_t k = 0; k < read.patches.size(); ++k) {
+        const Patches<Polygon> &patches = scene.Get<Polygon>();
+        for (size_t k = 0; k < patches.size(); ++k) {
             Scene one;
-            one.patches = Patches<Polygon>{read.patches[k]};
+            one.patches = Patches<Polygon>{patches[k]};
             try {
                 ValidateScene(one);
             } catch (const InputError &e) {

@@ -49,13 +49,17 @@ double Finite(const Lines &lines, std::string_view word, const std::string &what
 }
 
 // Reads _word_ as a non-negative integer written in digits, or fails saying why not.
+bool ParseCount(std::string_view word, uint64_t &value) {
+    return AllDigits(word) &&
+           std::from_chars(word.data(), word.data() + word.size(), value).ec == std::errc();
+}
+
 uint64_t Count(const Lines &lines, std::string_view word, const std::string &what) {
     uint64_t value = 0;
-    if (AllDigits(word)) {
-        if (std::from_chars(word.data(), word.data() + word.size(), value).ec == std::errc())
-            return value;
+    if (ParseCount(word, value))
+        return value;
+    if (AllDigits(word))
         lines.Fail(what + " " + Quoted(word) + " is too large");
-    }
     double number = 0;
     std::string problem = NumberProblem(word, number);
     if (problem.empty())

@@ -23,6 +23,10 @@ std::string NumberProblem(std::string_view word, double &value);
 // (_what_) is wrong: "coordinate '1e400' overflows".
 double Finite(const Lines &lines, std::string_view word, const std::string &what);
 
+// Reads _word_ into _value_ when it is a non-negative integer written in digits that fits
+// 64 bits: the common case, checked without making a message.
+bool ParseCount(std::string_view word, uint64_t &value);
+
 // Reads _word_ as a non-negative integer written in digits, or fails saying why not.
 uint64_t Count(const Lines &lines, std::string_view word, const std::string &what);
 

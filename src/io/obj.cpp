@@ -17,6 +17,16 @@ namespace hrbench::meshio {
 
 namespace {
 
+// The number of lines of _text_ that start with _prefix_: room to reserve for the
+// vertices and faces before reading them, so that a large mesh is not copied as it grows.
+size_t LinesStartingWith(std::string_view text, std::string_view prefix) {
+    size_t count = text.substr(0, prefix.size()) == prefix;
+    std::string line = "\n" + std::string(prefix);
+    for (size_t at = text.find(line); at != std::string_view::npos; at = text.find(line, at + 1))
+        ++count;
+    return count;
+}
+
 // Reads an OBJ file: v, f, usemtl and mtllib statements; vt and vn counted for the
 // references of faces; vp, o, g and s ignored.
 class ObjReader {
@@ -24,7 +34,10 @@ class ObjReader {
     ObjReader(std::string_view text, const std::string &source, const LibraryReader &readLibrary,
               const MeshOptions &options)
         : lines_(text, "mesh file '" + source + "'"), source_(source), readLibrary_(readLibrary),
-          options_(options) {}
+          options_(options) {
+        vertices_.reserve(LinesStartingWith(text, "v "));
+        patches_.Reserve(LinesStartingWith(text, "f "));
+    }
 
     MeshPatches Read() {
         while (lines_.Next())

@@ -89,6 +89,7 @@ class OffReader {
 
     // Reads the vertex lines, then refuses a face count that the rest cannot hold.
     void ReadVertices() {
+        vertices_.reserve(numVertices_);  // ReadCounts saw that the file can hold them
         for (uint64_t k = 0; k < numVertices_; ++k) {
             if (!lines_.Next())
                 lines_.FailAtEnd("truncated: the file ends after " + std::to_string(k) +
@@ -101,6 +102,7 @@ class OffReader {
                                            " faces but has only " +
                                            std::to_string(lines_.BytesLeft()) +
                                            " bytes left after the vertices");
+        patches_.Reserve(numFaces_);
     }
 
     // Reads `x y z`, and in a COFF file an optional vertex colour (checked, not used).
@@ -135,7 +137,9 @@ class OffReader {
         Words words(lines_.Line());
         std::string_view word;
         words.Next(word);
-        uint64_t n = Count(lines_, word, face + ": corner count");
+        uint64_t n = 0;
+        if (!ParseCount(word, n))  // the message only where it is needed: a million faces
+            Count(lines_, word, face + ": corner count");
         CheckCornerCount(lines_, face, n, options_.triangulate);
         if (words.Left() < n)
             lines_.Fail(face + " announces " + std::to_string(n) + " corners but lists only " +
@@ -143,7 +147,9 @@ class OffReader {
         corners_.resize(n);
         for (Vec3 &corner : corners_) {
             words.Next(word);
-            uint64_t index = Count(lines_, word, face + ": vertex index");
+            uint64_t index = 0;
+            if (!ParseCount(word, index))
+                Count(lines_, word, face + ": vertex index");
             if (index >= vertices_.size())
                 lines_.Fail(face + " refers to vertex " + std::to_string(index) + " of " +
                             std::to_string(vertices_.size()) + " (OFF vertices count from 0)");
