@@ -169,7 +169,6 @@ Patches<Polygon> Random(const ParamMap &p) {
     return faces;
 }
 
-
 // A closed sphere by octahedral subdivision: each face of the octahedron |x|+|y|+|z| = n
 // is cut into n^2 triangles on the integer points of its plane, and every point (a, b, c)
 // is moved to radius * (a, b, c) / |(a, b, c)|. A corner is computed from its integer
@@ -192,8 +191,8 @@ Patches<Polygon> Sphere(const ParamMap &p) {
         // mirrored axis reverses that, and inward normals need the clockwise order.
         bool outwardOrder = sx * sy * sz < 0;
         auto add = [&](const Vec3 &a, const Vec3 &b, const Vec3 &c) {
-            faces.push_back({outwardOrder ? Polygon::Triangle(a, b, c) : Polygon::Triangle(a, c, b),
-                             {}});
+            faces.push_back(
+                {outwardOrder ? Polygon::Triangle(a, b, c) : Polygon::Triangle(a, c, b), {}});
         };
         for (int i = 0; i < n; ++i)
             for (int j = 0; i + j < n; ++j) {

@@ -40,8 +40,8 @@ void ValidateScene(const Scene &scene, bool reflectance) {
 // faster: a scene of a million triangles has nine million coordinates.
 static void AppendCoordinate(std::string &text, double x) {
     char digits[32];
-    char *end = std::to_chars(digits, digits + sizeof digits, x + 0.0, std::chars_format::general,
-                              17).ptr;
+    char *end =
+        std::to_chars(digits, digits + sizeof digits, x + 0.0, std::chars_format::general, 17).ptr;
     if (!text.empty() && text.back() != '\n')
         text += ' ';
     text.append(digits, end);

@@ -14,7 +14,8 @@ std::string FormatDouble(double value) {
         // as %.*g), several times faster: writing a mesh formats millions of coordinates.
         for (int precision = 6; precision <= 17; ++precision) {
             auto end = std::to_chars(buffer, buffer + sizeof buffer, value,
-                                     std::chars_format::general, precision).ptr;
+                                     std::chars_format::general, precision)
+                           .ptr;
             double back = 0;
             std::from_chars(buffer, end, back);
             if (back == value || precision == 17)
