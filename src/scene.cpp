@@ -59,19 +59,38 @@ static void AppendCorners(std::string &text, const Polygon &p) {
             AppendCoordinate(text, p.v[k][c]);
 }
 
-std::string SceneGeometryText(const Scene &scene) {
+// Calls _take_ with SceneGeometryText(_scene_) in pieces of whole lines, each about
+// _piece_ bytes, so that a scene of a million triangles (180 MB of text) is digested
+// without holding its text.
+template <typename Take>
+static void ForEachGeometryPiece(const Scene &scene, size_t piece, Take &&take) {
     std::string text;
     std::visit(
         [&](const auto &patches) {
             for (const auto &patch : patches) {
                 AppendCorners(text, patch.shape);
                 text += '\n';
+                if (text.size() >= piece) {
+                    take(text);
+                    text.clear();
+                }
             }
         },
         scene.patches);
+    take(text);
+}
+
+std::string SceneGeometryText(const Scene &scene) {
+    std::string text;
+    ForEachGeometryPiece(scene, size_t(-1), [&](std::string &piece) { text.swap(piece); });
     return text;
 }
 
-std::string SceneSha256(const Scene &scene) { return Sha256Hex(SceneGeometryText(scene)); }
+std::string SceneSha256(const Scene &scene) {
+    Sha256 sha;
+    ForEachGeometryPiece(scene, size_t(1) << 20,
+                         [&](const std::string &piece) { sha.Update(piece); });
+    return sha.Hex();
+}
 
 }  // namespace hrbench
