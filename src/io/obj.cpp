@@ -2,8 +2,10 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
-#include <map>
+#include <cstdint>
+#include <cstring>
 #include <set>
+#include <unordered_map>
 #include <vector>
 
 #include "formats.h"
@@ -222,6 +224,21 @@ Rgb KdOf(const Material &m) {
     return {m.reflectance, m.reflectance, m.reflectance};
 }
 
+// A hash of a corner consistent with ==: -0 and 0 hash alike (adding +0.0 makes both 0).
+struct CornerHash {
+    size_t operator()(const std::array<double, 3> &xyz) const {
+        uint64_t h = 0;
+        for (double c : xyz) {
+            uint64_t bits;
+            c += 0.0;
+            std::memcpy(&bits, &c, sizeof bits);
+            h = (h ^ bits) * 0x100000001b3ull;  // FNV-1a's prime, one step per coordinate
+            h ^= h >> 29;
+        }
+        return size_t(h);
+    }
+};
+
 std::string RgbText(const Rgb &rgb) {
     return FormatDouble(rgb[0]) + " " + FormatDouble(rgb[1]) + " " + FormatDouble(rgb[2]);
 }
@@ -243,7 +260,8 @@ void SaveObj(const Scene &scene, const std::string &path) {
         throw InputError("cannot name material library '" + libraryName +
                          "' in an OBJ file: mtllib names are single words");
     const Patches<Polygon> &patches = scene.Get<Polygon>();
-    std::map<std::array<double, 3>, size_t> vertexIndex;
+    // Corners equal under == share an index, numbered in order of first use.
+    std::unordered_map<std::array<double, 3>, size_t, CornerHash> vertexIndex;
     std::string vertices, faces, mtl;
     std::vector<Material> materials;  // distinct, in order of first use
     size_t current = size_t(-1);
