@@ -361,3 +361,24 @@ TEST_CASE("sphere is closed, faces inward and has the sphere's area", "[generato
     CHECK_THROWS_AS(MakeScene("sphere", {{"n", 1001}}), InputError);
     CHECK_THROWS_AS(MakeScene("sphere", {{"n", 2.5}}), InputError);
 }
+
+TEST_CASE("Inside the sphere every pair faces the other; neighbours touch", "[generators][3d]") {
+    std::vector<Polygon> s = ShapesOf<Polygon>(MakeScene("sphere", {{"n", 2}}));
+    int touching = 0, sharing = 0;
+    for (size_t p = 0; p < s.size(); ++p)
+        for (size_t q = p + 1; q < s.size(); ++q) {
+            bool shared = false;
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b)
+                    shared = shared || s[p].v[a] == s[q].v[b];
+            PairRelation r = ClassifyPair(s[p], s[q]);
+            CHECK(r == (shared ? PairRelation::Touching : PairRelation::Interacting));
+            touching += r == PairRelation::Touching;
+            sharing += shared;
+        }
+    // 18 corners: the 6 of the octahedron in 4 triangles, the 12 edge midpoints in 6;
+    // pairs around a corner: 6 * C(4,2) + 12 * C(6,2) = 216, less the 48 edges counted
+    // twice (their two ends): 168 pairs sharing a corner.
+    CHECK(sharing == 168);
+    CHECK(touching == 168);
+}
