@@ -4,7 +4,7 @@ CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release
 
 .PHONY: setup build build-cli build-tests build-asan build-fuzz test test-cpp test-asan \
         test-asan-core test-python test-browser reproduce reproduce-full bench bench-naive history gates \
-        baseline examples python-package fuzz fuzz-smoke lint format clean
+        baseline examples python-package fuzz fuzz-smoke lint format clean meshes
 JOBS := $(shell nproc)
 CONFIGURE := cmake -S . -B build $(CMAKE_FLAGS) >/dev/null
 
@@ -169,6 +169,16 @@ lint: setup
 
 format: setup
 	@$(CXX_SOURCES) | xargs clang-format -i
+
+# The meshes of scenes at scale, in data/meshes/ (git-ignored; docs/meshes.md): the
+# Stanford bunny from libcgal-demo (CGAL_DEMO_DEB=path/to/libcgal-demo_*.deb, or an
+# installed package, or apt-get download) in a closed box lit from its ceiling, and the
+# closed sphere of 1,002,528 triangles.
+meshes: build-cli
+	@bash scripts/fetch_bunny.sh $(CGAL_DEMO_DEB)
+	@$(PYTHON) -m hrbench_analysis.meshes bunny-box --off data/meshes/bunny00.off --out data/meshes
+	@build/hrbench save sphere n=354 --out data/meshes/sphere1m.obj
+	@echo "data/meshes/sphere1m.obj: 1002528 triangles"
 
 clean:
 	rm -rf build build-asan build-fuzz

@@ -169,6 +169,41 @@ Patches<Polygon> Random(const ParamMap &p) {
     return faces;
 }
 
+// A closed sphere by octahedral subdivision: each face of the octahedron |x|+|y|+|z| = n
+// is cut into n^2 triangles on the integer points of its plane, and every point (a, b, c)
+// is moved to radius * (a, b, c) / |(a, b, c)|. A corner is computed from its integer
+// point alone, so neighbouring triangles share their corners exactly, also across the
+// octants. Triangles are counter-clockwise seen from the centre (normals inward).
+Patches<Polygon> Sphere(const ParamMap &p) {
+    int n = int(p.at("n"));
+    double radius = p.at("radius");
+    auto corner = [&](int64_t a, int64_t b, int64_t c) {
+        double scale = radius / std::sqrt(double(a * a + b * b + c * c));
+        return Vec3(double(a) * scale, double(b) * scale, double(c) * scale);
+    };
+    Patches<Polygon> faces;
+    faces.reserve(8 * size_t(n) * size_t(n));
+    for (int octant = 0; octant < 8; ++octant) {
+        int sx = octant & 1 ? -1 : 1, sy = octant & 2 ? -1 : 1, sz = octant & 4 ? -1 : 1;
+        // Point (i, j) of the octant: n - i - j along x, i along y, j along z.
+        auto at = [&](int i, int j) { return corner(sx * (n - i - j), sy * i, sz * j); };
+        // (x, y, z) turns counter-clockwise seen from outside the positive octant; each
+        // mirrored axis reverses that, and inward normals need the clockwise order.
+        bool outwardOrder = sx * sy * sz < 0;
+        auto add = [&](const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+            faces.push_back(
+                {outwardOrder ? Polygon::Triangle(a, b, c) : Polygon::Triangle(a, c, b), {}});
+        };
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; i + j < n; ++j) {
+                add(at(i, j), at(i + 1, j), at(i, j + 1));
+                if (i + j + 1 < n)
+                    add(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            }
+    }
+    return faces;
+}
+
 }  // namespace
 
 std::vector<Family> SpaceFamilies() {
@@ -240,6 +275,13 @@ std::vector<Family> SpaceFamilies() {
           Length("length", 1, "side of the cube each triangle's corners lie in")},
          3,
          Random},
+        {"sphere",
+         "closed sphere of 8 n^2 triangles (octahedral subdivision projected onto the sphere), "
+         "normals inward (neighbours touch: needs a recursion limit)",
+         {Count("n", 4, 1, 1000, "triangles per octant edge (n = 354: 1,002,528 triangles)"),
+          Length("radius", 1, "radius")},
+         3,
+         Sphere},
     };
 }
 

@@ -2,7 +2,10 @@
 // determinism.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
+#include <map>
+#include <set>
 #include <variant>
 
 #include "hrbench/generators/generators.h"
@@ -57,7 +60,7 @@ TEST_CASE("Every family builds patches of the dimension it declares", "[generato
         }
     }
     CHECK(families2d == 8);
-    CHECK(families3d == 7);
+    CHECK(families3d == 8);
 }
 
 TEST_CASE("Bad scene parameters are rejected with a clear message", "[generators][errors]") {
@@ -310,4 +313,72 @@ TEST_CASE("array3d and occluded3d build the documented patches", "[generators][3
     CHECK(o[2].Centroid().isApprox(Vec3(0.5, 0.5, 0.3)));
     CHECK_THAT(o[3].Area(), Catch::Matchers::WithinRel(0.08, 1e-12));
     CHECK_THROWS_AS(MakeScene("occluded3d", {{"h", 1}}), InputError);
+}
+
+TEST_CASE("sphere is closed, faces inward and has the sphere's area", "[generators][3d]") {
+    for (int n : {1, 2, 5}) {
+        INFO("n = " << n);
+        const double radius = 2;
+        std::vector<Polygon> s =
+            ShapesOf<Polygon>(MakeScene("sphere", {{"n", n}, {"radius", radius}}));
+        REQUIRE(s.size() == size_t(8 * n * n));
+        // Closed: every edge a -> b of a triangle is met exactly once as b -> a, so each
+        // edge is shared by two triangles of opposite orientation (corners shared exactly).
+        using Corner = std::array<double, 3>;
+        auto key = [](const Vec3 &v) { return Corner{v.x(), v.y(), v.z()}; };
+        std::map<std::pair<Corner, Corner>, int> edges;
+        std::set<Corner> corners;
+        double area = 0;
+        for (const Polygon &t : s) {
+            REQUIRE(t.n == 3);
+            for (int k = 0; k < 3; ++k) {
+                ++edges[{key(t.v[k]), key(t.v[(k + 1) % 3])}];
+                corners.insert(key(t.v[k]));
+                CHECK_THAT(t.v[k].norm(), Catch::Matchers::WithinRel(radius, 1e-15));
+            }
+            CHECK(t.Normal().dot(-t.Centroid()) > 0);  // toward the centre
+            area += t.Area();
+        }
+        for (const auto &[edge, count] : edges) {
+            CHECK(count == 1);
+            CHECK(edges.count({edge.second, edge.first}) == 1);
+        }
+        CHECK(edges.size() == 3 * s.size());
+        CHECK(corners.size() == size_t(4 * n * n + 2));  // Euler: V - E + F = 2
+        // Inscribed triangles: less than the sphere's area, closer as n grows.
+        double sphere = 4 * 3.14159265358979323846 * radius * radius;
+        CHECK(area < sphere);
+        CHECK(area > sphere * (n == 1 ? 0.4 : n == 2 ? 0.75 : 0.95));
+    }
+    // n = 1 is the octahedron.
+    std::vector<Polygon> octahedron = ShapesOf<Polygon>(MakeScene("sphere", {{"n", 1}}));
+    CHECK(octahedron[0].v[0] == Vec3(1, 0, 0));
+    CHECK(octahedron[0].Normal().isApprox(-Vec3(1, 1, 1).normalized()));
+    std::vector<Polygon> again = ShapesOf<Polygon>(MakeScene("sphere", {{"n", 1}}));
+    for (size_t k = 0; k < octahedron.size(); ++k)
+        CHECK(octahedron[k].v == again[k].v);
+    CHECK_THROWS_AS(MakeScene("sphere", {{"n", 0}}), InputError);
+    CHECK_THROWS_AS(MakeScene("sphere", {{"n", 1001}}), InputError);
+    CHECK_THROWS_AS(MakeScene("sphere", {{"n", 2.5}}), InputError);
+}
+
+TEST_CASE("Inside the sphere every pair faces the other; neighbours touch", "[generators][3d]") {
+    std::vector<Polygon> s = ShapesOf<Polygon>(MakeScene("sphere", {{"n", 2}}));
+    int touching = 0, sharing = 0;
+    for (size_t p = 0; p < s.size(); ++p)
+        for (size_t q = p + 1; q < s.size(); ++q) {
+            bool shared = false;
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b)
+                    shared = shared || s[p].v[a] == s[q].v[b];
+            PairRelation r = ClassifyPair(s[p], s[q]);
+            CHECK(r == (shared ? PairRelation::Touching : PairRelation::Interacting));
+            touching += r == PairRelation::Touching;
+            sharing += shared;
+        }
+    // 18 corners: the 6 of the octahedron in 4 triangles, the 12 edge midpoints in 6;
+    // pairs around a corner: 6 * C(4,2) + 12 * C(6,2) = 216, less the 48 edges counted
+    // twice (their two ends): 168 pairs sharing a corner.
+    CHECK(sharing == 168);
+    CHECK(touching == 168);
 }

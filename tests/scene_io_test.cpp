@@ -217,7 +217,22 @@ TEST_CASE("SHA-256 gives the FIPS 180-4 digests at every padding boundary", "[sc
     for (const auto &[n, digest] : cases) {
         INFO(n);
         CHECK(Sha256Hex(std::string(n, 'a')) == digest);
+        // Piece by piece, split anywhere, the same digest.
+        for (size_t cut : {size_t(0), size_t(1), n / 2, n}) {
+            Sha256 sha;
+            sha.Update(std::string(cut, 'a'));
+            sha.Update(std::string(n - cut, 'a'));
+            CHECK(sha.Hex() == digest);
+        }
     }
+}
+
+TEST_CASE("The digest of a scene larger than a piece is that of its whole text",
+          "[scene_io][digest]") {
+    // 8 * 40^2 triangles: about 2.3 MB of text, digested in pieces of 1 MiB.
+    Scene sphere = MakeScene("sphere", {{"n", 40}});
+    REQUIRE(SceneGeometryText(sphere).size() > (size_t(2) << 20));
+    CHECK(SceneSha256(sphere) == Sha256Hex(SceneGeometryText(sphere)));
 }
 
 TEST_CASE("The scene digest hashes the corners in order, and only them", "[scene_io][digest]") {
