@@ -128,11 +128,15 @@ Patches<Polygon> Cornell(const ParamMap &p) {
 
 // n pairwise disjoint triangles: uniform centres in [0,size]^3, corners uniform in the
 // cube of side _length_ around the centre. A candidate thinner than 5% of length^2 in
-// area, or that meets an earlier triangle, is drawn again.
+// area, or that meets an earlier triangle, is drawn again. With _density_ (centres per
+// unit volume) the cube's side is cbrt(n / density) instead of _size_, so that the soup
+// keeps its density as n grows.
 Patches<Polygon> Random(const ParamMap &p) {
     using K = CGAL::Exact_predicates_inexact_constructions_kernel;
     int n = int(p.at("n"));
-    double size = p.at("size"), length = p.at("length");
+    auto density = p.find("density");
+    double size = density == p.end() ? p.at("size") : std::cbrt(n / density->second);
+    double length = p.at("length");
     std::mt19937_64 rng(uint64_t(p.at("seed")));
     Patches<Polygon> faces;
     std::vector<K::Triangle_3> placed;
@@ -142,7 +146,8 @@ Patches<Polygon> Random(const ParamMap &p) {
         if (draw == maxDraws)
             throw InputError("scene random3d: cannot place " + std::to_string(n) +
                              " disjoint triangles of size " + FormatDouble(length) +
-                             " in a box of size " + FormatDouble(size) + "; enlarge size");
+                             " in a box of size " + FormatDouble(size) +
+                             (density == p.end() ? "; enlarge size" : "; lower density"));
         Vec3 c(size * Uniform(rng), size * Uniform(rng), size * Uniform(rng));
         std::array<Vec3, 3> corner;
         for (Vec3 &x : corner) {
@@ -272,7 +277,10 @@ std::vector<Family> SpaceFamilies() {
          {Count("n", 10, 1, 100000, "number of triangles"),
           Count("seed", 1, 0, 9.0e15, "random seed (same seed, same scene)"),
           Length("size", 10, "side of the cube of centres"),
-          Length("length", 1, "side of the cube each triangle's corners lie in")},
+          Length("length", 1, "side of the cube each triangle's corners lie in"),
+          OptionalPositive("density", "size",
+                           "triangle centres per unit volume: the cube's side is "
+                           "cbrt(n / density) (instead of size)")},
          3,
          Random},
         {"sphere",

@@ -197,6 +197,25 @@ TEST_CASE("A random soup of a given density has the box side sqrt(n / density)",
                       Catch::Contains("lower density"));
 }
 
+TEST_CASE("A random 3D soup of a given density has the cube side cbrt(n / density)",
+          "[generators][3d]") {
+    // n = 125 at density 1 is the cube of side 5: the same draws, the same scene, as
+    // size = 5 (cbrt(125) is exactly 5).
+    Scene dense = MakeScene("random3d", {{"n", 125}, {"density", 1}, {"seed", 3}});
+    Scene sized = MakeScene("random3d", {{"n", 125}, {"size", 5}, {"seed", 3}});
+    std::vector<Polygon> a = ShapesOf<Polygon>(dense), b = ShapesOf<Polygon>(sized);
+    REQUIRE(a.size() == 125);
+    for (size_t k = 0; k < a.size(); ++k)
+        for (int v = 0; v < 3; ++v)
+            CHECK(a[k].v[v] == b[k].v[v]);
+    CHECK(dense.params.count("size") == 0);
+    CHECK(MakeScene("random3d", {{"n", 5}}).params.count("density") == 0);
+    CHECK_THROWS_WITH(MakeScene("random3d", {{"n", 10}, {"density", 1}, {"size", 10}}),
+                      "scene random3d: give density or size, not both");
+    CHECK_THROWS_WITH(MakeScene("random3d", {{"n", 200}, {"density", 200000}}),
+                      Catch::Contains("lower density"));
+}
+
 TEST_CASE("Random scenes are placed on a grid and stay what testing every pair gives",
           "[generators]") {
     // The last of 400 crowded segments and of 200 crowded triangles, as an earlier
