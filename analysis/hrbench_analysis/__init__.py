@@ -3,8 +3,10 @@
 Modules
 -------
 errors      AnalysisError, the base of every error that means bad input (exit code 2)
-engine      the one module that runs the engine: version, capabilities, command lines
-claimfile   read and check the claims files (``analysis/hrbench_analysis/claims/*.toml``)
+engine      the one package that runs the engine: version, capabilities, command lines,
+            processes
+claimfile   read and check the claims files (``analysis/hrbench_analysis/claims/*.toml``),
+            and a claim against the engine's capabilities
 expr        the safe formula evaluator used for a claim's x and y
 loader      read the engine's output (run JSON, link CSV)
 store       the SQLite results cache: checked when opened, leases for concurrent sweeps

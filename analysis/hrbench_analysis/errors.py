@@ -318,7 +318,7 @@ def run_main(prog, body, argv=None, input_errors=(), prefix=None, interrupted=No
         except (OSError, ValueError):
             pass
 
-    from .engine import ending_engine_runs  # engine.py imports this module
+    from .engine import ending_engine_runs  # the engine package imports this module
 
     stdout, sys.stdout = sys.stdout, _NamedStdout(sys.stdout)
     try:

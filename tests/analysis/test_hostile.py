@@ -11,8 +11,8 @@ from types import SimpleNamespace
 import pytest
 
 from hrbench_analysis import reproduce
-from hrbench_analysis.claimfile import SweepRange
-from hrbench_analysis.engine import param_errors, parse_capabilities
+from hrbench_analysis.claimfile import SweepRange, param_errors
+from hrbench_analysis.engine import parse_capabilities
 from hrbench_analysis.reproduce import main
 
 
