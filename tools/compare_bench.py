@@ -19,7 +19,7 @@ slower by more than the threshold; 2 usage or input error (a missing, oversized 
 malformed file, no benchmark in common); 3 inconclusive; 70 internal error (a bug; its
 traceback with --debug); 74 the report could not be written (standard output full or
 closed). See docs/ci.md. The same command is ``hrbench-compare`` of the installed analysis
-package (:mod:`hrbench_analysis.benchcompare`); this script runs it from a checkout,
+package (:mod:`hrbench_analysis.bench.benchcompare`); this script runs it from a checkout,
 without installing the package (it needs numpy and scipy).
 """
 
@@ -33,7 +33,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
 
 def main(argv=None):
     try:
-        from hrbench_analysis.benchcompare import main as compare_main
+        from hrbench_analysis.bench.benchcompare import main as compare_main
     except ImportError as e:
         print(f"compare_bench.py: error: {e}; install numpy and scipy", file=sys.stderr)
         return 2

@@ -12,13 +12,13 @@ import json
 import os
 import sys
 
-# analysis/ for hrbench_analysis.gbench (standard library only), so that the merge runs
+# analysis/ for hrbench_analysis.bench.gbench (standard library only), so that the merge runs
 # with any Python 3.11, without the package installed.
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
                                 "analysis"))
 
+from hrbench_analysis.bench.gbench import load_benchmark_file, merge_benchmark_files  # noqa: E402
 from hrbench_analysis.errors import run_main  # noqa: E402
-from hrbench_analysis.gbench import load_benchmark_file, merge_benchmark_files  # noqa: E402
 from hrbench_analysis.output import write_file  # noqa: E402
 
 

@@ -26,11 +26,9 @@ explorer    the page of sliders over eps and l (``results/explorer.html``, ``hrb
 cli         what the drawing commands share: engine options, scene words, one-line errors
 reproduce   the command lines ``hrbench-reproduce`` (``python -m hrbench_analysis.reproduce``)
             and ``hrbench-sweep``
-gbench      read Google Benchmark JSON files
-benchcompare  ``hrbench-compare``: the timing comparison of two benchmark runs
-builds      a commit built in its git worktree and its benchmarks run (the CI gates,
-            ``hrbench-history measure``)
-history     ``hrbench-history``: benchmark runs over commits, steps, the page
+bench       the benchmark and regression tooling: Google Benchmark files (gbench),
+            ``hrbench-compare`` (benchcompare, cmdtiming), a commit built in its git
+            worktree (builds, the CI gates), ``hrbench-history`` (history)
 
 An engine other than hrbench works if it keeps the engine contract
 (docs/engine-contract.md); its run records are described by

@@ -278,7 +278,7 @@ _ROWS = st.lists(st.one_of(st.dictionaries(st.sampled_from(_ROW_KEYS), _GBENCH_V
                               _GBENCH_VALUES)}).map(json.dumps),   # NaN spelt as Python does
     st.text(max_size=200), _JSON.map(json.dumps)))
 def test_benchmark_files_raise_only_their_own_error(scratch, text):
-    from hrbench_analysis.gbench import InputError, get_repetition_times, load_benchmark_file
+    from hrbench_analysis.bench.gbench import InputError, get_repetition_times, load_benchmark_file
     path = scratch / "bench.json"
     path.write_text(text, encoding="utf-8", errors="surrogatepass")
     try:

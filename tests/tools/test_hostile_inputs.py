@@ -14,7 +14,7 @@ import pytest
 import check_baseline
 import compare_bench
 from conftest import DATA, ROOT
-from hrbench_analysis import benchcompare, history
+from hrbench_analysis.bench import benchcompare, history
 
 GATES = os.path.join(ROOT, "scripts", "ci")
 if GATES not in sys.path:

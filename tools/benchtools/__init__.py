@@ -7,6 +7,6 @@ baseline
 
 Its command-line entry point is the thin script ``tools/check_baseline.py``. Reading
 Google Benchmark JSON and the timing comparison live in the analysis package
-(``hrbench_analysis.gbench``, ``hrbench_analysis.benchcompare``: ``hrbench-compare``),
+(``hrbench_analysis.bench.gbench``, ``hrbench_analysis.bench.benchcompare``: ``hrbench-compare``),
 which ``tools/merge_bench.py`` and ``tools/compare_bench.py`` run from the checkout.
 """

@@ -38,7 +38,7 @@ be written. See docs/ci.md.
 
 ``hrbench-compare commands --base CMD --head CMD`` times two shell commands in interleaved
 rounds and judges their CPU times with the same paired rule and exit codes
-(:mod:`hrbench_analysis.cmdtiming`).
+(:mod:`hrbench_analysis.bench.cmdtiming`).
 """
 
 import argparse
@@ -49,7 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import run_main
+from ..errors import run_main
 from .gbench import InputError, format_time, get_repetition_times, load_benchmark_file
 
 __all__ = ["TimingComparison", "get_timing_comparison", "get_comparison_report",
@@ -273,7 +273,7 @@ def get_comparison_report(baseline_times, new_times, threshold=0.05, alpha=0.05,
     ----------
     baseline_times, new_times : dict of str to array_like
         Per-repetition times of each benchmark (as from
-        `hrbench_analysis.gbench.get_repetition_times`).
+        `hrbench_analysis.bench.gbench.get_repetition_times`).
     threshold, alpha, paired : optional
         See `get_timing_comparison`.
 

@@ -10,7 +10,7 @@ about what it reads: a regular file of at most :data:`MAX_FILE_BYTES` bytes, str
 
 import math
 
-from .errors import AnalysisError, InputFileError, parse_json, read_bounded
+from ..errors import AnalysisError, InputFileError, parse_json, read_bounded
 
 __all__ = ["InputError", "MAX_FILE_BYTES", "load_benchmark_file", "get_repetition_times",
            "merge_benchmark_files", "time_unit", "format_time"]
