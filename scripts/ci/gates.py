@@ -49,13 +49,8 @@ import subprocess
 import sys
 import time
 
-_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-# tools/ for benchtools, analysis/ for hrbench_analysis (gbench, builds and engine:
-# standard library only; benchcompare needs numpy and scipy and is imported when timing).
-sys.path[:0] = [os.path.join(_ROOT, "tools"), os.path.join(_ROOT, "analysis")]
-
-from benchtools.baseline import BaselineError, get_counter_changes, load_baseline  # noqa: E402
-from hrbench_analysis.bench.builds import (  # noqa: E402
+from hrbench_analysis.bench.baseline import BaselineError, get_counter_changes, load_baseline
+from hrbench_analysis.bench.builds import (
     DEFAULT_FILTER,
     BuildError,
     UsageError,
@@ -65,14 +60,20 @@ from hrbench_analysis.bench.builds import (  # noqa: E402
     resolve_ref,
     run_benchmarks,
 )
-from hrbench_analysis.bench.gbench import (  # noqa: E402
+from hrbench_analysis.bench.gbench import (
     InputError,
     format_time,
     get_repetition_times,
     load_benchmark_file,
     merge_benchmark_files,
 )
-from hrbench_analysis.errors import run_main  # noqa: E402
+from hrbench_analysis.bench.machine import cpu_model
+from hrbench_analysis.errors import run_main
+
+# hrbench_analysis comes from analysis/ of this checkout (the shell script gates puts it on
+# the PYTHONPATH): gbench, builds and engine use the standard library only; benchcompare
+# needs numpy and scipy and is imported when timing.
+_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 PROG = "gates"
 
@@ -483,15 +484,7 @@ def _command_rounds(builds, args, timing, start):
 
 
 def machine_info():
-    model = "unknown"
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    model = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
+    model = cpu_model() or "unknown"
     try:
         usable = len(os.sched_getaffinity(0))
     except AttributeError:

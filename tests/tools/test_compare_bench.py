@@ -9,8 +9,8 @@ import random
 import numpy as np
 import pytest
 
-import compare_bench
 from conftest import DATA
+from hrbench_analysis.bench import compare_bench
 from hrbench_analysis.bench.benchcompare import (
     FASTER,
     INCONCLUSIVE,
@@ -299,7 +299,7 @@ class TestPackagedCommands:
             f"hrbench-compare: error: {data('missing.json')}: cannot read the benchmark file")
 
     def test_merge_bench_concatenates_the_suites(self, tmp_path, capsys):
-        import merge_bench
+        from hrbench_analysis.bench import merge_bench
         out = tmp_path / "merged.json"
         assert merge_bench.main([str(out), data("base.json"), data("two_reps.json")]) == 0
         merged = load_benchmark_file(out)

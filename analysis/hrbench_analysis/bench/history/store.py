@@ -16,11 +16,9 @@ import numpy as np
 from ...engine import run_engine
 from ...errors import (
     AnalysisError,
-    InputFileError,
     OutputError,
     one_line,
-    parse_json,
-    read_bounded,
+    read_json,
 )
 from ..builds import (
     commits_between,
@@ -31,6 +29,7 @@ from ..gbench import (
     get_repetition_times,
     load_benchmark_file,
 )
+from ..machine import cpu_model
 from .steps import (
     DEFAULT_MIN_CHANGE,
     DEFAULT_MIN_NOISE,
@@ -94,18 +93,6 @@ def _parse_date(text):
         raise HistoryError(f"{text!r} is not an ISO 8601 date (e.g. 2026-01-31T12:00:00+00:00)"
                            ) from None
     return d if d.tzinfo is not None else d.replace(tzinfo=dt.UTC)
-
-
-def _cpu_model():
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as f:
-            for line in f:
-                key, _, value = line.partition(":")
-                if key.strip() in ("model name", "Model", "Hardware", "cpu model"):
-                    return value.strip() or None
-    except OSError:
-        pass
-    return None
 
 
 def _engine_info(path):
@@ -198,7 +185,7 @@ def record_run(history, bench_path, commit=None, date=None, subject=None, machin
     machine_info = {
         "name": machine or bench_host or this_host,
         "host_name": bench_host or this_host,
-        "cpu_model": _cpu_model() if same_host else None,
+        "cpu_model": cpu_model() if same_host else None,
         "num_cpus": num_cpus if num_cpus is not None else (os.cpu_count() if same_host
                                                             else None),
         "mhz_per_cpu": context.get("mhz_per_cpu"),
@@ -273,11 +260,8 @@ class Run:
 
 def _read_run_file(path):
     # A run file holds one benchmark file and a page of metadata.
-    try:
-        record = parse_json(read_bounded(path, MAX_FILE_BYTES + (1 << 20), "history run file"),
-                            f"{path} is not a history run file:", HistoryError)
-    except InputFileError as e:
-        raise HistoryError(str(e)) from None
+    record = read_json(path, MAX_FILE_BYTES + (1 << 20), "history run file",
+                       f"{path} is not a history run file:", HistoryError)
     if not isinstance(record, dict) or record.get("hrbench_history") != HISTORY_FORMAT:
         raise HistoryError(f"{path} is not a history run file of format {HISTORY_FORMAT} "
                            "(key 'hrbench_history')")
