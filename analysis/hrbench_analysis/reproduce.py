@@ -43,7 +43,7 @@ import shlex
 import shutil
 import sys
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import matplotlib
@@ -278,7 +278,7 @@ def check_claims(claims, mode, capabilities):
         # A selector ("@default", "@kind=...") is checked as the oracle it names.
         name, message = resolve_oracle(c, capabilities)
         if message is None:
-            c = replace(c, oracle=name)
+            c = c.with_oracle(name)
             message = oracle_error(c, capabilities)
         if message is not None:
             errors.append(f"{c.path}:{c.line}: claim {c.id!r}: {message}")
@@ -443,7 +443,7 @@ def _prepare(args, parser):
     # Name each claim's oracle as the engine does (a selector such as "@default" or
     # { kind = "form-factor" } resolves against the capabilities), then check the
     # claims against the engine before any run.
-    claims = [replace(c, oracle=resolve_oracle(c, capabilities)[0] or c.oracle)
+    claims = [c.with_oracle(resolve_oracle(c, capabilities)[0] or c.oracle)
               for c in claims]
     errors, skipped = check_claims(claims, args.mode, capabilities)
     for line in errors:

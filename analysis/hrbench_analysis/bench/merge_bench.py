@@ -2,7 +2,8 @@
 
 usage: merge_bench.py OUT.json IN.json [IN.json ...]
 
-Run as ``tools/merge_bench.py`` by `make bench` to write results/bench.json from the suites under bench/.
+Run as ``tools/merge_bench.py`` by `make bench` to write results/bench.json from the
+suites under bench/.
 Exit codes: 0 success, 2 usage or input error, 70 internal error (a bug; its traceback
 with --debug), 74 OUT.json could not be written.
 """

@@ -49,6 +49,10 @@ from .model import (
     MODES,
     RESERVED_OPTIONS,
     Claim,
+    ClaimJudgement,
+    ClaimMeasure,
+    ClaimOrigin,
+    ClaimRun,
     ClaimsFileError,
     Plateaus,
     SweepRange,
@@ -59,6 +63,10 @@ from .read import load_claims, load_claims_dir
 
 __all__ = [
     "Claim",
+    "ClaimOrigin",
+    "ClaimRun",
+    "ClaimMeasure",
+    "ClaimJudgement",
     "Plateaus",
     "SweepRange",
     "ClaimsFileError",

@@ -2,7 +2,7 @@
 the work a claims file may ask for."""
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, replace
 
 from ..errors import AnalysisError
 from ..expr import Expression
@@ -236,13 +236,11 @@ class Plateaus:
 
 
 @dataclass
-class Claim:
-    """One published statement, turned into a measurement.
+class ClaimOrigin:
+    """Where a claim comes from: its source and its place in the claims file.
 
     Attributes
     ----------
-    id : str
-        Short unique name, e.g. ``"C4"``.
     statement : str
         The statement as written in the source, e.g. ``"L = Theta(N^2)"``.
     source : str
@@ -251,6 +249,33 @@ class Claim:
         Short key of the source (the claims file's name by default).
     description : str
         One or two sentences for a reader who has not seen the paper.
+    path : str
+        The claims file.
+    line : int
+        Line of the claim in the file.
+    key_lines : dict of str to int
+        Line of the keys ``x``, ``y``, ``eps``, ``params.<name>`` and of the sweep ranges
+        (``sweep.quick``, ...), for the messages of the checks against the engine.
+    range_keys : dict of str to str
+        Mode to the key its range was given by (``"sweep.quick"`` or ``"sweep.range"``).
+    """
+
+    statement: str
+    source: str
+    source_key: str
+    description: str = ""
+    path: str = ""
+    line: int = 0
+    key_lines: dict = field(default_factory=dict)
+    range_keys: dict = field(default_factory=dict)
+
+
+@dataclass
+class ClaimRun:
+    """What to run: the scene, the oracle, the swept parameter and the engine's options.
+
+    Attributes
+    ----------
     scene : str
         Scene family of ``hrbench run``, or ``"mesh"`` for a mesh file (`mesh`).
     params : dict of str to float
@@ -259,17 +284,82 @@ class Claim:
         Oracle name (not checked offline: the engine lists its oracles).
     sweep_param : str
         ``"eps"``, ``"min_area"`` or the name of a scene parameter.
-    eps : float or None
-        Fixed oracle threshold when `sweep_param` is a scene parameter (dimensionless).
     ranges : dict of str to SweepRange
         Range of the swept parameter per mode (``"quick"``, ``"full"``).
+    eps : float or None
+        Fixed oracle threshold when `sweep_param` is a scene parameter (dimensionless).
     grid : dict of str to tuple of float
         Scene parameters that take each of a list of values (``sweep.grid``): the sweep
         runs the range once for every combination of them.
+    min_area : float or None
+        ``--min-area`` passed to every run (scene units).
+    max_depth : int or None
+        ``--max-depth`` passed to every run (levels).
+    options : dict of str to (str, int or float)
+        Further engine options passed to every run, e.g. ``{"visibility": "fraction"}``
+        for ``--visibility fraction`` (a ``_`` in a name becomes ``-``).
+    mode_options : dict of str to dict
+        Options per mode (``"quick"``, ``"full"``) that add to or override `options`.
+    mesh : str or None
+        The mesh file a claim with scene ``"mesh"`` loads (``--mesh``), resolved against
+        the claims file's folder.
+    mesh_sha256 : str or None
+        SHA-256 of the mesh file's bytes (hex), part of every run's cache key, so that a
+        changed file is never answered from runs of the old one.
+    command : str
+        The engine command every point runs: ``"run"`` (count the hierarchy, the default)
+        or ``"solve"`` (also solve its radiosity, so that formulas may read the solve's
+        measures, :data:`hrbench_analysis.loader.SOLVE_MEASURES`).
+    """
+
+    scene: str
+    params: dict
+    oracle: str
+    sweep_param: str
+    ranges: dict
+    eps: object = None
+    grid: dict = field(default_factory=dict)
+    min_area: object = None
+    max_depth: object = None
+    options: dict = field(default_factory=dict)
+    mode_options: dict = field(default_factory=dict)
+    mesh: object = None
+    mesh_sha256: object = None
+    command: str = "run"
+
+
+@dataclass
+class ClaimMeasure:
+    """What to measure: the two quantities and how they are drawn.
+
+    Attributes
+    ----------
     x, y : Expression
         Measured quantities (formulas over the fields of a run).
     x_label, y_label : str
         Axis labels with units, for plots.
+    chart : str or None
+        Name of the report chart the claim is drawn in; claims with the same name share
+        one chart. By default claims share a chart when they measure the same x and y.
+    plateaus : Plateaus or None
+        Fit one point per plateau of a staircase instead of every point (key
+        ``plateaus``).
+    """
+
+    x: Expression
+    y: Expression
+    x_label: str
+    y_label: str
+    chart: object = None
+    plateaus: object = None
+
+
+@dataclass
+class ClaimJudgement:
+    """How to judge the measurement: the power law expected and what makes a verdict.
+
+    Attributes
+    ----------
     expected_exponent : float
         The exponent ``k`` of ``y = Theta(x^k)`` (dimensionless).
     tolerance : float
@@ -289,61 +379,12 @@ class Claim:
     step_octaves : int
         Period of the counts' staircase in octaves of x: 1 for binary splits, 2 where a
         split quarters an element (quadtree subdivision).
-    min_area : float or None
-        ``--min-area`` passed to every run (scene units).
-    max_depth : int or None
-        ``--max-depth`` passed to every run (levels).
-    options : dict of str to (str, int or float)
-        Further engine options passed to every run, e.g. ``{"visibility": "fraction"}``
-        for ``--visibility fraction`` (a ``_`` in a name becomes ``-``).
-    mode_options : dict of str to dict
-        Options per mode (``"quick"``, ``"full"``) that add to or override `options`.
-    chart : str or None
-        Name of the report chart the claim is drawn in; claims with the same name share
-        one chart. By default claims share a chart when they measure the same x and y.
-    path : str
-        The claims file.
-    line : int
-        Line of the claim in the file.
-    key_lines : dict of str to int
-        Line of the keys ``x``, ``y``, ``eps``, ``params.<name>`` and of the sweep ranges
-        (``sweep.quick``, ...), for the messages of the checks against the engine.
-    range_keys : dict of str to str
-        Mode to the key its range was given by (``"sweep.quick"`` or ``"sweep.range"``).
-    mesh : str or None
-        The mesh file a claim with scene ``"mesh"`` loads (``--mesh``), resolved against
-        the claims file's folder.
-    mesh_sha256 : str or None
-        SHA-256 of the mesh file's bytes (hex), part of every run's cache key, so that a
-        changed file is never answered from runs of the old one.
-    command : str
-        The engine command every point runs: ``"run"`` (count the hierarchy, the default)
-        or ``"solve"`` (also solve its radiosity, so that formulas may read the solve's
-        measures, :data:`hrbench_analysis.loader.SOLVE_MEASURES`).
-    plateaus : Plateaus or None
-        Fit one point per plateau of a staircase instead of every point (key
-        ``plateaus``).
     published : bool
         Whether `expected_exponent` is a published value. ``False`` for a measurement
         without one: the exponent in the file is then this project's hypothesis, and the
         verdict is ``"measured"`` (the fit and its interval, judged against nothing).
     """
 
-    id: str
-    statement: str
-    source: str
-    source_key: str
-    description: str
-    scene: str
-    params: dict
-    oracle: str
-    sweep_param: str
-    ranges: dict
-    eps: object
-    x: Expression
-    y: Expression
-    x_label: str
-    y_label: str
     expected_exponent: float
     tolerance: float
     x_min: object = None
@@ -354,21 +395,44 @@ class Claim:
     window_decades: float = 1.0
     theta_band: float = 10.0
     step_octaves: int = 1
-    min_area: object = None
-    max_depth: object = None
-    options: dict = field(default_factory=dict)
-    mode_options: dict = field(default_factory=dict)
-    chart: object = None
-    grid: dict = field(default_factory=dict)
-    path: str = ""
-    line: int = 0
-    key_lines: dict = field(default_factory=dict)
-    range_keys: dict = field(default_factory=dict)
-    mesh: object = None
-    mesh_sha256: object = None
-    command: str = "run"
     published: bool = True
-    plateaus: object = None
+
+
+#: The parts of a claim, by attribute.
+CLAIM_PARTS = {"origin": ClaimOrigin, "run": ClaimRun, "measure": ClaimMeasure,
+               "judge": ClaimJudgement}
+
+
+@dataclass
+class Claim:
+    """One published statement, turned into a measurement.
+
+    Every attribute of its parts is also an attribute of the claim (``claim.eps`` is
+    ``claim.run.eps``).
+
+    Attributes
+    ----------
+    id : str
+        Short unique name, e.g. ``"C4"``.
+    origin : ClaimOrigin
+        Where it comes from.
+    run : ClaimRun
+        What to run.
+    measure : ClaimMeasure
+        What to measure.
+    judge : ClaimJudgement
+        How to judge it.
+    """
+
+    id: str
+    origin: ClaimOrigin
+    run: ClaimRun
+    measure: ClaimMeasure
+    judge: ClaimJudgement
+
+    def with_oracle(self, oracle):
+        """The same claim with another oracle (a selector resolved to a name)."""
+        return replace(self, run=replace(self.run, oracle=oracle))
 
     def key_line(self, key):
         """The line of `key` in the claims file (the claim's line when unknown)."""
@@ -407,3 +471,19 @@ class Claim:
         merged = dict(self.options)
         merged.update(self.mode_options.get(mode, {}))
         return dict(sorted(merged.items()))
+
+
+def _part_attribute(part, name):
+    # A claim's attribute `name` of its part `part`, read and set through the claim.
+    def get(claim):
+        return getattr(getattr(claim, part), name)
+
+    def set_(claim, value):
+        setattr(getattr(claim, part), name, value)
+
+    return property(get, set_, doc=f"``{part}.{name}``")
+
+
+for _part, _kind in CLAIM_PARTS.items():
+    for _field in fields(_kind):
+        setattr(Claim, _field.name, _part_attribute(_part, _field.name))

@@ -14,6 +14,10 @@ from .model import (
     MAX_RANGE_POINTS,
     MODES,
     Claim,
+    ClaimJudgement,
+    ClaimMeasure,
+    ClaimOrigin,
+    ClaimRun,
     ClaimsFileError,
     SweepRange,
     _check_total,
@@ -203,6 +207,27 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
 
     want("id", "str")
     want("statement", "str")
+    run, sweep, range_keys = _run_iv(raw, path, want, fail)
+    judge = _judge_iv(raw, want, fail)
+    measure = _measure_iv(raw, judge.step_octaves, want, fail)
+    for key in ("source", "description"):
+        if key in raw:
+            want(key, "str")
+    origin = ClaimOrigin(
+        statement=raw["statement"], source=raw.get("source", citation), source_key=source_key,
+        description=raw.get("description", ""), path=str(path),
+        line=loc.claim_line(index) or 0,
+        key_lines={key: loc.key_line(index, key)
+                   for key in ("x", "y", "eps", *(f"params.{name}" for name in run.params),
+                               *(f"sweep.{mode}" for mode in (*MODES, "range", "grid")
+                                 if mode in sweep))},
+        range_keys=range_keys)
+    return Claim(id=raw["id"], origin=origin, run=run, measure=measure, judge=judge)
+
+
+def _run_iv(raw, path, want, fail):
+    # What to run: the scene, the oracle, the sweep and the engine's options. Returns the
+    # ClaimRun, the table `sweep` and the key each mode's range was given by.
     want("scene", "str")
     params = want("params", "table")
     mesh, mesh_sha256 = _mesh_iv(raw, path, want, fail)
@@ -277,47 +302,6 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
         fail("sweep needs a range: 'quick', 'full' or 'range' = { from, to, per_decade }",
              "sweep")
 
-    # Parse the measured quantities (the names they read are checked by check_names).
-    exprs = {}
-    for key in ("x", "y"):
-        want(key, "str")
-        try:
-            exprs[key] = Expression(raw[key])
-        except ExpressionError as exc:
-            fail(f"key {key!r}: {exc}", key)
-
-    k = float(want("expected_exponent", "num"))
-    if abs(k) > MAX_ABS_EXPONENT:
-        fail(f"key 'expected_exponent' must lie within +/-{MAX_ABS_EXPONENT}, got {k:g}",
-             "expected_exponent")
-    tol = float(want("tolerance", "pos"))
-    if tol > MAX_ABS_EXPONENT:
-        fail(f"key 'tolerance' must be at most {MAX_ABS_EXPONENT}, got {tol:g}", "tolerance")
-    regime = raw.get("regime", {})
-    if not isinstance(regime, dict) or set(regime) - _REGIME_KEYS:
-        fail("key 'regime' must be a table with optional x_min and x_max", "regime")
-    for sub in regime:
-        want(f"regime.{sub}", "num", regime[sub])
-    defaults = Claim.__dataclass_fields__
-    options = {}
-    for key, kind in (("min_points", "pos"), ("min_decades", "pos"),
-                      ("window_decades", "pos"), ("theta_band", "pos")):
-        if key in raw:
-            options[key] = want(key, kind)
-    if "min_points" in options:
-        value = options["min_points"]
-        if not (value == int(value) and 3 <= value <= MAX_RANGE_POINTS):
-            fail(f"key 'min_points' must be an integer from 3 to {MAX_RANGE_POINTS}, got "
-                 f"{value!r}", "min_points")
-        options["min_points"] = int(value)
-    if "step_octaves" in raw:
-        value = raw["step_octaves"]
-        if not (isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= 4):
-            fail(f"key 'step_octaves' must be an integer from 1 to 4, got {value!r}",
-                 "step_octaves")
-        options["step_octaves"] = value
-    if options.get("theta_band", defaults["theta_band"].default) < 1:
-        fail("key 'theta_band' must be at least 1", "theta_band")
     for key in ("min_area", "max_depth"):
         if key in raw:
             want(key, "pos")
@@ -339,38 +323,81 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
             fail(f"unknown key '{mode}.{key}'; allowed: {', '.join(sorted(_MODE_KEYS))}",
                  f"{mode}.{key}")
         mode_options[mode] = _options_iv(table.get("options", {}), f"{mode}.options", fail)
-    expected = want("expected_to_hold", "bool", raw.get("expected_to_hold", True))
-    published = want("published", "bool", raw.get("published", True))
     command = want("command", "str", raw.get("command", "run"))
     if command not in COMMANDS:
         fail(f"key 'command' must be one of {', '.join(COMMANDS)}, got {command!r}", "command")
-    for key in ("source", "description", "x_label", "y_label", "chart"):
+    return ClaimRun(
+        scene=raw["scene"], params={k_: float(v) for k_, v in params.items()},
+        oracle=oracle, sweep_param=sweep_param, ranges=ranges, eps=eps, grid=grid,
+        min_area=raw.get("min_area"),
+        max_depth=int(raw["max_depth"]) if "max_depth" in raw else None,
+        options=base_options, mode_options=mode_options, mesh=mesh, mesh_sha256=mesh_sha256,
+        command=command), sweep, range_keys
+
+
+def _judge_iv(raw, want, fail):
+    # How to judge: the power law expected, the regime and what makes a verdict.
+    k = float(want("expected_exponent", "num"))
+    if abs(k) > MAX_ABS_EXPONENT:
+        fail(f"key 'expected_exponent' must lie within +/-{MAX_ABS_EXPONENT}, got {k:g}",
+             "expected_exponent")
+    tol = float(want("tolerance", "pos"))
+    if tol > MAX_ABS_EXPONENT:
+        fail(f"key 'tolerance' must be at most {MAX_ABS_EXPONENT}, got {tol:g}", "tolerance")
+    regime = raw.get("regime", {})
+    if not isinstance(regime, dict) or set(regime) - _REGIME_KEYS:
+        fail("key 'regime' must be a table with optional x_min and x_max", "regime")
+    for sub in regime:
+        want(f"regime.{sub}", "num", regime[sub])
+    defaults = ClaimJudgement.__dataclass_fields__
+    options = {}
+    for key, kind in (("min_points", "pos"), ("min_decades", "pos"),
+                      ("window_decades", "pos"), ("theta_band", "pos")):
+        if key in raw:
+            options[key] = want(key, kind)
+    if "min_points" in options:
+        value = options["min_points"]
+        if not (value == int(value) and 3 <= value <= MAX_RANGE_POINTS):
+            fail(f"key 'min_points' must be an integer from 3 to {MAX_RANGE_POINTS}, got "
+                 f"{value!r}", "min_points")
+        options["min_points"] = int(value)
+    if "step_octaves" in raw:
+        value = raw["step_octaves"]
+        if not (isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= 4):
+            fail(f"key 'step_octaves' must be an integer from 1 to 4, got {value!r}",
+                 "step_octaves")
+        options["step_octaves"] = value
+    if options.get("theta_band", defaults["theta_band"].default) < 1:
+        fail("key 'theta_band' must be at least 1", "theta_band")
+    expected = want("expected_to_hold", "bool", raw.get("expected_to_hold", True))
+    published = want("published", "bool", raw.get("published", True))
+    return ClaimJudgement(
+        expected_exponent=k, tolerance=tol, x_min=regime.get("x_min"),
+        x_max=regime.get("x_max"), expected_to_hold=expected, published=published, **options)
+
+
+def _measure_iv(raw, step_octaves, want, fail):
+    # What to measure: x and y (the names they read are checked by check_names), their
+    # labels, the chart and the plateaus of a staircase.
+    exprs = {}
+    for key in ("x", "y"):
+        want(key, "str")
+        try:
+            exprs[key] = Expression(raw[key])
+        except ExpressionError as exc:
+            fail(f"key {key!r}: {exc}", key)
+
+    for key in ("x_label", "y_label", "chart"):
         if key in raw:
             want(key, "str")
     plateaus = None
     if "plateaus" in raw:
         plateaus = _plateaus_iv(want("plateaus", "table"),
-                                options.get("step_octaves", 1), fail)
+                                step_octaves, fail)
 
-    return Claim(
-        id=raw["id"], statement=raw["statement"], source=raw.get("source", citation),
-        source_key=source_key, description=raw.get("description", ""),
-        scene=raw["scene"], params={k_: float(v) for k_, v in params.items()},
-        oracle=oracle, sweep_param=sweep_param, ranges=ranges, eps=eps,
-        x=exprs["x"], y=exprs["y"],
-        x_label=raw.get("x_label", raw["x"]), y_label=raw.get("y_label", raw["y"]),
-        expected_exponent=k, tolerance=tol,
-        x_min=regime.get("x_min"), x_max=regime.get("x_max"),
-        expected_to_hold=expected, min_area=raw.get("min_area"),
-        max_depth=int(raw["max_depth"]) if "max_depth" in raw else None,
-        options=base_options, mode_options=mode_options, chart=raw.get("chart"), grid=grid,
-        path=str(path), line=loc.claim_line(index) or 0,
-        key_lines={key: loc.key_line(index, key)
-                   for key in ("x", "y", "eps", *(f"params.{name}" for name in params),
-                               *(f"sweep.{mode}" for mode in (*MODES, "range", "grid")
-                                 if mode in sweep))},
-        range_keys=range_keys, mesh=mesh, mesh_sha256=mesh_sha256, command=command,
-        published=published, plateaus=plateaus, **options)
+    return ClaimMeasure(
+        x=exprs["x"], y=exprs["y"], x_label=raw.get("x_label", raw["x"]),
+        y_label=raw.get("y_label", raw["y"]), chart=raw.get("chart"), plateaus=plateaus)
 
 
 def load_claims_dir(directory):
