@@ -13,6 +13,7 @@ the counters are the engine's own (``hrbench capabilities --json``, read by
 import csv
 import io
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -449,6 +450,13 @@ def read_links_csv(path):
         not UTF-8, lacks a required column, or a row holds a value that is not what the
         column is: root indices and depths integers ``>= 0``, positions finite numbers
         with ``t0 <= t1``. The message names the file, the line and the column.
+
+    Notes
+    -----
+    The one reader of link lists (the tilings, the hierarchy statistics of
+    :mod:`hrbench_analysis.lemmas`). A link list of a sweep point holds up to a few hundred
+    thousand rows: numpy's C reader reads them; only a list it refuses, or whose values
+    break a rule, is read again row by row, for the message that names line and column.
     """
     try:
         text = read_bounded(path, MAX_LINKS_BYTES, "link list").decode("utf-8")
@@ -462,12 +470,21 @@ def read_links_csv(path):
         header = [h.strip() for h in next(reader, [])]
         missing = [c for c in _LINK_COLUMNS if c not in header and c not in ("elem_i", "elem_j")]
         if missing:
-            raise ResultFormatError(f"{path}: link list lacks column(s) {', '.join(missing)}")
+            raise ResultFormatError(
+                f"{path}: link list lacks column(s) {', '.join(missing)}"
+                + (" (positions along a root patch: the link list of a 2D scene)"
+                   if any(c.startswith("t") for c in missing) else ""))
         col = {name: header.index(name) for name in _READ_COLUMNS}
+        data = _read_fast(text, [col[name] for name in _READ_COLUMNS])
+        if data is not None:
+            return _link_table(data)
         rows = [_link_row(row, col, path, reader.line_num) for row in reader if row]
     except csv.Error as exc:
         raise ResultFormatError(f"{path}: link list is not CSV: {exc}") from None
-    data = np.array(rows, dtype=float).reshape(-1, len(_READ_COLUMNS))
+    return _link_table(np.array(rows, dtype=float).reshape(-1, len(_READ_COLUMNS)))
+
+
+def _link_table(data):
     return LinkTable(
         root_i=data[:, 0].astype(int), t0_i=data[:, 1], t1_i=data[:, 2],
         depth_i=data[:, 3].astype(int), root_j=data[:, 4].astype(int), t0_j=data[:, 5],
@@ -477,6 +494,26 @@ def read_links_csv(path):
 # The columns a LinkTable holds, in its order; the integer ones.
 _READ_COLUMNS = ("root_i", "t0_i", "t1_i", "depth_i", "root_j", "t0_j", "t1_j", "depth_j")
 _INTEGER_COLUMNS = ("root_i", "depth_i", "root_j", "depth_j")
+
+
+def _read_fast(text, columns):
+    # The rows below the header with numpy's C reader, as floats, when every value keeps
+    # the rules of _link_row; else None (the rows are then read one by one).
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # "input contained no data": no links
+            data = np.loadtxt(io.StringIO(text), delimiter=",", skiprows=1, usecols=columns,
+                              dtype=np.float64, ndmin=2, comments=None)
+    except (ValueError, IndexError):
+        return None
+    data = data.reshape(-1, len(columns))
+    integers = data[:, [_READ_COLUMNS.index(name) for name in _INTEGER_COLUMNS]]
+    t0 = data[:, [_READ_COLUMNS.index("t0_i"), _READ_COLUMNS.index("t0_j")]]
+    t1 = data[:, [_READ_COLUMNS.index("t1_i"), _READ_COLUMNS.index("t1_j")]]
+    if (np.all(np.isfinite(data)) and np.all(integers >= 0) and np.all(integers < 2 ** 53)
+            and np.all(integers == np.floor(integers)) and np.all(t0 <= t1)):
+        return data
+    return None
 
 
 def _link_row(row, col, path, line):
