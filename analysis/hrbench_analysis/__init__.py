@@ -8,7 +8,7 @@ engine      the one package that runs the engine: version, capabilities, command
 claimfile   read and check the claims files (``analysis/hrbench_analysis/claims/*.toml``),
             and a claim against the engine's capabilities
 expr        the safe formula evaluator used for a claim's x and y
-loader      read the engine's output (run JSON, link CSV)
+loader      read the engine's output (run JSON, link CSV, solution CSV)
 store       the SQLite results cache: checked when opened, leases for concurrent sweeps
 sweep       expand claims into runs and run them in parallel, dearest first
 schedulers  where the runs execute: a local pool, or a Dask cluster
@@ -18,7 +18,7 @@ plots       plotting functions (each draws on a given Axes)
 report      the Markdown, HTML and JSON report
 output      every output file written whole: a temporary file renamed over it, a
             symlink's target, a device written through; a report set all or none
-render      read the leaves of ``hrbench solve --out``; render a 3D solution, draw a 2D profile;
+render      render a 3D solution, draw a 2D profile;
             ``hrbench-render``, a solve drawn with mplot3d
 solution    the report's pictures of a solve: the profile on the plates, the Cornell box
 tiling      ``hrbench-tiling``: the link tilings of a flatland pair at several eps
