@@ -7,8 +7,9 @@ z-buffer rasteriser written in numpy (each leaf's polygon split into triangles, 
 depth wins), optionally with the element mesh over it; :func:`render_figure` puts the image
 in a figure for the report. In 2D (flatland), :func:`plot_radiosity_profile` draws each
 root patch's radiosity along its arc length. :func:`plot_solution_3d` draws the leaves as
-mplot3d polygons coloured by radiosity, to turn round and explore; the command ``hrbench-render`` (:func:`main`,
-``python -m hrbench_analysis.render``) solves a scene and draws it so, with a colour bar:
+mplot3d polygons coloured by radiosity, to turn round and explore; the command
+``hrbench-render`` (:func:`main`, ``python -m hrbench_analysis.render``) solves a scene and
+draws it so, with a colour bar:
 
     hrbench-render cornell --eps 0.05 --min-area 0.005 --out room.png
 
