@@ -36,6 +36,7 @@ import numpy as np
 from .engine import run_engine
 from .errors import AnalysisError
 from .loader import ResultFormatError, read_links_csv
+from .loader import read_scene_segments as loader_scene_segments
 
 __all__ = [
     "STATISTICS",
@@ -147,36 +148,10 @@ def read_link_dump(path):
 
 
 def read_scene_segments(text):
-    """The root segments of a 2D scene, from ``hrbench save`` (scene JSON).
-
-    Parameters
-    ----------
-    text : str
-        The scene file: ``{"dimension": 2, "patches": [{"a": [x, y], "b": [x, y]}, ...]}``.
-
-    Returns
-    -------
-    a, b : ndarray, shape (n, 2)
-        Start and end point of every root patch, in scene order (scene units).
-
-    Raises
-    ------
-    LinkDumpError
-        If the text is not such a scene, or the scene is not 2D.
-    """
-    try:
-        obj = json.loads(text)
-        if obj.get("dimension") != 2:
-            raise LinkDumpError(f"hierarchy statistics need a 2D scene; this one has "
-                                f"dimension {obj.get('dimension')!r}")
-        a = np.array([p["a"] for p in obj["patches"]], dtype=np.float64).reshape(-1, 2)
-        b = np.array([p["b"] for p in obj["patches"]], dtype=np.float64).reshape(-1, 2)
-    except LinkDumpError:
-        raise
-    except (ValueError, TypeError, KeyError, AttributeError) as exc:
-        raise LinkDumpError(f"unreadable scene from 'hrbench save' ({type(exc).__name__}: "
-                            f"{exc})") from None
-    return a, b
+    """The root segments of a 2D scene, from ``hrbench save``: as
+    :func:`hrbench_analysis.loader.read_scene_segments` reads them, with
+    :class:`LinkDumpError` for a scene they cannot be measured on."""
+    return loader_scene_segments(text, LinkDumpError)
 
 
 # ---------------------------------------------------------------------------------------

@@ -15,6 +15,7 @@ Modules
 record    run records (``run --json``, ``solve --json``): :func:`parse_run_json`
 links     link lists (``links --out``): :func:`read_links_csv`
 solution  solutions (``solve --out``): :func:`read_solution`
+scene     scenes (``save``): :func:`read_scene_segments`
 """
 
 from .links import MAX_LINKS_BYTES, LinkTable, read_links_csv
@@ -32,6 +33,7 @@ from .record import (
     parse_run_json,
     run_environment,
 )
+from .scene import read_scene_segments
 from .solution import COLUMNS_2D, COLUMNS_3D, Solution, read_solution
 
 __all__ = [
@@ -54,4 +56,5 @@ __all__ = [
     "COLUMNS_3D",
     "Solution",
     "read_solution",
+    "read_scene_segments",
 ]
