@@ -34,6 +34,7 @@ from .capabilities import (
     parse_capabilities,
 )
 from .commands import (
+    SharedRun,
     format_number,
     links_argv,
     option_argv,
@@ -43,6 +44,7 @@ from .commands import (
     run_links,
     save_argv,
     solve_argv,
+    sweep_argv,
 )
 from .locate import (
     engine_argv,
@@ -99,6 +101,8 @@ __all__ = [
     "option_argv",
     "run_argv",
     "solve_argv",
+    "sweep_argv",
+    "SharedRun",
     "links_argv",
     "save_argv",
     "run_engine",

@@ -3,6 +3,7 @@ spelling of numbers and options on them.
 """
 
 import os
+from dataclasses import dataclass
 
 from .capabilities import MESH_SCENE
 from .locate import engine_argv
@@ -145,6 +146,75 @@ def run_argv(hrbench, scene, params, eps, oracle, min_area=None, max_depth=None,
                          options) + ["--count-only", "--json"])
 
 
+def sweep_argv(hrbench, scene, params, eps, oracle, sweep, min_area=None, max_depth=None,
+               options=None):
+    """The command line of one counting run over several values of eps or ``--min-area``:
+    ``hrbench run ... --sweep NAME=V1,V2,... --count-only --json``.
+
+    Parameters
+    ----------
+    hrbench, scene, params, eps, oracle, min_area, max_depth, options
+        As in :func:`run_argv`; the one of `eps` and `min_area` that `sweep` names is
+        left out (the run takes its values from ``--sweep``).
+    sweep : (str, sequence of float)
+        The parameter (``"eps"`` or ``"min_area"``) and its values; with no values the
+        command line names the parameter alone (``--sweep eps``), the run's identity.
+
+    Returns
+    -------
+    argv : list of str
+        As :func:`run_argv`'s, less the swept flag and its value, with ``--sweep`` before
+        ``--count-only --json``.
+    """
+    name, values = sweep
+    argv = _refine_argv(hrbench, "run", scene, params, eps, oracle, min_area, max_depth,
+                        options, swept=name)
+    spec = f"{name}=" + ",".join(format_number(v) for v in values) if values else name
+    return argv + ["--sweep", spec, "--count-only", "--json"]
+
+
+@dataclass(frozen=True)
+class SharedRun:
+    """One engine run that counts several points of a series (``--sweep``): what
+    :func:`sweep_argv` builds its command line from, less the
+    values.
+
+    Attributes
+    ----------
+    hrbench : tuple of str
+        The engine's words.
+    scene : str
+    params : tuple of (str, float)
+        Scene parameters, sorted by name.
+    eps : float or None
+        ``None`` when it is the swept parameter.
+    oracle : str
+    param : str
+        The swept parameter, ``"eps"`` or ``"min_area"``.
+    min_area : float or None
+        ``None`` when it is the swept parameter.
+    max_depth : int or None
+    options : tuple of (str, object)
+        Engine options, sorted by name.
+    """
+
+    hrbench: tuple
+    scene: str
+    params: tuple
+    eps: object
+    oracle: str
+    param: str
+    min_area: object
+    max_depth: object
+    options: tuple
+
+    def argv(self, values=()):
+        """The command line over `values` of the swept parameter (none: its identity)."""
+        return sweep_argv(self.hrbench, self.scene, dict(self.params), self.eps, self.oracle,
+                          (self.param, values), min_area=self.min_area,
+                          max_depth=self.max_depth, options=dict(self.options))
+
+
 def solve_argv(hrbench, scene, params, eps, oracle, min_area=None, max_depth=None,
                options=None):
     """The command line of one solve: ``hrbench solve ... --json``.
@@ -194,11 +264,14 @@ def links_argv(hrbench, scene, params, eps, out, oracle="garmann", min_area=None
 
 
 def _refine_argv(hrbench, command, scene, params, eps, oracle, min_area, max_depth,
-                 options):
-    # The words `run`, `solve` and `links` share: scene, threshold, oracle, limits, options.
-    argv = [*engine_argv(hrbench), command, *_scene_argv(scene, params),
-            "--eps", format_number(eps), "--oracle", oracle]
-    if min_area is not None:
+                 options, swept=None):
+    # The words `run`, `solve` and `links` share: scene, threshold, oracle, limits, options;
+    # less the one of eps and min_area that --sweep varies (`swept`).
+    argv = [*engine_argv(hrbench), command, *_scene_argv(scene, params)]
+    if swept != "eps":
+        argv += ["--eps", format_number(eps)]
+    argv += ["--oracle", oracle]
+    if min_area is not None and swept != "min_area":
         argv += ["--min-area", format_number(min_area)]
     if max_depth is not None:
         argv += ["--max-depth", str(int(max_depth))]
