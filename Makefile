@@ -96,9 +96,9 @@ bench-naive: build
 HISTORY_DIR := results/history
 history: build
 	$(MAKE) bench NAIVE_ROUNDS=0
-	$(PYTHON) -m hrbench_analysis.history record --history $(HISTORY_DIR) results/bench.json \
+	$(PYTHON) -m hrbench_analysis.bench.history record --history $(HISTORY_DIR) results/bench.json \
 	  --hrbench build/hrbench
-	$(PYTHON) -m hrbench_analysis.history html --history $(HISTORY_DIR) --out results/history.html
+	$(PYTHON) -m hrbench_analysis.bench.history html --history $(HISTORY_DIR) --out results/history.html
 
 # The CI gates of a change (docs/ci.md, also the GitHub Action of action.yml): build BASE
 # and HEAD, check the count baseline, time both in interleaved rounds, print a summary.

@@ -1,41 +1,17 @@
 #!/usr/bin/env python3
-"""Merge Google Benchmark JSON files (one per suite) into one.
+"""Merge Google Benchmark JSON files: ``merge_bench.py OUT.json IN.json [IN.json ...]``.
 
-usage: merge_bench.py OUT.json IN.json [IN.json ...]
-
-Used by `make bench` to write results/bench.json from the suites under bench/.
-Exit codes: 0 success, 2 usage or input error, 70 internal error (a bug; its traceback
-with --debug), 74 OUT.json could not be written.
+Runs :mod:`hrbench_analysis.bench.merge_bench` of this checkout, without the package
+installed: ``analysis/`` goes on the ``PYTHONPATH`` of the Python it starts.
 """
 
-import json
 import os
 import sys
 
-# analysis/ for hrbench_analysis.gbench (standard library only), so that the merge runs
-# with any Python 3.11, without the package installed.
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
-                                "analysis"))
-
-from hrbench_analysis.errors import run_main  # noqa: E402
-from hrbench_analysis.gbench import load_benchmark_file, merge_benchmark_files  # noqa: E402
-from hrbench_analysis.output import write_file  # noqa: E402
-
-
-def main(argv=None):
-    return run_main("merge_bench.py", _merge, argv)
-
-
-def _merge(argv):
-    argv = [a for a in argv if a != "--debug"]
-    if len(argv) < 2 or any(a.startswith("-") for a in argv):
-        print(__doc__.strip().splitlines()[2], file=sys.stderr)
-        return 2
-    out, inputs = argv[0], argv[1:]
-    merged = merge_benchmark_files([load_benchmark_file(path) for path in inputs])
-    write_file(out, json.dumps(merged, indent=2) + "\n")
-    return 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    analysis = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                            "analysis")
+    paths = [analysis, *filter(None, os.environ.get("PYTHONPATH", "").split(os.pathsep))]
+    os.environ["PYTHONPATH"] = os.pathsep.join(paths)
+    os.execv(sys.executable, [sys.executable, "-m", "hrbench_analysis.bench.merge_bench",
+                              *sys.argv[1:]])

@@ -3,10 +3,12 @@
 Modules
 -------
 errors      AnalysisError, the base of every error that means bad input (exit code 2)
-engine      the one module that runs the engine: version, capabilities, command lines
-claimfile   read and check the claims files (``analysis/hrbench_analysis/claims/*.toml``)
+engine      the one package that runs the engine: version, capabilities, command lines,
+            processes
+claimfile   read and check the claims files (``analysis/hrbench_analysis/claims/*.toml``),
+            and a claim against the engine's capabilities
 expr        the safe formula evaluator used for a claim's x and y
-loader      read the engine's output (run JSON, link CSV)
+loader      read the engine's output (run JSON, link CSV, solution CSV)
 store       the SQLite results cache: checked when opened, leases for concurrent sweeps
 sweep       expand claims into runs and run them in parallel, dearest first
 schedulers  where the runs execute: a local pool, or a Dask cluster
@@ -16,7 +18,7 @@ plots       plotting functions (each draws on a given Axes)
 report      the Markdown, HTML and JSON report
 output      every output file written whole: a temporary file renamed over it, a
             symlink's target, a device written through; a report set all or none
-render      read the leaves of ``hrbench solve --out``; render a 3D solution, draw a 2D profile;
+render      render a 3D solution, draw a 2D profile;
             ``hrbench-render``, a solve drawn with mplot3d
 solution    the report's pictures of a solve: the profile on the plates, the Cornell box
 tiling      ``hrbench-tiling``: the link tilings of a flatland pair at several eps
@@ -24,11 +26,9 @@ explorer    the page of sliders over eps and l (``results/explorer.html``, ``hrb
 cli         what the drawing commands share: engine options, scene words, one-line errors
 reproduce   the command lines ``hrbench-reproduce`` (``python -m hrbench_analysis.reproduce``)
             and ``hrbench-sweep``
-gbench      read Google Benchmark JSON files
-benchcompare  ``hrbench-compare``: the timing comparison of two benchmark runs
-builds      a commit built in its git worktree and its benchmarks run (the CI gates,
-            ``hrbench-history measure``)
-history     ``hrbench-history``: benchmark runs over commits, steps, the page
+bench       the benchmark and regression tooling: Google Benchmark files (gbench),
+            ``hrbench-compare`` (benchcompare, cmdtiming), a commit built in its git
+            worktree (builds, the CI gates), ``hrbench-history`` (history)
 
 An engine other than hrbench works if it keeps the engine contract
 (docs/engine-contract.md); its run records are described by

@@ -25,8 +25,8 @@ import sys
 import traceback
 
 __all__ = ["AnalysisError", "OutputError", "InputFileError", "one_line", "open_bounded",
-           "read_bounded", "parse_json", "run_main", "INPUT_ERROR", "INTERNAL_ERROR",
-           "OUTPUT_ERROR", "INTERRUPTED"]
+           "read_bounded", "parse_json", "read_json", "run_main", "INPUT_ERROR",
+           "INTERNAL_ERROR", "OUTPUT_ERROR", "INTERRUPTED"]
 
 #: Exit codes every command shares beside its verdicts: bad input or environment, a bug
 #: of the analysis (``EX_SOFTWARE`` of sysexits.h), an interrupt (128 + SIGINT).
@@ -229,6 +229,17 @@ def parse_json(text, what="JSON text", error=None):
         raise error(f"{what} is not valid JSON: {one_line(exc, 300)}") from None
 
 
+def read_json(path, limit, what, where, error):
+    """A JSON file of at most `limit` bytes (:func:`read_bounded`), parsed strictly
+    (:func:`parse_json`); a file that cannot be read and text that is not JSON both raise
+    `error` (a class taking one message), with `where` naming the text."""
+    try:
+        return parse_json(read_bounded(path, limit, what), where, error)
+    except InputFileError as exc:
+        raise error(str(exc)) from None
+
+
+
 #: The errors of a write that failed on a file that could be opened: exit code 74.
 _WRITE_ERRORS = {errno.ENOSPC, errno.EDQUOT, errno.EIO, errno.EFBIG, errno.EROFS, errno.EPIPE}
 
@@ -318,7 +329,7 @@ def run_main(prog, body, argv=None, input_errors=(), prefix=None, interrupted=No
         except (OSError, ValueError):
             pass
 
-    from .engine import ending_engine_runs  # engine.py imports this module
+    from .engine import ending_engine_runs  # the engine package imports this module
 
     stdout, sys.stdout = sys.stdout, _NamedStdout(sys.stdout)
     try:

@@ -24,20 +24,19 @@ The statistics are defined for 2D scenes (segments): an element's geometry is it
 interval ``[t0, t1]`` of arc length along its root segment.
 """
 
-import io
 import json
 import math
 import os
 import tempfile
 import time
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from .engine import run_engine
-from .errors import AnalysisError, InputFileError, one_line, open_bounded
-from .loader import MAX_LINKS_BYTES
+from .errors import AnalysisError
+from .loader import ResultFormatError, read_links_csv
+from .loader import read_scene_segments as loader_scene_segments
 
 __all__ = [
     "STATISTICS",
@@ -106,10 +105,6 @@ RECORD_FIELD = "hierarchy_statistics"
 #: only when ``D`` lies outside them by more than this times ``r_max + r_min``.
 RELATIVE_SLACK = 1e-9
 
-# Columns of ``hrbench links`` for 2D scenes that the statistics read.
-_LINK_COLUMNS = ("root_i", "t0_i", "t1_i", "root_j", "t0_j", "t1_j")
-
-
 class LinkDumpError(AnalysisError, ValueError):
     """A link list or scene that the statistics cannot be measured on."""
 
@@ -121,8 +116,7 @@ class LinkDumpError(AnalysisError, ValueError):
 def read_link_dump(path):
     """Read the columns of a 2D link list (``hrbench links --out``) that the statistics need.
 
-    Like :func:`hrbench_analysis.loader.read_links_csv`, but with numpy's C reader, since a
-    link list of a sweep point holds up to a few hundred thousand rows.
+    Read by :func:`hrbench_analysis.loader.read_links_csv`, the one reader of link lists.
 
     Parameters
     ----------
@@ -146,75 +140,18 @@ def read_link_dump(path):
         an integer ``>= 0`` or an element's ``t0`` above its ``t1``.
     """
     try:
-        with open_bounded(path, MAX_LINKS_BYTES, "link list") as raw, \
-                io.TextIOWrapper(raw, encoding="utf-8") as fh:
-            header = [h.strip() for h in fh.readline().strip().split(",")]
-            missing = [c for c in _LINK_COLUMNS if c not in header]
-            if missing:
-                raise LinkDumpError(f"{path}: link list lacks column(s) {', '.join(missing)} "
-                                    "(hierarchy statistics need the link list of a 2D scene)")
-            cols = [header.index(c) for c in _LINK_COLUMNS]
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")  # "input contained no data": no links
-                data = np.loadtxt(fh, delimiter=",", usecols=cols, dtype=np.float64, ndmin=2)
-    except InputFileError as exc:
+        table = read_links_csv(path)
+    except ResultFormatError as exc:
         raise LinkDumpError(str(exc)) from None
-    except (ValueError, IndexError) as exc:  # not numbers, too few columns, not UTF-8
-        raise LinkDumpError(f"{path}: unreadable link list ({one_line(exc, 200)})") from None
-    data = data.reshape(-1, len(cols))
-    problem = _link_problem(data)
-    if problem:
-        raise LinkDumpError(f"{path}: link list {problem}")
-    out = {name: data[:, n] for n, name in enumerate(_LINK_COLUMNS)}
-    for name in ("root_i", "root_j"):
-        out[name] = out[name].astype(np.int64)
-    return out
-
-
-def _link_problem(data):
-    # Why the columns _LINK_COLUMNS of a link list cannot be measured, or None.
-    if not np.all(np.isfinite(data)):
-        row = int(np.flatnonzero(~np.all(np.isfinite(data), axis=1))[0])
-        return f"holds a value that is not a finite number in row {row + 1}"
-    roots = data[:, [0, 3]]
-    if np.any(roots < 0) or np.any(roots != np.floor(roots)) or np.any(roots >= 2 ** 53):
-        return "holds a root index that is not an integer >= 0"
-    if np.any(data[:, 1] > data[:, 2]) or np.any(data[:, 4] > data[:, 5]):
-        return "holds an element whose t0 exceeds its t1"
-    return None
+    return {"root_i": table.root_i.astype(np.int64), "t0_i": table.t0_i, "t1_i": table.t1_i,
+            "root_j": table.root_j.astype(np.int64), "t0_j": table.t0_j, "t1_j": table.t1_j}
 
 
 def read_scene_segments(text):
-    """The root segments of a 2D scene, from ``hrbench save`` (scene JSON).
-
-    Parameters
-    ----------
-    text : str
-        The scene file: ``{"dimension": 2, "patches": [{"a": [x, y], "b": [x, y]}, ...]}``.
-
-    Returns
-    -------
-    a, b : ndarray, shape (n, 2)
-        Start and end point of every root patch, in scene order (scene units).
-
-    Raises
-    ------
-    LinkDumpError
-        If the text is not such a scene, or the scene is not 2D.
-    """
-    try:
-        obj = json.loads(text)
-        if obj.get("dimension") != 2:
-            raise LinkDumpError(f"hierarchy statistics need a 2D scene; this one has "
-                                f"dimension {obj.get('dimension')!r}")
-        a = np.array([p["a"] for p in obj["patches"]], dtype=np.float64).reshape(-1, 2)
-        b = np.array([p["b"] for p in obj["patches"]], dtype=np.float64).reshape(-1, 2)
-    except LinkDumpError:
-        raise
-    except (ValueError, TypeError, KeyError, AttributeError) as exc:
-        raise LinkDumpError(f"unreadable scene from 'hrbench save' ({type(exc).__name__}: "
-                            f"{exc})") from None
-    return a, b
+    """The root segments of a 2D scene, from ``hrbench save``: as
+    :func:`hrbench_analysis.loader.read_scene_segments` reads them, with
+    :class:`LinkDumpError` for a scene they cannot be measured on."""
+    return loader_scene_segments(text, LinkDumpError)
 
 
 # ---------------------------------------------------------------------------------------

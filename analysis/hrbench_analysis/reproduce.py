@@ -43,14 +43,23 @@ import shlex
 import shutil
 import sys
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import matplotlib
 import numpy as np
 
 from . import __version__, errors
-from .claimfile import ClaimsFileError, check_names, load_claims, load_claims_dir
+from .claimfile import (
+    ClaimsFileError,
+    check_names,
+    load_claims,
+    load_claims_dir,
+    missing_capability,
+    oracle_error,
+    param_errors,
+    resolve_oracle,
+)
 from .cli import positive_number
 from .engine import (
     INPUT_ERROR,
@@ -61,10 +70,6 @@ from .engine import (
     format_number,
     get_capabilities,
     interrupt_exit_code,
-    missing_capability,
-    oracle_error,
-    param_errors,
-    resolve_oracle,
     run_links,
 )
 from .errors import OUTPUT_ERROR, AnalysisError, OutputError, one_line, run_main
@@ -258,22 +263,22 @@ def check_claims(claims, mode, capabilities):
     -------
     errors : list of str
         One line per problem that means the engine can never run a claim: an oracle it
-        does not list (:func:`~hrbench_analysis.engine.oracle_error`), a scene parameter the
+        does not list (:func:`~hrbench_analysis.claimfile.oracle_error`), a scene parameter the
         family lacks or a value (fixed or swept, in either mode) out of its range
-        (:func:`~hrbench_analysis.engine.param_errors`), or a formula name no run provides
+        (:func:`~hrbench_analysis.claimfile.param_errors`), or a formula name no run provides
         (:func:`~hrbench_analysis.claimfile.check_names`; checked for the claims not skipped),
         or a scene family the hrbench of this release lacks (:func:`unknown_family`).
         Each line names the file, the line and the claim.
     skipped : dict of str to str
         Claim id to the reason the engine cannot run it now
-        (:func:`~hrbench_analysis.engine.missing_capability`), in claim order.
+        (:func:`~hrbench_analysis.claimfile.missing_capability`), in claim order.
     """
     errors, skipped = [], {}
     for c in claims:
         # A selector ("@default", "@kind=...") is checked as the oracle it names.
         name, message = resolve_oracle(c, capabilities)
         if message is None:
-            c = replace(c, oracle=name)
+            c = c.with_oracle(name)
             message = oracle_error(c, capabilities)
         if message is not None:
             errors.append(f"{c.path}:{c.line}: claim {c.id!r}: {message}")
@@ -438,7 +443,7 @@ def _prepare(args, parser):
     # Name each claim's oracle as the engine does (a selector such as "@default" or
     # { kind = "form-factor" } resolves against the capabilities), then check the
     # claims against the engine before any run.
-    claims = [replace(c, oracle=resolve_oracle(c, capabilities)[0] or c.oracle)
+    claims = [c.with_oracle(resolve_oracle(c, capabilities)[0] or c.oracle)
               for c in claims]
     errors, skipped = check_claims(claims, args.mode, capabilities)
     for line in errors:

@@ -10,9 +10,9 @@ import json
 from matplotlib.figure import Figure
 
 from .engine import EngineError, run_engine, solve_argv
-from .loader import ResultFormatError
+from .loader import ResultFormatError, read_solution
 from .output import staged
-from .render import plot_radiosity_profile, read_solution, render_figure
+from .render import plot_radiosity_profile, render_figure
 from .report import ReportFigure
 
 __all__ = ["PROFILE", "CORNELL", "solution_figures", "profile_figure", "cornell_figures",

@@ -23,6 +23,8 @@ import numpy as np
 from .claimfile import ClaimsFileError
 from .engine import (
     OUTPUT_EXCEEDED,
+    SharedRun,
+    engine_argv,
     format_number,
     links_argv,
     option_text,
@@ -84,12 +86,10 @@ class SweepPoint:
     series : str
         The values of ``sweep.grid`` this run belongs to, e.g. ``"l=16"`` ("" without a
         grid).
-    shared : tuple of str
+    shared : SharedRun or None
         For a point of an ``eps`` or ``min_area`` sweep that one engine run can count
-        together with the others of its series (``--sweep``): that run's command line,
-        the same for all of them, with ``"--sweep"`` followed by the parameter's name
-        (``"eps"``, ``"min_area"``), to which the run adds ``=`` and the values, before
-        ``--count-only --json``; ``()`` otherwise.
+        together with the others of its series (``--sweep``): that run, the same for all
+        of them; ``None`` otherwise.
     """
 
     key: PointKey
@@ -97,14 +97,14 @@ class SweepPoint:
     argv: tuple
     statistics: object = None
     series: str = ""
-    shared: tuple = ()
+    shared: object = None
 
 
 #: Options with which ``--sweep`` cannot count (it runs count-only, on one thread, by
 #: enumeration).
 _NOT_SHARED = ("threads", "method")
-#: The parameters ``--sweep`` varies, with their flags.
-_SHARED_PARAMS = {"eps": "--eps", "min_area": "--min-area"}
+#: The parameters ``--sweep`` varies.
+_SHARED_PARAMS = ("eps", "min_area")
 
 
 def expand_claim(claim, mode, hrbench, version, shared_runs=False):
@@ -146,9 +146,8 @@ def expand_claim(claim, mode, hrbench, version, shared_runs=False):
     # A solve is its own record (the counters and the solve's measures), never a count's.
     solve = getattr(claim, "command", "run") == "solve"
     make_argv, mode_key = (solve_argv, "solve") if solve else (run_argv, "count-only")
-    flag = _SHARED_PARAMS.get(claim.sweep_param)
-    share = (shared_runs and flag and not solve and not claim.statistics
-             and not set(options) & set(_NOT_SHARED))
+    share = (shared_runs and claim.sweep_param in _SHARED_PARAMS and not solve
+             and not claim.statistics and not set(options) & set(_NOT_SHARED))
     for fixed in grid:
         for value in claim.range_for(mode).values():
             params = dict(claim.params) | fixed
@@ -166,12 +165,15 @@ def expand_claim(claim, mode, hrbench, version, shared_runs=False):
             argv = make_argv(hrbench, claim.scene, params, eps, claim.oracle,
                              min_area=min_area, max_depth=claim.max_depth, options=options)
             series = ", ".join(f"{k}={format_number(v)}" for k, v in fixed.items())
-            shared = ()
+            shared = None
             if share:
-                # The point's command line less the swept flag and its value.
-                at = argv.index(flag)
-                rest = [*argv[:at], *argv[at + 2:]]
-                shared = (*rest[:-2], "--sweep", claim.sweep_param, *rest[-2:])
+                # The run of the series: without the value swept.
+                swept = claim.sweep_param
+                shared = SharedRun(tuple(engine_argv(hrbench)), claim.scene,
+                                   tuple(sorted(params.items())),
+                                   None if swept == "eps" else eps, claim.oracle, swept,
+                                   None if swept == "min_area" else min_area,
+                                   claim.max_depth, tuple(sorted(options.items())))
             points.append(SweepPoint(key=key, value=value, argv=tuple(argv), series=series,
                                      shared=shared))
     return _with_statistics(claim, points, hrbench)
@@ -231,11 +233,8 @@ def _execute_shared(points, timeout=None, tag=None):
     # record per point, each stored with its share of the run's wall time. If that run
     # fails or prints what the analysis cannot match to the points, each point runs
     # alone, so that a failure is stored against the point it belongs to.
-    words = list(points[0].shared)
-    at = words.index("--sweep") + 1
-    param = words[at]
-    words[at] = f"{param}=" + ",".join(format_number(getattr(p.key, param)) for p in points)
-    run = run_engine(words, timeout, tag)
+    shared = points[0].shared
+    run = run_engine(shared.argv([getattr(p.key, shared.param) for p in points]), timeout, tag)
     lines = run.stdout.splitlines()
     if run.exit_code == 0 and len(lines) == len(points) and all(
             _record_of(point, line) for point, line in zip(points, lines, strict=True)):

@@ -8,7 +8,7 @@ usage: gates BASE_REF HEAD_REF [--rounds N] [--threshold T] [--alpha A] [--filte
 
 Builds BASE_REF and HEAD_REF, each in its own `git worktree` under --workdir (Release,
 targets hrbench and refine_bench; a commit's finished build is reused;
-hrbench_analysis.builds), or takes prebuilt build directories (--base-build,
+hrbench_analysis.bench.builds), or takes prebuilt build directories (--base-build,
 --head-build). Then two gates:
 
 - counts: tools/check_baseline.py with HEAD's engine against HEAD's
@@ -19,12 +19,12 @@ hrbench_analysis.builds), or takes prebuilt build directories (--base-build,
   (refine_bench, or --bench-cmd: any command writing Google Benchmark JSON), the order
   alternating (base first in odd rounds, head first in even ones). Rounds pair the two
   builds under the same load, so each benchmark is judged on its per-round ratios head /
-  base (hrbench_analysis.benchcompare): the two-sided Wilcoxon signed-rank test and the
+  base (hrbench_analysis.bench.benchcompare): the two-sided Wilcoxon signed-rank test and the
   confidence interval it gives. A benchmark is SLOWER (the gate fails) if p <= --alpha
   and the ratio exceeds 1 + --threshold; inconclusive if the interval is wider than
   +-threshold and reaches above 1 + threshold; else faster, slower (within the
   threshold) or no significant change. --time-cmd CMD times any shell command instead,
-  by the CPU time of its process tree after one warm-up round (hrbench_analysis.cmdtiming,
+  by the CPU time of its process tree after one warm-up round (hrbench_analysis.bench.cmdtiming,
   as `hrbench-compare commands`): another project's CI gates its own program, built at
   BASE and HEAD.
 
@@ -49,13 +49,8 @@ import subprocess
 import sys
 import time
 
-_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-# tools/ for benchtools, analysis/ for hrbench_analysis (gbench, builds and engine:
-# standard library only; benchcompare needs numpy and scipy and is imported when timing).
-sys.path[:0] = [os.path.join(_ROOT, "tools"), os.path.join(_ROOT, "analysis")]
-
-from benchtools.baseline import BaselineError, get_counter_changes, load_baseline  # noqa: E402
-from hrbench_analysis.builds import (  # noqa: E402
+from hrbench_analysis.bench.baseline import BaselineError, get_counter_changes, load_baseline
+from hrbench_analysis.bench.builds import (
     DEFAULT_FILTER,
     BuildError,
     UsageError,
@@ -65,14 +60,20 @@ from hrbench_analysis.builds import (  # noqa: E402
     resolve_ref,
     run_benchmarks,
 )
-from hrbench_analysis.errors import run_main  # noqa: E402
-from hrbench_analysis.gbench import (  # noqa: E402
+from hrbench_analysis.bench.gbench import (
     InputError,
     format_time,
     get_repetition_times,
     load_benchmark_file,
     merge_benchmark_files,
 )
+from hrbench_analysis.bench.machine import cpu_model
+from hrbench_analysis.errors import run_main
+
+# hrbench_analysis comes from analysis/ of this checkout (the shell script gates puts it on
+# the PYTHONPATH): gbench, builds and engine use the standard library only; benchcompare
+# needs numpy and scipy and is imported when timing.
+_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 PROG = "gates"
 
@@ -373,7 +374,7 @@ def paired_times(rounds):
 def timing_gate(exes, builds, args, results):
     """Run the interleaved rounds, merge them and compare; return a dict."""
     try:
-        from hrbench_analysis.benchcompare import (
+        from hrbench_analysis.bench.benchcompare import (
             get_comparison_report,
             get_geomean,
             get_overall_verdict,
@@ -453,10 +454,10 @@ def _benchmark_rounds(builds, args, timing, start):
 
 
 def _command_rounds(builds, args, timing, start):
-    """--time-cmd, through hrbench_analysis.cmdtiming: as _benchmark_rounds, with one
+    """--time-cmd, through hrbench_analysis.bench.cmdtiming: as _benchmark_rounds, with one
     "benchmark", the command's CPU time; the per-run times go to timing/times.json. Also
     returns the median of the per-round wall-time ratios."""
-    from hrbench_analysis.cmdtiming import CommandError, run_rounds, wall_ratio
+    from hrbench_analysis.bench.cmdtiming import CommandError, run_rounds, wall_ratio
 
     def env(side, r):
         return {"HRBENCH_BUILD": builds[side], "HRBENCH_SIDE": side, "HRBENCH_ROUND": str(r)}
@@ -483,15 +484,7 @@ def _command_rounds(builds, args, timing, start):
 
 
 def machine_info():
-    model = "unknown"
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    model = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
+    model = cpu_model() or "unknown"
     try:
         usable = len(os.sched_getaffinity(0))
     except AttributeError:
@@ -569,7 +562,7 @@ def render_summary(ctx):
                     "```text", *lines, "```"]
     if timing:
         # numpy and scipy: imported only where the timing gate ran.
-        from hrbench_analysis.benchcompare import format_interval, format_noise
+        from hrbench_analysis.bench.benchcompare import format_interval, format_noise
 
         level = f"{1 - args.alpha:.0%}"
         what = (f"`{_md(args.bench_cmd)}`" if args.bench_cmd else

@@ -11,6 +11,7 @@ from types import SimpleNamespace
 
 import pytest
 
+from hrbench_analysis.claimfile import missing_capability, oracle_error
 from hrbench_analysis.engine import (
     CapabilitiesError,
     EngineError,
@@ -18,9 +19,7 @@ from hrbench_analysis.engine import (
     format_number,
     get_capabilities,
     links_argv,
-    missing_capability,
     option_argv,
-    oracle_error,
     parse_capabilities,
     run_argv,
     run_engine,

@@ -11,7 +11,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from hrbench_analysis.history import (
+from hrbench_analysis.bench.history import (
     detect_steps,
     get_counter_changes,
     get_series,

@@ -13,14 +13,8 @@ import numpy as np
 import pytest
 
 import hrbench_analysis.sweep as sweep
-from hrbench_analysis.claimfile import check_names, load_claims
-from hrbench_analysis.engine import (
-    engine_version,
-    get_capabilities,
-    missing_capability,
-    param_errors,
-    save_argv,
-)
+from hrbench_analysis.claimfile import check_names, load_claims, missing_capability, param_errors
+from hrbench_analysis.engine import engine_version, get_capabilities, save_argv
 from hrbench_analysis.lemmas import (
     RECORD_FIELD,
     STATISTICS,

@@ -9,13 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from hrbench_analysis.claimfile import ClaimsFileError, load_claims
-from hrbench_analysis.engine import (
-    engine_version,
-    get_capabilities,
-    missing_capability,
-    option_argv,
-)
+from hrbench_analysis.claimfile import ClaimsFileError, load_claims, missing_capability
+from hrbench_analysis.engine import engine_version, get_capabilities, option_argv
 from hrbench_analysis.reproduce import main
 from hrbench_analysis.sweep import expand_claim
 

@@ -10,14 +10,8 @@ import pytest
 from matplotlib.figure import Figure
 
 from hrbench_analysis import __version__
-from hrbench_analysis.claimfile import ClaimsFileError, SweepRange, load_claims
-from hrbench_analysis.engine import (
-    engine_version,
-    format_number,
-    get_capabilities,
-    missing_capability,
-    option_argv,
-)
+from hrbench_analysis.claimfile import ClaimsFileError, SweepRange, load_claims, missing_capability
+from hrbench_analysis.engine import engine_version, format_number, get_capabilities, option_argv
 from hrbench_analysis.plots import PowerLawSeries, plot_power_law_comparison
 from hrbench_analysis.reproduce import check_claims, main
 from hrbench_analysis.store import PointKey, ResultStore, StoredPoint

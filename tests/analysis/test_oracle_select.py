@@ -5,8 +5,8 @@ import json
 
 import pytest
 
-from hrbench_analysis.claimfile import ClaimsFileError, load_claims
-from hrbench_analysis.engine import get_capabilities, resolve_oracle
+from hrbench_analysis.claimfile import ClaimsFileError, load_claims, resolve_oracle
+from hrbench_analysis.engine import get_capabilities
 from hrbench_analysis.reproduce import main
 
 CLAIMS = (open(__file__.replace("test_oracle_select.py", "data/small_claims.toml")).read()

@@ -26,9 +26,9 @@ from matplotlib.figure import Figure
 
 import hrbench_analysis.report as report
 import hrbench_analysis.reproduce as reproduce
+from hrbench_analysis.bench.history import main as history_main
 from hrbench_analysis.claimfile import load_claims
 from hrbench_analysis.errors import OUTPUT_ERROR, AnalysisError, OutputError
-from hrbench_analysis.history import main as history_main
 from hrbench_analysis.output import staged, write_file, write_files
 from hrbench_analysis.report import ClaimOutcome, ReportFigure, get_figures, write_report
 from hrbench_analysis.summary import distinct_names

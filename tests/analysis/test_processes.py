@@ -17,11 +17,11 @@ from pathlib import Path
 
 import pytest
 
-from hrbench_analysis import engine
-from hrbench_analysis.builds import BuildError, run_benchmarks
+from hrbench_analysis.bench.builds import BuildError, run_benchmarks
 from hrbench_analysis.engine import (
     OUTPUT_EXCEEDED,
     TIMED_OUT,
+    process,
     run_argv,
     run_engine,
 )
@@ -86,7 +86,7 @@ def test_a_hung_engine_is_ended_with_its_children_at_its_timeout(fake_hrbench, t
 
 
 def test_output_beyond_the_bound_ends_the_run_unread(fake_hrbench, monkeypatch):
-    monkeypatch.setattr(engine, "OUTPUT_LIMIT", 2**20)
+    monkeypatch.setattr(process, "OUTPUT_LIMIT", 2**20)
     monkeypatch.setenv("FAKE_HRBENCH_FLOOD", str(8 * 2**20))
     run = run_engine(run_argv(fake_hrbench, *ARGV))
     assert run.stopped == OUTPUT_EXCEEDED and run.exit_code == -signal.SIGKILL
@@ -96,7 +96,7 @@ def test_output_beyond_the_bound_ends_the_run_unread(fake_hrbench, monkeypatch):
 
 def test_an_engine_that_prints_too_much_breaks_the_contract(tmp_path, data_dir,
                                                            fake_hrbench, monkeypatch, capsys):
-    monkeypatch.setattr(engine, "OUTPUT_LIMIT", 2**16)
+    monkeypatch.setattr(process, "OUTPUT_LIMIT", 2**16)
     monkeypatch.setenv("FAKE_HRBENCH_FLOOD", str(2**20))
     code = main(["--claims", str(data_dir / "small_claims.toml"), "--hrbench",
                  str(fake_hrbench), "--results", str(tmp_path), "--no-pictures",

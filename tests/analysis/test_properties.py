@@ -278,7 +278,7 @@ _ROWS = st.lists(st.one_of(st.dictionaries(st.sampled_from(_ROW_KEYS), _GBENCH_V
                               _GBENCH_VALUES)}).map(json.dumps),   # NaN spelt as Python does
     st.text(max_size=200), _JSON.map(json.dumps)))
 def test_benchmark_files_raise_only_their_own_error(scratch, text):
-    from hrbench_analysis.gbench import InputError, get_repetition_times, load_benchmark_file
+    from hrbench_analysis.bench.gbench import InputError, get_repetition_times, load_benchmark_file
     path = scratch / "bench.json"
     path.write_text(text, encoding="utf-8", errors="surrogatepass")
     try:
@@ -309,11 +309,8 @@ _BASELINE_RUNS = st.lists(st.one_of(
                  st.text(max_size=100)))
 def test_baseline_files_raise_only_their_own_error(scratch, text):
     import os
-    import sys
-    tools = str(Path(__file__).resolve().parents[2] / "tools")
-    if tools not in sys.path:
-        sys.path.insert(0, tools)
-    from benchtools.baseline import BaselineError, get_counter_changes, load_baseline
+
+    from hrbench_analysis.bench.baseline import BaselineError, get_counter_changes, load_baseline
     path = scratch / "counts.json"
     path.write_text(text, encoding="utf-8", errors="surrogatepass")
     try:

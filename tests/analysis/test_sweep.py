@@ -230,8 +230,16 @@ def test_sweep_runs_once_and_stores_what_separate_runs_give(tmp_path, fail_share
     alone = expand_claim(claim, "quick", engine, version)
     assert len(shared) == 13 and len({p.shared for p in shared}) == 1
     assert [p.key for p in shared] == [p.key for p in alone]
-    assert all(p.shared == () for p in alone)
-    assert flag not in shared[0].shared and shared[0].shared[-2:] == ("--count-only", "--json")
+    assert all(p.shared is None for p in alone)
+    identity = shared[0].shared.argv()
+    assert flag not in identity and identity[-4:] == [
+        "--sweep", claim.sweep_param, "--count-only", "--json"]
+    # The run's command line is the points' less the swept flag, with --sweep NAME=VALUES.
+    at = shared[0].argv.index(flag)
+    assert shared[0].shared.argv([p.value for p in shared[:2]]) == [
+        *shared[0].argv[:at], *shared[0].argv[at + 2:-2], "--sweep",
+        f"{claim.sweep_param}={shared[0].argv[at + 1]},{shared[1].argv[at + 1]}",
+        "--count-only", "--json"]
     with ResultStore(tmp_path / "shared.sqlite") as store:
         log.write_text("")
         summary = run_points(shared, store, jobs=2, progress=None)
@@ -257,4 +265,4 @@ def test_sweeps_with_options_a_shared_run_cannot_take_run_point_by_point(tmp_pat
                                       f"min_area = 1e-9\noptions = {options}\n"))
     (claim,) = load_claims(path)
     points = expand_claim(claim, "quick", HRBENCH, engine_version(HRBENCH), shared_runs=True)
-    assert points and all(p.shared == () for p in points)
+    assert points and all(p.shared is None for p in points)

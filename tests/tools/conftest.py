@@ -1,6 +1,6 @@
-"""Make the tools/ package (and hrbench_analysis.engine, which it uses) importable,
-locate the test data, and provide a stand-in engine."""
+"""Locate the test data, load scripts/ci/gates.py, and provide a stand-in engine."""
 
+import importlib.util
 import os
 import stat
 import sys
@@ -10,9 +10,15 @@ import pytest
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 TOOLS = os.path.join(ROOT, "tools")
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
-for path in (os.path.join(ROOT, "analysis"), TOOLS):
-    if path not in sys.path:
-        sys.path.insert(0, path)
+GATES = os.path.join(ROOT, "scripts", "ci", "gates.py")
+
+
+def load_gates():
+    """scripts/ci/gates.py as a module (it is a script, not part of a package)."""
+    spec = importlib.util.spec_from_file_location("gates_under_test", GATES)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 @pytest.fixture

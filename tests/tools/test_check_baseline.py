@@ -1,19 +1,20 @@
-"""Tests of tools/check_baseline.py and benchtools.baseline, with a fake engine."""
+"""Tests of tools/check_baseline.py (hrbench_analysis.bench.check_baseline) and
+hrbench_analysis.bench.baseline, with a fake engine."""
 
 import json
 import os
 
 import pytest
 
-import check_baseline
-from benchtools.baseline import (
+from conftest import DATA
+from hrbench_analysis.bench import check_baseline
+from hrbench_analysis.bench.baseline import (
     CounterChange,
     RunError,
     get_counter_changes,
     get_counter_coverage,
     run_counts,
 )
-from conftest import DATA
 
 COUNTS = {"nodes": 30, "leaves": 16, "links": 80, "oracle_calls": 159, "max_depth": 3,
           "forced_links": 0, "culled_pairs": 0, "root_pairs": 1,

@@ -1,4 +1,4 @@
-"""Tests of ``hrbench-compare commands`` (hrbench_analysis.cmdtiming): paired CPU timing of
+"""Tests of ``hrbench-compare commands`` (hrbench_analysis.bench.cmdtiming): paired CPU timing of
 two shell commands, on sh busy loops of known relative cost.
 
 A loop of n iterations of dash's arithmetic costs about 1 us each here, so loop(60000) is
@@ -22,9 +22,9 @@ import time
 import pytest
 
 from conftest import ROOT
-from hrbench_analysis import benchcompare
-from hrbench_analysis.benchcompare import NO_CHANGE, REGRESSION
-from hrbench_analysis.cmdtiming import SIDES, round_orders
+from hrbench_analysis.bench import benchcompare
+from hrbench_analysis.bench.benchcompare import NO_CHANGE, REGRESSION
+from hrbench_analysis.bench.cmdtiming import SIDES, round_orders
 
 COMPARE = os.path.join(ROOT, "tools", "compare_bench.py")
 N = 60000

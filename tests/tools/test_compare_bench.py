@@ -1,4 +1,4 @@
-"""Tests of tools/compare_bench.py, hrbench-compare and hrbench_analysis.benchcompare on
+"""Tests of tools/compare_bench.py, hrbench-compare and hrbench_analysis.bench.benchcompare on
 synthetic runs."""
 
 import json
@@ -9,9 +9,9 @@ import random
 import numpy as np
 import pytest
 
-import compare_bench
 from conftest import DATA
-from hrbench_analysis.benchcompare import (
+from hrbench_analysis.bench import compare_bench
+from hrbench_analysis.bench.benchcompare import (
     FASTER,
     INCONCLUSIVE,
     NO_CHANGE,
@@ -23,7 +23,7 @@ from hrbench_analysis.benchcompare import (
     get_timing_comparison,
     min_pvalue,
 )
-from hrbench_analysis.gbench import InputError, get_repetition_times, load_benchmark_file
+from hrbench_analysis.bench.gbench import InputError, get_repetition_times, load_benchmark_file
 
 HEADLINE = "BM_Headline/garmann_count/threads:1/real_time"
 SWEEP = "BM_EpsSweep/garmann_count/inv_eps:64/real_time"
@@ -291,7 +291,7 @@ class TestCommandLine:
 
 class TestPackagedCommands:
     def test_hrbench_compare_is_the_same_command(self, capsys):
-        from hrbench_analysis import benchcompare
+        from hrbench_analysis.bench import benchcompare
         assert benchcompare.main([data("base.json"), data("slower.json")]) == 1
         assert "1 of 3 benchmarks significantly slower" in capsys.readouterr().out
         assert benchcompare.main([data("base.json"), data("missing.json")]) == 2
@@ -299,7 +299,7 @@ class TestPackagedCommands:
             f"hrbench-compare: error: {data('missing.json')}: cannot read the benchmark file")
 
     def test_merge_bench_concatenates_the_suites(self, tmp_path, capsys):
-        import merge_bench
+        from hrbench_analysis.bench import merge_bench
         out = tmp_path / "merged.json"
         assert merge_bench.main([str(out), data("base.json"), data("two_reps.json")]) == 0
         merged = load_benchmark_file(out)

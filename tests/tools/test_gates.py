@@ -8,7 +8,6 @@ of a throwaway git repository holding tests/baseline/counts.json. Nothing is com
 """
 
 import contextlib
-import importlib.util
 import io
 import json
 import os
@@ -21,9 +20,8 @@ import sys
 
 import pytest
 
-from conftest import DATA, ROOT
+from conftest import DATA, GATES, ROOT, load_gates
 
-GATES = os.path.join(ROOT, "scripts", "ci", "gates.py")
 SHIM = os.path.join(ROOT, "scripts", "ci", "gates")
 
 BENCHMARKS = {  # name: CPU time in ns
@@ -142,13 +140,6 @@ def repo(tmp_path):
 class Result:
     def __init__(self, returncode, stdout, stderr):
         self.returncode, self.stdout, self.stderr = returncode, stdout, stderr
-
-
-def load_gates():
-    spec = importlib.util.spec_from_file_location("gates_under_test", GATES)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 _GATES = []

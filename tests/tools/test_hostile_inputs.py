@@ -11,15 +11,10 @@ import sys
 
 import pytest
 
-import check_baseline
-import compare_bench
-from conftest import DATA, ROOT
-from hrbench_analysis import benchcompare, history
+from conftest import DATA, ROOT, load_gates
+from hrbench_analysis.bench import benchcompare, check_baseline, compare_bench, history
 
-GATES = os.path.join(ROOT, "scripts", "ci")
-if GATES not in sys.path:
-    sys.path.insert(0, GATES)
-import gates  # noqa: E402
+gates = load_gates()
 
 
 def base():
@@ -198,7 +193,7 @@ def test_check_baseline_refuses_hostile_files_with_exit_2(hostile, kind, engine,
 
 
 def test_check_baseline_refuses_an_engine_record_with_a_key_twice(tmp_path, capsys):
-    from benchtools.baseline import RunError, run_counts
+    from hrbench_analysis.bench.baseline import RunError, run_counts
     engine = tmp_path / "dup"
     engine.write_text('#!/bin/sh\necho \'{"links": 5, "links": 7, "version": "x"}\'\n')
     engine.chmod(0o755)

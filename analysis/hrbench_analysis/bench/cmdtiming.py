@@ -7,7 +7,7 @@ waited for (the growth of ``getrusage(RUSAGE_CHILDREN)`` across the run; a proce
 running in the background when the command exits is ended, and its time is not counted).
 Rounds pair the two commands under the same load, so the change is judged on the
 per-round ratios head / base exactly as ``hrbench-compare --paired`` judges a benchmark:
-:func:`hrbench_analysis.benchcompare.get_timing_comparison` gives the median ratio, the
+:func:`hrbench_analysis.bench.benchcompare.get_timing_comparison` gives the median ratio, the
 two-sided Wilcoxon signed-rank test of the log ratios, the confidence interval, the noise
 and the verdict (``SLOWER``, ``slower``, ``faster``, ``no significant change``,
 ``inconclusive``), with the same exit codes: 0 pass, 1 ``SLOWER``, 3 inconclusive, 2 an
@@ -30,8 +30,8 @@ import resource
 import statistics
 from dataclasses import dataclass
 
-from .engine import run_engine
-from .errors import AnalysisError, one_line
+from ..engine import run_engine
+from ..errors import AnalysisError, one_line
 
 __all__ = ["CommandError", "CommandRun", "SIDES", "ORDERS", "DEFAULT_TIMEOUT",
            "round_orders", "time_command", "run_rounds", "compare_runs", "wall_ratio", "main"]
@@ -189,7 +189,7 @@ def compare_runs(runs, threshold=0.05, alpha=0.05):
 
     Returns
     -------
-    comparison : hrbench_analysis.benchcompare.TimingComparison
+    comparison : hrbench_analysis.bench.benchcompare.TimingComparison
         Named ``"cpu time"``, times in nanoseconds.
     wall_ratio : float
         Median of the per-round wall-time ratios head / base (reported, not judged).
@@ -286,7 +286,7 @@ def print_report(result, comparison, file=None):
 def _parse_args(argv, prog):
     import argparse
 
-    from .cli import Parser, positive_int, positive_number
+    from ..cli import Parser, positive_int, positive_number
 
     def count(text):  # an integer >= 0
         try:

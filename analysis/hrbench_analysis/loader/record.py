@@ -1,41 +1,10 @@
-"""Reading what the ``hrbench`` command line writes: run records (JSON) and link lists (CSV).
+"""Run records: the JSON object ``hrbench run --json`` (and ``solve --json``) prints, and
+the names a claim's formulas read from it."""
 
-Every other module of the analysis works on plain numbers and arrays; this is the only
-place that knows the field names of the engine's output. Any engine may write the
-records (docs/engine-contract.md); their fields are those of the JSON Schema
-``schemas/run-record.schema.json``, and :func:`parse_run_json` checks the fields the
-analysis reads, naming the first one that is missing or of the wrong type. The names of
-the counters are the engine's own (``hrbench capabilities --json``, read by
-:mod:`hrbench_analysis.engine`); this module needs only the few it reads by name
-(:data:`COUNTERS`). Their meaning is in docs/conventions.md.
-"""
-
-import csv
-import io
 import math
 from dataclasses import dataclass, field
 
-import numpy as np
-
-from .errors import AnalysisError, InputFileError, parse_json, read_bounded
-
-__all__ = [
-    "COUNTERS",
-    "MEASURES",
-    "SOLVE_MEASURES",
-    "TIMES",
-    "ALIASES",
-    "SCHEMA_VERSION",
-    "MAX_RECORD_BYTES",
-    "MAX_LINKS_BYTES",
-    "RunResult",
-    "ResultFormatError",
-    "LinkTable",
-    "parse_run_json",
-    "read_links_csv",
-    "run_environment",
-    "environment_names",
-]
+from ..errors import AnalysisError, parse_json
 
 #: JSON schema version of ``hrbench run --json`` that this module understands.
 SCHEMA_VERSION = 1
@@ -43,11 +12,6 @@ SCHEMA_VERSION = 1
 #: Longest run record read, in bytes: a record holds a few hundred numbers (per-depth
 #: histograms of at most a few thousand entries), a few KiB.
 MAX_RECORD_BYTES = 16 << 20
-
-#: Largest link list read (``hrbench links --out``), in bytes: the figures draw a few
-#: thousand links, a sweep point's statistics up to a few hundred thousand (about 80 bytes
-#: a link).
-MAX_LINKS_BYTES = 1 << 30
 
 #: The counters the analysis itself reads by name, which every run record must hold:
 #: ``nodes`` and ``links`` (the aliases ``N`` and ``L``), ``leaves``, ``oracle_calls`` and
@@ -395,111 +359,3 @@ def environment_names(params, counters, solve=False):
     if {"l", "d"} <= params:
         names.add("g")
     return names
-
-
-@dataclass
-class LinkTable:
-    """The links written by ``hrbench links ... --out F.csv``, one array entry per link.
-
-    Attributes
-    ----------
-    root_i, root_j : ndarray of int
-        Root patch indices of the two elements.
-    t0_i, t1_i, t0_j, t1_j : ndarray of float
-        Element intervals in arc length along the root patch, from its start point
-        (scene units).
-    depth_i, depth_j : ndarray of int
-        Element depths (levels below the root).
-    """
-
-    root_i: np.ndarray
-    t0_i: np.ndarray
-    t1_i: np.ndarray
-    depth_i: np.ndarray
-    root_j: np.ndarray
-    t0_j: np.ndarray
-    t1_j: np.ndarray
-    depth_j: np.ndarray
-
-    def __len__(self):
-        return len(self.root_i)
-
-
-_LINK_COLUMNS = ("root_i", "elem_i", "t0_i", "t1_i", "depth_i",
-                 "root_j", "elem_j", "t0_j", "t1_j", "depth_j")
-
-
-def read_links_csv(path):
-    """Read a link list written by ``hrbench links``.
-
-    Parameters
-    ----------
-    path : str or path-like
-        CSV file with header ``root_i,elem_i,t0_i,t1_i,depth_i,root_j,elem_j,t0_j,t1_j,depth_j``
-        (extra columns are ignored).
-
-    Returns
-    -------
-    links : LinkTable
-
-    Raises
-    ------
-    ResultFormatError
-        If the file is not a regular file of at most :data:`MAX_LINKS_BYTES` bytes, is
-        not UTF-8, lacks a required column, or a row holds a value that is not what the
-        column is: root indices and depths integers ``>= 0``, positions finite numbers
-        with ``t0 <= t1``. The message names the file, the line and the column.
-    """
-    try:
-        text = read_bounded(path, MAX_LINKS_BYTES, "link list").decode("utf-8")
-    except InputFileError as exc:
-        raise ResultFormatError(str(exc)) from None
-    except UnicodeDecodeError as exc:
-        raise ResultFormatError(f"{path}: link list is not UTF-8 text (byte {exc.start})"
-                                ) from None
-    try:
-        reader = csv.reader(io.StringIO(text, newline=""))
-        header = [h.strip() for h in next(reader, [])]
-        missing = [c for c in _LINK_COLUMNS if c not in header and c not in ("elem_i", "elem_j")]
-        if missing:
-            raise ResultFormatError(f"{path}: link list lacks column(s) {', '.join(missing)}")
-        col = {name: header.index(name) for name in _READ_COLUMNS}
-        rows = [_link_row(row, col, path, reader.line_num) for row in reader if row]
-    except csv.Error as exc:
-        raise ResultFormatError(f"{path}: link list is not CSV: {exc}") from None
-    data = np.array(rows, dtype=float).reshape(-1, len(_READ_COLUMNS))
-    return LinkTable(
-        root_i=data[:, 0].astype(int), t0_i=data[:, 1], t1_i=data[:, 2],
-        depth_i=data[:, 3].astype(int), root_j=data[:, 4].astype(int), t0_j=data[:, 5],
-        t1_j=data[:, 6], depth_j=data[:, 7].astype(int))
-
-
-# The columns a LinkTable holds, in its order; the integer ones.
-_READ_COLUMNS = ("root_i", "t0_i", "t1_i", "depth_i", "root_j", "t0_j", "t1_j", "depth_j")
-_INTEGER_COLUMNS = ("root_i", "depth_i", "root_j", "depth_j")
-
-
-def _link_row(row, col, path, line):
-    # One row of a link list as floats, checked.
-    values = []
-    for name in _READ_COLUMNS:
-        text = row[col[name]].strip() if col[name] < len(row) else ""
-        try:
-            value = float(text)
-        except ValueError:
-            value = math.nan
-        integer = name in _INTEGER_COLUMNS
-        if not (math.isfinite(value) and (not integer or value == int(value) and
-                                          0 <= value < 2 ** 53)):
-            raise ResultFormatError(
-                f"{path}:{line}: link list column {name} must be "
-                + ("an integer >= 0" if integer else "a finite number")
-                + f", got {text[:40]!r}")
-        values.append(value)
-    for side in ("i", "j"):
-        t0, t1 = values[_READ_COLUMNS.index(f"t0_{side}")], values[
-            _READ_COLUMNS.index(f"t1_{side}")]
-        if t0 > t1:
-            raise ResultFormatError(f"{path}:{line}: link list has t0_{side} {t0!r} > "
-                                    f"t1_{side} {t1!r}")
-    return values

@@ -16,8 +16,8 @@ entry.
 
 from dataclasses import dataclass, field
 
-from hrbench_analysis.engine import EngineError, run_engine
-from hrbench_analysis.errors import AnalysisError, InputFileError, parse_json, read_bounded
+from ..engine import EngineError, run_engine
+from ..errors import AnalysisError, parse_json, read_json
 
 __all__ = ["BASELINE_SCHEMA_VERSION", "MAX_BASELINE_BYTES", "DEFAULT_RUNS", "BaselineError",
            "RunError", "CounterChange", "RunDiff",
@@ -189,11 +189,7 @@ def load_baseline(path):
         a run's ``args`` is not a list of strings or its ``counts`` not an object of
         integers ``>= 0`` and lists of them.
     """
-    try:
-        data = parse_json(read_bounded(path, MAX_BASELINE_BYTES, "baseline"),
-                          f"baseline {path}", BaselineError)
-    except InputFileError as e:
-        raise BaselineError(str(e)) from None
+    data = read_json(path, MAX_BASELINE_BYTES, "baseline", f"baseline {path}", BaselineError)
     if not isinstance(data, dict) or data.get("schema_version") != BASELINE_SCHEMA_VERSION:
         raise BaselineError(f"baseline {path}: schema_version must be "
                             f"{BASELINE_SCHEMA_VERSION}")

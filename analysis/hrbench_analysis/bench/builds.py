@@ -8,7 +8,7 @@ that writes Google Benchmark JSON.
 Each commit is built under ``WORKDIR/commits/<sha[:12]>/``: ``src`` (the worktree) and
 ``build`` (Release, the targets ``hrbench`` and ``refine_bench``, through ccache when it
 is installed); a finished build is reused. Standard library only, like
-:mod:`hrbench_analysis.gbench`, so that the count gate runs without numpy.
+:mod:`hrbench_analysis.bench.gbench`, so that the count gate runs without numpy.
 """
 
 import os
@@ -18,7 +18,7 @@ import subprocess
 import sys
 import time
 
-from .errors import AnalysisError
+from ..errors import AnalysisError
 
 __all__ = ["UsageError", "BuildError", "DEFAULT_FILTER", "git", "locate_project",
            "resolve_ref", "read_file_at", "commits_between", "build_commit",

@@ -10,7 +10,7 @@ about what it reads: a regular file of at most :data:`MAX_FILE_BYTES` bytes, str
 
 import math
 
-from .errors import AnalysisError, InputFileError, parse_json, read_bounded
+from ..errors import AnalysisError, read_json
 
 __all__ = ["InputError", "MAX_FILE_BYTES", "load_benchmark_file", "get_repetition_times",
            "merge_benchmark_files", "time_unit", "format_time"]
@@ -67,11 +67,7 @@ def load_benchmark_file(path):
         :data:`MAX_FILE_BYTES` bytes, is not strict JSON, has no ``benchmarks`` list or
         states an unsupported schema version.
     """
-    try:
-        data = parse_json(read_bounded(path, MAX_FILE_BYTES, "benchmark file"), str(path),
-                          InputError)
-    except InputFileError as e:
-        raise InputError(str(e)) from None
+    data = read_json(path, MAX_FILE_BYTES, "benchmark file", str(path), InputError)
     if not isinstance(data, dict) or not isinstance(data.get("benchmarks"), list):
         raise InputError(f"{path} is not Google Benchmark JSON: no 'benchmarks' list")
     context = data.setdefault("context", {})

@@ -1,0 +1,8 @@
+"""``python -m hrbench_analysis.bench.history``: ``hrbench-history``."""
+
+import sys
+
+from .cli import main
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,35 @@
+"""Merge Google Benchmark JSON files (one per suite) into one.
+
+usage: merge_bench.py OUT.json IN.json [IN.json ...]
+
+Run as ``tools/merge_bench.py`` by `make bench` to write results/bench.json from the
+suites under bench/.
+Exit codes: 0 success, 2 usage or input error, 70 internal error (a bug; its traceback
+with --debug), 74 OUT.json could not be written.
+"""
+
+import json
+import sys
+
+from ..errors import run_main
+from ..output import write_file
+from .gbench import load_benchmark_file, merge_benchmark_files
+
+
+def main(argv=None):
+    return run_main("merge_bench.py", _merge, argv)
+
+
+def _merge(argv):
+    argv = [a for a in argv if a != "--debug"]
+    if len(argv) < 2 or any(a.startswith("-") for a in argv):
+        print(__doc__.strip().splitlines()[2], file=sys.stderr)
+        return 2
+    out, inputs = argv[0], argv[1:]
+    merged = merge_benchmark_files([load_benchmark_file(path) for path in inputs])
+    write_file(out, json.dumps(merged, indent=2) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
