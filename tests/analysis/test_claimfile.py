@@ -212,12 +212,21 @@ def test_range_limits():
     ("params = { l = 8, d = 1 }", 'params = { l = 8, "d 2" = 1 }', "params",
      "letters, digits and '_'"),
     ("min_points = 8", "min_points = 8\nmax_depth = 2.5", "max_depth", "must be an integer"),
+    ("min_points = 8", 'min_points = 8\nbound = "lower"', "bound", "one of theta, upper"),
 ])
 def test_values_out_of_their_bounds(tmp_path, data_dir, old, new, key, match):
     path = variant(tmp_path, data_dir, old, new)
     with pytest.raises(ClaimsFileError, match=match) as info:
         load_claims(path)
     assert info.value.key == key
+
+
+def test_bound_is_theta_unless_an_upper_bound_is_stated(tmp_path, data_dir):
+    (claim,) = load_claims(data_dir / "small_claims.toml")
+    assert claim.bound == "theta" and claim.judge.bound == "theta"
+    (upper,) = load_claims(variant(tmp_path, data_dir, "min_points = 8",
+                                   'min_points = 8\nbound = "upper"'))
+    assert upper.bound == "upper"
 
 
 def test_key_lines_of_parameters_and_ranges(data_dir):

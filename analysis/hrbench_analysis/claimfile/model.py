@@ -361,9 +361,13 @@ class ClaimJudgement:
     Attributes
     ----------
     expected_exponent : float
-        The exponent ``k`` of ``y = Theta(x^k)`` (dimensionless).
+        The exponent ``k`` of ``y = Theta(x^k)`` (dimensionless), or of ``y = O(x^k)``.
     tolerance : float
         How far the measured exponent may lie from `expected_exponent` (dimensionless).
+    bound : {"theta", "upper"}
+        What the claim states: ``y = Theta(x^k)``, judged on both sides, or the upper
+        bound ``y = O(x^k)`` of a complexity statement, reproduced by any exponent up to
+        ``k + tolerance`` (:func:`hrbench_analysis.verdict.get_verdict`).
     x_min, x_max : float or None
         The asymptotic regime: only points with ``x_min <= x <= x_max`` count.
     expected_to_hold : bool
@@ -387,6 +391,7 @@ class ClaimJudgement:
 
     expected_exponent: float
     tolerance: float
+    bound: str = "theta"
     x_min: object = None
     x_max: object = None
     expected_to_hold: bool = True

@@ -25,6 +25,7 @@ from .model import (
     range_problem,
 )
 from .validate import (
+    BOUNDS,
     _CLAIM_KEYS,
     _MODE_KEYS,
     _PARAM_NAME,
@@ -371,8 +372,11 @@ def _judge_iv(raw, want, fail):
         fail("key 'theta_band' must be at least 1", "theta_band")
     expected = want("expected_to_hold", "bool", raw.get("expected_to_hold", True))
     published = want("published", "bool", raw.get("published", True))
+    bound = want("bound", "str", raw.get("bound", "theta"))
+    if bound not in BOUNDS:
+        fail(f"key 'bound' must be one of {', '.join(BOUNDS)}, got {bound!r}", "bound")
     return ClaimJudgement(
-        expected_exponent=k, tolerance=tol, x_min=regime.get("x_min"),
+        expected_exponent=k, tolerance=tol, bound=bound, x_min=regime.get("x_min"),
         x_max=regime.get("x_max"), expected_to_hold=expected, published=published, **options)
 
 

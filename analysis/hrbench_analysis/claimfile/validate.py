@@ -28,8 +28,10 @@ _CLAIM_KEYS = {
     "x", "y", "x_label", "y_label", "expected_exponent", "tolerance", "regime",
     "expected_to_hold", "min_points", "min_decades", "window_decades", "theta_band",
     "min_area", "max_depth", "eps", "options", "chart", "step_octaves", "mesh", "command",
-    "published", "plateaus", *MODES,
+    "published", "plateaus", "bound", *MODES,
 }
+#: What a claim may state of its power law (key ``bound``): Theta, or an upper bound O.
+BOUNDS = ("theta", "upper")
 #: The engine commands a claim's points may run (key ``command``).
 COMMANDS = ("run", "solve")
 _REQUIRED = ("id", "statement", "scene", "params", "sweep", "x", "y",
