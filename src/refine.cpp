@@ -269,7 +269,13 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     // trees and links within what the records leave of the budget.
     size_t numWorkers = std::max<size_t>(1, std::min<size_t>(options.threads, tasks.size()));
     const Budget left = SplitBudget<Shape>(budget.bytes - recordBytes(), options);
-    std::vector<F> forests(numWorkers, top);
+    // One worker takes the first pass's forest over, with nothing left to read it;
+    // several start from copies of it.
+    std::vector<F> forests;
+    if (numWorkers == 1)
+        forests.push_back(std::move(top));
+    else
+        forests.assign(numWorkers, top);
     for (F &forest : forests)
         forest.LimitBudget(left.maxElements);
     // Each worker appends its links to one buffer; a task's links are a range of it.
