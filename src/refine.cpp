@@ -546,8 +546,6 @@ const std::vector<MethodInfo> &Methods() {
 }
 
 RunRecord Count(const Scene &scene, const RefineOptions &options, const std::string &method) {
-    if (options.clusters && method != "enumerate")
-        throw InputError("--clusters refines by enumeration: drop --method " + method);
     for (const MethodInfo &m : Methods())
         if (m.name == method)
             return m.count(scene, options);

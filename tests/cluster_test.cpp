@@ -310,6 +310,21 @@ TEST_CASE("Without an accepted cluster pair, clusters change no element count", 
         CHECK(c.rootPairs == p.rootPairs);
         CHECK(LinkShapes(r) == LinkShapes(plain));
     }
+    Scene space = MakeScene("random3d", {{"n", 15}, {"seed", 2}, {"size", 4}});
+    RefineOptions o = Clustered(0.01, "garmann");
+    o.minArea = 1e-3;
+    o.subdivision = Subdivision::Quadtree;
+    Refinement<Polygon> r = Refine<Polygon>(space, o);
+    o.clusters = false;
+    Refinement<Polygon> plain = Refine<Polygon>(space, o);
+    const Counters &c = r.record.counters, &p = plain.record.counters;
+    REQUIRE(c.clusterLinks == 0);
+    CHECK(c.nodes == p.nodes);
+    CHECK(c.elementLinks == p.links);
+    CHECK(c.oracleCalls - c.clusterOracleCalls == p.oracleCalls);
+    CHECK(c.forcedLinks == p.forcedLinks);
+    CHECK(c.culledPairs == p.culledPairs);
+    CHECK(LinkShapes(r) == LinkShapes(plain));
 }
 
 TEST_CASE("Clustered counts and links do not depend on the thread count", "[clusters]") {
