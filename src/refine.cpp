@@ -191,10 +191,9 @@ size_t RecordBytes(const std::vector<Task> &tasks) {
     return tasks.capacity() * sizeof(Task) + tasks.size() * kPerTask;
 }
 
-// Runs the kernel over all root pairs in scene order: a sequential pass down to the
+// Runs the kernel over the root pairs that _traverse_ gives (every one in scene order,
+// or those the cluster traversal reaches, in its order): a sequential pass down to the
 // task depth, then the tasks on worker threads, each with its own copy of the trees.
-// _traverse_ calls its argument with each root pair (p, q), p < q, to refine: every one
-// in order, or those the cluster traversal reaches.
 template <typename Shape, int kArity, typename Oracle, bool kStoreLinks, typename Visibility>
 void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
                     const RefineOptions &options, const Budget &budget,
