@@ -212,7 +212,8 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     RefineProgress *progress = options.progress;
     std::vector<uint64_t> pairOrdinal;  // of each refined pair among all root pairs, from 1
     if (progress) {
-        progress->rootPairs = uint64_t(numPatches) * (numPatches - 1) / 2;
+        // With clusters, how many root pairs the traversal reaches is not known ahead.
+        progress->rootPairs = options.clusters ? 0 : uint64_t(numPatches) * (numPatches - 1) / 2;
         progress->StartPass(1);
     }
     // Besides the trees and links, the budget counts what the run keeps per refined root

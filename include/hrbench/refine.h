@@ -20,7 +20,7 @@ namespace hrbench {
 // written at most once per root pair in the first pass (which refines every pair down
 // to the task depth, kernel.h) and once per task after it, never inside the recursion.
 struct RefineProgress {
-    std::atomic<uint64_t> rootPairs{0};  // of the scene, set when the run starts
+    std::atomic<uint64_t> rootPairs{0};  // of the scene, set when the run starts; 0: unknown
     std::atomic<uint64_t> pair{0};       // the root pair being refined, from 1; 0: none yet
     std::atomic<int> pass{0};            // 1: the first pass, 2: the tasks
 
