@@ -7,7 +7,8 @@ std::string ProgressLine(int pass, uint64_t pair, uint64_t rootPairs, double sec
     std::snprintf(elapsed, sizeof elapsed, "%.1f s", seconds);
     if (pair == 0)
         return std::string("starting, ") + elapsed;
-    return "root pair " + std::to_string(pair) + " of " + std::to_string(rootPairs) +
+    return "root pair " + std::to_string(pair) +
+           (rootPairs ? " of " + std::to_string(rootPairs) : std::string()) +
            (pass == 1 ? " (first pass), " : ", ") + elapsed;
 }
 

@@ -259,6 +259,8 @@ std::vector<RunRecord> CountSweep(const Scene &scene, const RefineOptions &optio
         throw InputError("--sweep takes 1 to " + std::to_string(kMaxSweepValues) + " values");
     if (options.storeLinks)
         throw InputError("--sweep counts only: add --count-only");
+    if (options.clusters)
+        throw InputError("--sweep refines every root pair: drop --clusters");
     if (options.threads != 1)
         throw InputError("--sweep runs on one thread: drop --threads");
 

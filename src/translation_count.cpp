@@ -248,6 +248,8 @@ void CheckTranslationScope(const Scene &scene, const RefineOptions &options) {
                          "drop --min-area and --max-depth");
     if (options.visibility != VisibilityMode::None)
         throw InputError("--method translation counts without occlusion; drop --visibility");
+    if (options.clusters)
+        throw InputError("--method translation counts every root pair; drop --clusters");
     if (scene.Dimension() == 2)
         translation::CheckFlatlandScope(scene, options);
     else

@@ -23,11 +23,11 @@ const std::string kData = HRBENCH_TEST_DATA;
 
 // The keys of a run record that describe the run rather than count it (record.h).
 const std::set<std::string> kRunContextKeys = {
-    "schema_version",  "version",     "context",     "scene",      "params",
-    "scene_file",      "mesh_file",   "patches",     "dimension",  "eps",
-    "oracle",          "ff_estimate", "method",      "mode",       "min_area",
-    "max_depth_limit", "threads",     "subdivision", "visibility", "rays_per_side",
-    "seconds",         "scene_sha256"};
+    "schema_version",  "version",      "context",     "scene",      "params",
+    "scene_file",      "mesh_file",    "patches",     "dimension",  "eps",
+    "oracle",          "ff_estimate",  "method",      "mode",       "min_area",
+    "max_depth_limit", "threads",      "subdivision", "visibility", "rays_per_side",
+    "seconds",         "scene_sha256", "clusters"};
 
 }  // namespace
 
@@ -142,6 +142,50 @@ TEST_CASE("links writes one CSV row per link that tiles the parameter square", "
     }
     CHECK(rows == j["links"].get<int>());
     CHECK_THAT(area, Catch::Matchers::WithinRel(64.0, 1e-12));
+}
+
+TEST_CASE("--clusters: its counters, its links and the options it refuses", "[cli][clusters]") {
+    json plain = json::parse(Cli("run random n=30 seed=1 size=40 --eps 0.2 --json").out);
+    CHECK(plain["clusters"] == false);
+    for (const char *key : {"cluster_nodes", "cluster_links", "element_links",
+                            "cluster_oracle_calls", "opened_clusters"})
+        CHECK(plain[key] == 0);
+    CliResult r = Cli("run random n=30 seed=1 size=40 --eps 0.2 --clusters --json");
+    REQUIRE(r.exitCode == 0);
+    json j = json::parse(r.out);
+    CHECK(j["clusters"] == true);
+    CHECK(j["cluster_nodes"] == 29);
+    CHECK(j["cluster_links"].get<uint64_t>() > 0);
+    CHECK(j["links"] == j["element_links"].get<uint64_t>() + j["cluster_links"].get<uint64_t>());
+    CHECK(j["cluster_oracle_calls"].get<uint64_t>() + 29 ==
+          2 * j["cluster_links"].get<uint64_t>() + j["root_pairs"].get<uint64_t>());
+
+    // The links file: the element rows, then one row per cluster link, a cluster as C<k>.
+    std::string csv = Scratch("clusters.csv");
+    REQUIRE(Cli("links random n=30 seed=1 size=40 --eps 0.2 --clusters --out " + csv).exitCode ==
+            0);
+    std::istringstream rows(ReadFile(csv));
+    std::string line;
+    uint64_t count = 0, clusterRows = 0;
+    std::getline(rows, line);
+    while (std::getline(rows, line)) {
+        ++count;
+        clusterRows += line[0] == 'C' || line.find(",C") != std::string::npos;
+        CHECK(std::count(line.begin(), line.end(), ',') == 9);
+    }
+    CHECK(count == j["links"].get<uint64_t>());
+    CHECK(clusterRows == j["cluster_links"].get<uint64_t>());
+
+    for (const char *refused :
+         {"run parallel --eps 0.5 --clusters --count-only --method translation",
+          "run parallel --clusters --count-only --sweep eps=0.1,0.2",
+          "links parallel --eps 0.5 --clusters --format probe --out /dev/null"}) {
+        CliResult bad = Cli(refused);
+        INFO(refused);
+        CHECK(bad.exitCode == 2);
+        CHECK(bad.err.find("--clusters") != std::string::npos);
+        CHECK(std::count(bad.err.begin(), bad.err.end(), '\n') == 1);
+    }
 }
 
 TEST_CASE("Saved scenes run the same as the family they came from", "[cli]") {

@@ -30,6 +30,7 @@ TEST_CASE("The progress line names the root pair, the pass and the elapsed time"
     CHECK(ProgressLine(0, 0, 136, 0.04) == "starting, 0.0 s");
     CHECK(ProgressLine(1, 5, 136, 2.25) == "root pair 5 of 136 (first pass), 2.2 s");
     CHECK(ProgressLine(2, 37, 136, 12.44) == "root pair 37 of 136, 12.4 s");
+    CHECK(ProgressLine(2, 37, 0, 12.44) == "root pair 37, 12.4 s");  // --clusters: unknown
 }
 
 TEST_CASE("The display waits for its delay, rewrites one line and erases it", "[progress]") {

@@ -15,7 +15,8 @@
 namespace hrbench {
 
 // The text of the progress line: "root pair 37 of 136, 12.4 s", with "(first pass)"
-// after the pair in the first pass, "starting" before the first pair.
+// after the pair in the first pass, "starting" before the first pair; without "of 136"
+// where the number of root pairs is not known ahead (_rootPairs_ 0: --clusters).
 std::string ProgressLine(int pass, uint64_t pair, uint64_t rootPairs, double seconds);
 
 // Shows _progress_ on _out_ while it lives: nothing for the first _delay_ (short runs

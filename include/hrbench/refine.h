@@ -7,6 +7,7 @@
 #include <variant>
 #include <vector>
 
+#include "hrbench/clusters.h"
 #include "hrbench/forest.h"
 #include "hrbench/link_buffer.h"
 #include "hrbench/record.h"
@@ -19,7 +20,7 @@ namespace hrbench {
 // written at most once per root pair in the first pass (which refines every pair down
 // to the task depth, kernel.h) and once per task after it, never inside the recursion.
 struct RefineProgress {
-    std::atomic<uint64_t> rootPairs{0};  // of the scene, set when the run starts
+    std::atomic<uint64_t> rootPairs{0};  // of the scene, set when the run starts; 0: unknown
     std::atomic<uint64_t> pair{0};       // the root pair being refined, from 1; 0: none yet
     std::atomic<int> pass{0};            // 1: the first pass, 2: the tasks
 
@@ -55,9 +56,13 @@ struct PairTally {
 template <typename Shape>
 struct Refinement {
     Forest<Shape> forest;
-    LinkBuffer links;              // empty in count-only mode
-    std::vector<PairTally> pairs;  // refined (non-culled) root pairs in order
-    RunRecord record;              // method "enumerate", the counters and the time
+    LinkBuffer links;  // empty in count-only mode
+    // Refined (non-culled) root pairs in order; with --clusters in count-only mode, only
+    // those that reached the task depth (kernel.h), so that nothing is kept per pair.
+    std::vector<PairTally> pairs;
+    RunRecord record;                       // method "enumerate", the counters and the time
+    ClusterTree<Shape> clusters;            // empty without --clusters
+    std::vector<ClusterLink> clusterLinks;  // store mode only, in traversal order
 };
 
 using AnyRefinement = std::variant<Refinement<Segment>, Refinement<Polygon>>;
