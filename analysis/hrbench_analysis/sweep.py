@@ -267,7 +267,9 @@ def _options_mismatch(result, options):
             got = fields[field_name]
             if got is None:
                 continue  # the engine says the option does not apply to this run
-            if isinstance(got, (int, float)) and not isinstance(got, bool):
+            if isinstance(got, bool):  # a flag: its key's text is "true"
+                same = text == ("true" if got else "false")
+            elif isinstance(got, (int, float)):
                 try:
                     same = float(text) == float(got)
                 except (ValueError, OverflowError):

@@ -266,3 +266,15 @@ def test_sweeps_with_options_a_shared_run_cannot_take_run_point_by_point(tmp_pat
     (claim,) = load_claims(path)
     points = expand_claim(claim, "quick", HRBENCH, engine_version(HRBENCH), shared_runs=True)
     assert points and all(p.shared is None for p in points)
+
+
+def test_a_flag_echoed_in_the_record_matches_its_key():
+    # `options = { clusters = true }` is keyed as the text "true"; the record echoes the
+    # flag as JSON true. A record saying false means the flag was not applied.
+    from types import SimpleNamespace
+
+    from hrbench_analysis.sweep import _options_mismatch
+    record = SimpleNamespace(counters={}, extra={"clusters": True})
+    assert _options_mismatch(record, [("clusters", "true")]) == ""
+    record.extra["clusters"] = False
+    assert "clusters=False" in _options_mismatch(record, [("clusters", "true")])
