@@ -443,7 +443,7 @@ Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options) {
     const Patches<Shape> &patches = scene.Get<Shape>();
 
     Refinement<Shape> result{
-        Forest<Shape>(patches, SIZE_MAX, options.subdivision), {}, {}, {"enumerate", {}, 0}};
+        Forest<Shape>(patches, SIZE_MAX, options.subdivision), {}, {}, {"enumerate", {}, 0}, {}, {}};
     auto start = std::chrono::steady_clock::now();
     Dispatch(patches, options, SplitBudget<Shape>(EffectiveBudget(options), options), result);
     result.record.seconds =

@@ -7,6 +7,7 @@
 #include <variant>
 #include <vector>
 
+#include "hrbench/clusters.h"
 #include "hrbench/forest.h"
 #include "hrbench/link_buffer.h"
 #include "hrbench/record.h"
@@ -58,6 +59,8 @@ struct Refinement {
     LinkBuffer links;              // empty in count-only mode
     std::vector<PairTally> pairs;  // refined (non-culled) root pairs in order
     RunRecord record;              // method "enumerate", the counters and the time
+    ClusterTree<Shape> clusters;
+    std::vector<ClusterLink> clusterLinks;
 };
 
 using AnyRefinement = std::variant<Refinement<Segment>, Refinement<Polygon>>;
