@@ -1,6 +1,7 @@
-// The solve through cluster links (`--clusters`, docs/solve.md, Clusters): one cluster
-// link by hand, energy balance and uniform radiosity in closed scenes, agreement with the
-// solve without clusters, and determinism across thread counts. The clustered
+// The solve through cluster links (`--clusters`, docs/solve.md, Clusters): the tree's
+// numbering, one cluster link by hand, energy balance and uniform radiosity in closed
+// scenes, agreement with the solve without clusters, determinism across thread counts and
+// the output. The clustered
 // refinements here are made from a refinement without clusters: a top-down pairing of
 // the cluster tree links every pair of nodes whose bounding balls are far apart, and the
 // element links of the root pairs it reaches keep the light between them.
@@ -11,6 +12,7 @@
 #include <functional>
 #include <iostream>
 #include <set>
+#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -402,9 +404,16 @@ TEST_CASE("The solve's JSON gives the cluster figures only with a cluster tree",
     CHECK(with["cluster_links"] == clustered.clusterLinks.size());
     CHECK(with["cluster_transfer_share"].get<double>() > 0);
     CHECK(with["cluster_transfer_share"].get<double>() < 1);
+    std::ostringstream table;
+    PrintSolveTable(with, table);
+    CHECK(table.str().find("cluster_links") != std::string::npos);
     nlohmann::json without = SolveToJson(scene, refine, options, Solve(scene, refine, options));
     CHECK_FALSE(without.contains("clusters"));
     CHECK_FALSE(without.contains("cluster_links"));
+    CHECK_FALSE(without.contains("cluster_transfer_share"));
+    std::ostringstream plainTable;
+    PrintSolveTable(without, plainTable);
+    CHECK(plainTable.str().find("cluster") == std::string::npos);
 }
 
 // The figures of docs/solve.md (Clusters): run by name, prints one line per scene.
