@@ -45,6 +45,21 @@ void WriteLinksCsv(const AnyRefinement &refinement, std::ostream &out) {
                     out << "," << r.forest.Depth(e) << (e == link.i ? "," : "\n");
                 }
             }
+            // Cluster links (--clusters) after them: a cluster end is C<index> with its
+            // other columns empty, a patch end its root element.
+            const size_t emptyColumns = r.forest[0].center.size() == 2 ? 4 : 6;
+            for (const ClusterLink &link : r.clusterLinks) {
+                for (uint32_t node : {link.a, link.b}) {
+                    if (IsCluster(node)) {
+                        out << "C" << ClusterIndex(node) << std::string(emptyColumns, ',');
+                    } else {
+                        out << node << "," << node << ",";
+                        WriteGeometry(r.forest, node, out);
+                        out << ",0";
+                    }
+                    out << (node == link.a ? "," : "\n");
+                }
+            }
         },
         refinement);
 }

@@ -37,6 +37,17 @@ const std::vector<CounterInfo> &CounterTable() {
          "element pairs whose visible fraction was estimated", &C::visibilityQueries, nullptr},
         {"occluded_pairs", "visibility", "element pairs",
          "element pairs found fully occluded, never linked", &C::occludedPairs, nullptr},
+        {"cluster_nodes", "tree", "clusters", "clusters in the hierarchy (--clusters)",
+         &C::clusterNodes, nullptr},
+        {"cluster_links", "refine", "links", "links with a cluster at one end at least",
+         &C::clusterLinks, nullptr},
+        {"element_links", "refine", "links",
+         "links between elements (--clusters; links = element_links + cluster_links)",
+         &C::elementLinks, nullptr},
+        {"cluster_oracle_calls", "refine", "calls",
+         "cluster oracle calls (oracle_calls includes them)", &C::clusterOracleCalls, nullptr},
+        {"opened_clusters", "refine", "clusters",
+         "distinct clusters opened by a refused cluster pair", &C::openedClusters, nullptr},
         {"nodes_per_depth", "tree", "elements", "elements per element depth", nullptr,
          &C::nodesPerDepth},
         {"links_per_depth", "refine", "links", "links per link depth depth_i + depth_j", nullptr,
@@ -101,6 +112,7 @@ json RunToJson(const Scene &scene, const RefineOptions &options, const RunRecord
     out["threads"] = options.threads;
     out["subdivision"] = SubdivisionName(options.subdivision);
     out["visibility"] = VisibilityName(options.visibility);
+    out["clusters"] = options.clusters;
     out["rays_per_side"] =
         options.visibility == VisibilityMode::None ? json(nullptr) : json(options.raysPerSide);
     for (const CounterInfo &c : CounterTable()) {

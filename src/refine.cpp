@@ -6,11 +6,13 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <numeric>
 #include <optional>
 #include <string>
 #include <thread>
 
+#include "cluster/traversal.h"
 #include "hrbench/culling.h"
 #include "hrbench/kernel.h"
 #include "hrbench/oracles/registry.h"
@@ -21,6 +23,10 @@
 namespace hrbench {
 
 namespace {
+
+// Refines root pair (p, q), p < q; calls one for each root pair a run refines.
+using RootPairVisit = std::function<void(uint32_t, uint32_t)>;
+using RootPairTraversal = std::function<void(const RootPairVisit &)>;
 
 // A run's memory budget in bytes, and how many elements (per forest) and links it may
 // hold: SplitBudget's shares of it.
@@ -187,10 +193,13 @@ size_t RecordBytes(const std::vector<Task> &tasks) {
 
 // Runs the kernel over all root pairs in scene order: a sequential pass down to the
 // task depth, then the tasks on worker threads, each with its own copy of the trees.
+// _traverse_ calls its argument with each root pair (p, q), p < q, to refine: every one
+// in order, or those the cluster traversal reaches.
 template <typename Shape, int kArity, typename Oracle, bool kStoreLinks, typename Visibility>
 void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
                     const RefineOptions &options, const Budget &budget,
-                    const Visibility &visibility, Refinement<Shape> &result) {
+                    const Visibility &visibility, const RootPairTraversal &traverse,
+                    Refinement<Shape> &result) {
     using F = Forest<Shape>;
     Counters &counters = result.record.counters;
     F top(patches, budget.maxElements, options.subdivision);
@@ -225,38 +234,48 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
                              " refined root pairs and " + std::to_string(tasks.size()) +
                              " tasks would exceed the memory budget; raise --max-memory or eps");
     };
-    for (uint32_t p = 0; p < numPatches; ++p) {
-        for (uint32_t q = p + 1; q < numPatches; ++q) {
-            ++counters.rootPairs;
-            if (progress)
-                progress->At(counters.rootPairs);
-            PairRelation relation = ClassifyPair(patches[p].shape, patches[q].shape);
-            if (!RefinesRootPair(relation, p, q, options)) {
-                ++counters.culledPairs;
-                continue;
-            }
-            if (result.pairs.size() == result.pairs.capacity()) {
-                size_t grown = std::max<size_t>(2 * result.pairs.capacity(), 1024);
-                check(grown * pairBytes);
-                result.pairs.reserve(grown);
-                if (progress)
-                    pairOrdinal.reserve(grown);
-            }
-            Tally before = topKernel.tally;
-            topKernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), topLinks, &tasks);
-            result.pairs.push_back({p, q, topKernel.tally.Links() - before.Links(),
-                                    topKernel.tally.oracleCalls - before.oracleCalls});
-            if (progress)
-                pairOrdinal.push_back(counters.rootPairs);
-            check(0);
+    // Clustered count-only runs keep the record of a refined pair only while a task
+    // refers to it: the pairs reached can be many more than the links.
+    const bool pairsForTasksOnly = options.clusters && !kStoreLinks;
+    traverse([&](uint32_t p, uint32_t q) {
+        ++counters.rootPairs;
+        if (progress)
+            progress->At(counters.rootPairs);
+        PairRelation relation = ClassifyPair(patches[p].shape, patches[q].shape);
+        if (!RefinesRootPair(relation, p, q, options)) {
+            ++counters.culledPairs;
+            return;
         }
-    }
+        if (result.pairs.size() == result.pairs.capacity()) {
+            size_t grown = std::max<size_t>(2 * result.pairs.capacity(), 1024);
+            check(grown * pairBytes);
+            result.pairs.reserve(grown);
+            if (progress)
+                pairOrdinal.reserve(grown);
+        }
+        Tally before = topKernel.tally;
+        size_t tasksBefore = tasks.size();
+        topKernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), topLinks, &tasks);
+        if (pairsForTasksOnly && tasks.size() == tasksBefore)
+            return;
+        result.pairs.push_back({p, q, topKernel.tally.Links() - before.Links(),
+                                topKernel.tally.oracleCalls - before.oracleCalls});
+        if (progress)
+            pairOrdinal.push_back(counters.rootPairs);
+        check(0);
+    });
 
     // Run the tasks: each worker takes the next task in order and refines it fully, its
     // trees and links within what the records leave of the budget.
     size_t numWorkers = std::max<size_t>(1, std::min<size_t>(options.threads, tasks.size()));
     const Budget left = SplitBudget<Shape>(budget.bytes - recordBytes(), options);
-    std::vector<F> forests(numWorkers, top);
+    // One worker takes the first pass's forest over, with nothing left to read it;
+    // several start from copies of it.
+    std::vector<F> forests;
+    if (numWorkers == 1)
+        forests.push_back(std::move(top));
+    else
+        forests.assign(numWorkers, top);
     for (F &forest : forests)
         forest.LimitBudget(left.maxElements);
     // Each worker appends its links to one buffer; a task's links are a range of it.
@@ -320,8 +339,11 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
         result.pairs[tasks[t].pair].links += taskLinkCount[t];
         result.pairs[tasks[t].pair].oracleCalls += taskCallCount[t];
     }
-    counters.oracleCalls = total.oracleCalls;
-    counters.links = total.Links();
+    // With --clusters, links and oracle calls count the cluster ones too.
+    counters.oracleCalls = total.oracleCalls + counters.clusterOracleCalls;
+    counters.links = total.Links() + counters.clusterLinks;
+    if (options.clusters)
+        counters.elementLinks = total.Links();
     counters.forcedLinks = total.forcedLinks;
     counters.rays = total.visibility.rays;
     counters.visibilityQueries = total.visibility.queries;
@@ -395,6 +417,36 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     }
 }
 
+// Every root pair (p, q), p < q, in order.
+RootPairTraversal EveryRootPair(uint32_t numPatches) {
+    return [numPatches](const RootPairVisit &visit) {
+        for (uint32_t p = 0; p < numPatches; ++p)
+            for (uint32_t q = p + 1; q < numPatches; ++q)
+                visit(p, q);
+    };
+}
+
+// The root pairs that the cluster traversal of _result_.clusters reaches under the
+// cluster form of _Oracle_, the traversal's counters and (store mode) its links going
+// to _result_. Throws InputError for an oracle without a cluster form.
+template <typename Oracle, typename Shape>
+RootPairTraversal ClusteredRootPairs(const Patches<Shape> &patches, const RefineOptions &options,
+                                     Refinement<Shape> &result) {
+    if constexpr (!ClusterForm<Oracle>::kExists) {
+        throw InputError("--clusters: the oracle " + std::string(Oracle::kInfo.name) +
+                         " has no cluster form");
+    } else {
+        return [&patches, &options, &result](const RootPairVisit &visit) {
+            ClusterForm<Oracle> form(options, patches, result.clusters);
+            NodeViews<Shape> views(patches, result.clusters);
+            ClusterTraversal<Shape, ClusterForm<Oracle>, const RootPairVisit> traversal(
+                result.clusters, views, form, visit,
+                options.storeLinks ? &result.clusterLinks : nullptr);
+            traversal.Run(result.record.counters);
+        };
+    }
+}
+
 // The one dispatch of a run: picks the oracle, the arity, the storage mode and the
 // visibility policy once, outside the recursion, and runs the kernel compiled for them.
 template <typename Shape>
@@ -408,12 +460,15 @@ void Dispatch(const Patches<Shape> &patches, const RefineOptions &options, const
         found = true;
         if constexpr (Oracle::kInfo.Supports(Shape::kDimension)) {
             Oracle oracle = MakeOracle<Oracle>(options, patches);
+            RootPairTraversal traverse = EveryRootPair(uint32_t(patches.size()));
+            if (options.clusters)
+                traverse = ClusteredRootPairs<Oracle>(patches, options, result);
             WithVisibility(patches, options, [&](const auto &visibility) {
                 using Visibility = std::decay_t<decltype(visibility)>;
                 auto run = [&](auto arity, auto store) {
                     RefineAllPairs<Shape, decltype(arity)::value, Oracle, decltype(store)::value,
                                    Visibility>(patches, oracle, options, budget, visibility,
-                                               result);
+                                               traverse, result);
                 };
                 using Binary = std::integral_constant<int, 2>;
                 using Quadtree = std::integral_constant<int, 4>;
@@ -442,9 +497,15 @@ Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options) {
     ValidateScene(scene);
     const Patches<Shape> &patches = scene.Get<Shape>();
 
-    Refinement<Shape> result{
-        Forest<Shape>(patches, SIZE_MAX, options.subdivision), {}, {}, {"enumerate", {}, 0}, {}, {}};
+    Refinement<Shape> result{Forest<Shape>(patches, SIZE_MAX, options.subdivision),
+                             {},
+                             {},
+                             {"enumerate", {}, 0},
+                             {},
+                             {}};
     auto start = std::chrono::steady_clock::now();
+    if (options.clusters)
+        result.clusters = ClusterTree<Shape>(patches);
     Dispatch(patches, options, SplitBudget<Shape>(EffectiveBudget(options), options), result);
     result.record.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -485,6 +546,8 @@ const std::vector<MethodInfo> &Methods() {
 }
 
 RunRecord Count(const Scene &scene, const RefineOptions &options, const std::string &method) {
+    if (options.clusters && method != "enumerate")
+        throw InputError("--clusters refines by enumeration: drop --method " + method);
     for (const MethodInfo &m : Methods())
         if (m.name == method)
             return m.count(scene, options);

@@ -27,13 +27,25 @@ struct ClusterLink {
     uint32_t a, b;  // nodes, as above
 };
 
+// A bounding ball (docs/conventions.md#clusters).
+template <int D>
+struct Ball {
+    Vector<D> center;
+    double radius;
+};
+
+// The ball of root patch _p_ as a node paired with a cluster: centre of the box of its
+// corners, radius the largest distance from it to a corner.
+template <typename Shape>
+Ball<Shape::kDimension> PatchBall(const Patches<Shape> &patches, uint32_t p);
+
 // A cluster: what the cluster oracles read, and where its patches are.
 template <int D>
 struct Cluster {
-    Vector<D> center;    // centre of the bounding ball
-    double radius;       // radius of the bounding ball (every corner of its patches inside)
-    double measure;      // A_C: the sum of its patches' lengths (2D) or areas (3D)
-    double maxMeasure;   // the largest of its patches' measures
+    Vector<D> center;      // centre of the bounding ball
+    double radius;         // radius of the bounding ball (every corner of its patches inside)
+    double measure;        // A_C: the sum of its patches' lengths (2D) or areas (3D)
+    double maxMeasure;     // the largest of its patches' measures
     uint32_t children[2];  // nodes (above): two clusters, two patches, or one of each
     uint32_t parent;       // cluster index of the parent; the root's is itself
     // Its patches are ClusterTree::Patches()[begin, end): every cluster covers a range.
@@ -69,6 +81,8 @@ class ClusterTree {
     std::vector<uint32_t> patchParent_;
 };
 
+extern template Ball<2> PatchBall(const Patches<Segment> &, uint32_t);
+extern template Ball<3> PatchBall(const Patches<Polygon> &, uint32_t);
 extern template class ClusterTree<Segment>;
 extern template class ClusterTree<Polygon>;
 

@@ -66,6 +66,17 @@ class RadiosityEstimate {
         return max;
     }
 
+    // The largest value of any element of each root patch, in scene order: a bound on
+    // what the estimate gives any element of that patch (the cluster form of bf).
+    std::vector<double> RootMax() const {
+        if (!forest_)
+            return values_;
+        std::vector<double> max(forest_->NumRoots(), 0.0);
+        for (uint32_t e = 0; e < forest_->Size(); ++e)
+            max[(*forest_)[e].root] = std::max(max[(*forest_)[e].root], values_[e]);
+        return max;
+    }
+
     // The value for _query_, an element of a refinement of the same scene under the same
     // subdivision rule. Per root: that root's value. From a previous forest: descend from
     // the query's root, at each element into the child that contains the query's

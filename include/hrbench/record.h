@@ -21,17 +21,23 @@ constexpr int kRunSchemaVersion = 1;
 // The exact counters of one run (docs/conventions.md); all identical on every run,
 // build type and thread count. CounterTable() names each for output.
 struct Counters {
-    uint64_t nodes = 0;                   // elements of every tree, roots included
-    uint64_t leaves = 0;                  // elements without children
-    uint64_t links = 0;                   // element pairs linked (each stands for both directions)
-    uint64_t oracleCalls = 0;             // evaluations of the oracle
-    uint64_t maxDepth = 0;                // depth of the deepest element (roots have depth 0)
-    uint64_t forcedLinks = 0;             // links made by the recursion limit, not the oracle
-    uint64_t culledPairs = 0;             // root pairs that cannot exchange light, never refined
-    uint64_t rootPairs = 0;               // unordered root pairs considered, culled ones included
-    uint64_t rays = 0;                    // visibility segments cast (0 with --visibility none)
-    uint64_t visibilityQueries = 0;       // element pairs whose visible fraction was estimated
-    uint64_t occludedPairs = 0;           // element pairs found fully occluded, never linked
+    uint64_t nodes = 0;              // elements of every tree, roots included
+    uint64_t leaves = 0;             // elements without children
+    uint64_t links = 0;              // element pairs linked (each stands for both directions)
+    uint64_t oracleCalls = 0;        // evaluations of the oracle
+    uint64_t maxDepth = 0;           // depth of the deepest element (roots have depth 0)
+    uint64_t forcedLinks = 0;        // links made by the recursion limit, not the oracle
+    uint64_t culledPairs = 0;        // root pairs that cannot exchange light, never refined
+    uint64_t rootPairs = 0;          // unordered root pairs considered, culled ones included
+    uint64_t rays = 0;               // visibility segments cast (0 with --visibility none)
+    uint64_t visibilityQueries = 0;  // element pairs whose visible fraction was estimated
+    uint64_t occludedPairs = 0;      // element pairs found fully occluded, never linked
+    // --clusters only (0 without; docs/conventions.md#clusters):
+    uint64_t clusterNodes = 0;            // clusters in the hierarchy
+    uint64_t clusterLinks = 0;            // links with a cluster at one end at least
+    uint64_t elementLinks = 0;            // links between elements (links = these + clusterLinks)
+    uint64_t clusterOracleCalls = 0;      // cluster oracle calls (oracleCalls includes them)
+    uint64_t openedClusters = 0;          // distinct clusters opened by a refused cluster pair
     std::vector<uint64_t> nodesPerDepth;  // elements per element depth
     std::vector<uint64_t> linksPerDepth;  // links per link depth depth_i + depth_j
 };

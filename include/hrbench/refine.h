@@ -56,11 +56,13 @@ struct PairTally {
 template <typename Shape>
 struct Refinement {
     Forest<Shape> forest;
-    LinkBuffer links;              // empty in count-only mode
-    std::vector<PairTally> pairs;  // refined (non-culled) root pairs in order
-    RunRecord record;              // method "enumerate", the counters and the time
-    ClusterTree<Shape> clusters;
-    std::vector<ClusterLink> clusterLinks;
+    LinkBuffer links;  // empty in count-only mode
+    // Refined (non-culled) root pairs in order; with --clusters in count-only mode, only
+    // those that reached the task depth (kernel.h), so that nothing is kept per pair.
+    std::vector<PairTally> pairs;
+    RunRecord record;                       // method "enumerate", the counters and the time
+    ClusterTree<Shape> clusters;            // empty without --clusters
+    std::vector<ClusterLink> clusterLinks;  // store mode only, in traversal order
 };
 
 using AnyRefinement = std::variant<Refinement<Segment>, Refinement<Polygon>>;

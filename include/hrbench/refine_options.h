@@ -59,6 +59,8 @@ struct RefineOptions {
     // The form-factor estimate of the oracles that read one (hanrahan, bf); the others
     // ignore it (`--ff-estimate`, oracles/ff_estimate.h).
     FfEstimate ffEstimate = kDefaultFfEstimate;
+    // Refine through the cluster hierarchy (clusters.h) instead of every root pair.
+    bool clusters = false;
     // Where the run reports its progress (refine.h), if anywhere: not a setting of the run.
     RefineProgress *progress = nullptr;
     // The radiosity the bf oracle reads, not owned: not a setting of the run either.

@@ -1,104 +1,123 @@
-// ClusterTree's construction by the rule of include/hrbench/clusters.h: top-down median
-// split on the longest axis of the patch centroids' box (ties by patch index), floor(n/2)
-// patches to the left, clusters numbered in preorder; the ball is centred on the box of
-// the patches' corners and reaches the farthest corner.
-#include "hrbench/clusters.h"
-
 #include <algorithm>
-#include <array>
-#include <functional>
+#include <limits>
+#include <numeric>
+
+#include "hrbench/clusters.h"
+#include "hrbench/geometry/polygon.h"
+#include "hrbench/geometry/segment.h"
 
 namespace hrbench {
 
 namespace {
 
-// Every corner of a patch's shape.
-template <int D>
-void CornersOf(const Segment &s, std::vector<Vector<D>> &out) {
-    out.push_back(s.a), out.push_back(s.b);
+// Calls _f_ with each corner of _s_.
+template <typename F>
+void ForEachCorner(const Segment &s, F &&f) {
+    f(s.a), f(s.b);
 }
+template <typename F>
+void ForEachCorner(const Polygon &s, F &&f) {
+    for (int k = 0; k < s.n; ++k)
+        f(s.v[size_t(k)]);
+}
+
+// The axis-aligned box of points, grown one point at a time.
 template <int D>
-void CornersOf(const Polygon &p, std::vector<Vector<D>> &out) {
-    for (int k = 0; k < p.n; ++k)
-        out.push_back(p.v[size_t(k)]);
+struct Box {
+    Vector<D> lo = Vector<D>::Constant(std::numeric_limits<double>::infinity());
+    Vector<D> hi = Vector<D>::Constant(-std::numeric_limits<double>::infinity());
+    void Add(const Vector<D> &p) { lo = lo.cwiseMin(p), hi = hi.cwiseMax(p); }
+};
+
+// The ball of docs/conventions.md#clusters around the corners of _shapes_[k] for the
+// indices k of [first, last): centre of their box, radius the largest distance to one.
+template <typename Shape, typename It>
+Ball<Shape::kDimension> CornerBall(const Patches<Shape> &patches, It first, It last) {
+    constexpr int D = Shape::kDimension;
+    Box<D> box;
+    for (It k = first; k != last; ++k)
+        ForEachCorner(patches[*k].shape, [&](const Vector<D> &v) { box.Add(v); });
+    Ball<D> ball{0.5 * (box.lo + box.hi), 0};
+    for (It k = first; k != last; ++k)
+        ForEachCorner(patches[*k].shape, [&](const Vector<D> &v) {
+            ball.radius = std::max(ball.radius, (v - ball.center).norm());
+        });
+    return ball;
 }
 
 }  // namespace
 
 template <typename Shape>
-ClusterTree<Shape>::ClusterTree(const hrbench::Patches<Shape> &patches) {
+Ball<Shape::kDimension> PatchBall(const Patches<Shape> &patches, uint32_t p) {
+    return CornerBall(patches, &p, &p + 1);
+}
+
+template <typename Shape>
+ClusterTree<Shape>::ClusterTree(const hrbench::Patches<Shape> &patches)
+    : order_(patches.size()), patchParent_(patches.size()) {
     constexpr int D = kDimension;
-    using Vec = Vector<D>;
-    uint32_t k = uint32_t(patches.size());
-    order_.resize(k);
-    for (uint32_t p = 0; p < k; ++p)
-        order_[p] = p;
-    patchParent_.assign(k, 0);
+    const uint32_t k = uint32_t(patches.size());
+    std::iota(order_.begin(), order_.end(), 0u);
     if (k < 2)
         return;
-    std::vector<Vec> centroid(k);
+    clusters_.reserve(k - 1);
+    std::vector<Vector<D>> centroid(k);
     for (uint32_t p = 0; p < k; ++p)
         centroid[p] = patches[p].shape.Centroid();
-    clusters_.reserve(k - 1);
-    std::vector<Vec> corners;
-    // Builds the cluster over order_[begin, end) (at least two patches) and returns its
-    // index; its subtrees follow it (preorder).
-    std::function<uint32_t(uint32_t, uint32_t, uint32_t)> build = [&](uint32_t begin,
-                                                                      uint32_t end,
-                                                                      uint32_t parent) {
-        uint32_t index = uint32_t(clusters_.size());
-        clusters_.push_back({Vec::Zero(), 0, 0, 0, {0, 0}, 0, 0, 0});
-        Vec low = centroid[order_[begin]], high = low;
-        for (uint32_t i = begin; i < end; ++i)
-            low = low.cwiseMin(centroid[order_[i]]), high = high.cwiseMax(centroid[order_[i]]);
+    // Splits the range [begin, end) of order_ (two patches at least) into the subtree
+    // of a new cluster under _parent_, numbered in preorder; returns the cluster.
+    auto build = [&](auto &&self, uint32_t begin, uint32_t end, uint32_t parent) -> uint32_t {
+        const uint32_t c = uint32_t(clusters_.size());
+        clusters_.push_back({Vector<D>::Zero(), 0, 0, 0, {0, 0}, 0, 0, 0});  // set below
+        Box<D> box;
+        for (uint32_t k = begin; k < end; ++k)
+            box.Add(centroid[order_[k]]);
+        Vector<D> extent = box.hi - box.lo;
         int axis = 0;
-        for (int d = 1; d < D; ++d)
-            if (high[d] - low[d] > high[axis] - low[axis])
-                axis = d;
-        std::sort(order_.begin() + begin, order_.begin() + end, [&](uint32_t a, uint32_t b) {
-            double x = centroid[a][axis], y = centroid[b][axis];
-            return x < y || (x == y && a < b);
+        for (int a = 1; a < D; ++a)
+            if (extent[a] > extent[axis])
+                axis = a;
+        std::sort(order_.begin() + begin, order_.begin() + end, [&](uint32_t x, uint32_t y) {
+            double cx = centroid[x][axis], cy = centroid[y][axis];
+            return cx < cy || (cx == cy && x < y);
         });
-        corners.clear();
-        double measure = 0, maxMeasure = 0;
-        for (uint32_t i = begin; i < end; ++i) {
-            CornersOf<D>(patches[order_[i]].shape, corners);
-            double a = patches[order_[i]].shape.Measure();
-            measure += a, maxMeasure = std::max(maxMeasure, a);
-        }
-        Vec cLow = corners[0], cHigh = corners[0];
-        for (const Vec &c : corners)
-            cLow = cLow.cwiseMin(c), cHigh = cHigh.cwiseMax(c);
-        Vec center = 0.5 * (cLow + cHigh);
-        double radius = 0;
-        for (const Vec &c : corners)
-            radius = std::max(radius, (c - center).norm());
-        uint32_t mid = begin + (end - begin) / 2;
-        std::array<uint32_t, 2> children;
-        std::array<std::pair<uint32_t, uint32_t>, 2> halves = {{{begin, mid}, {mid, end}}};
-        for (int c = 0; c < 2; ++c) {
-            auto [b, e] = halves[size_t(c)];
-            if (e - b == 1) {
-                children[size_t(c)] = order_[b];
-                patchParent_[order_[b]] = index;
+        const uint32_t mid = begin + (end - begin) / 2;
+        uint32_t children[2];
+        const uint32_t ranges[2][2] = {{begin, mid}, {mid, end}};
+        for (int s = 0; s < 2; ++s) {
+            auto [from, to] = ranges[s];
+            if (to - from == 1) {
+                children[s] = order_[from];
+                patchParent_[order_[from]] = c;
             } else {
-                children[size_t(c)] = ClusterNode(build(b, e, index));
+                children[s] = ClusterNode(self(self, from, to, c));
             }
         }
-        ClusterType &cluster = clusters_[index];
-        cluster.center = center;
-        cluster.radius = radius;
-        cluster.measure = measure;
-        cluster.maxMeasure = maxMeasure;
+        ClusterType &cluster = clusters_[c];
+        Ball<D> ball = CornerBall(patches, order_.begin() + begin, order_.begin() + end);
+        cluster.center = ball.center;
+        cluster.radius = ball.radius;
+        cluster.measure = 0;
+        cluster.maxMeasure = 0;
+        for (int s = 0; s < 2; ++s) {
+            uint32_t child = children[s];
+            double measure = IsCluster(child) ? clusters_[ClusterIndex(child)].measure
+                                              : patches[child].shape.Measure();
+            double max = IsCluster(child) ? clusters_[ClusterIndex(child)].maxMeasure : measure;
+            cluster.measure += measure;
+            cluster.maxMeasure = std::max(cluster.maxMeasure, max);
+        }
         cluster.children[0] = children[0], cluster.children[1] = children[1];
         cluster.parent = parent;
         cluster.begin = begin, cluster.end = end;
-        return index;
+        return c;
     };
-    build(0, k, 0);
+    build(build, 0, k, 0);
 }
 
 template class ClusterTree<Segment>;
 template class ClusterTree<Polygon>;
+template Ball<2> PatchBall(const Patches<Segment> &, uint32_t);
+template Ball<3> PatchBall(const Patches<Polygon> &, uint32_t);
 
 }  // namespace hrbench

@@ -190,6 +190,14 @@ const std::vector<OptionSpec> &OptionTable() {
          {"solve"},
          "HSA91's gather as published: no consistency scale of the\nleaves (docs/solve.md)",
          [](Options &o, S) { o.solve.plainGather = true; }},
+        {"clusters",
+         "--clusters",
+         "",
+         {},
+         kRefining,
+         "refine through a hierarchy of clusters of the root patches\n"
+         "(docs/conventions.md#clusters; not with --method translation,\n--sweep)",
+         [](Options &o, S) { o.refine.clusters = true; }},
         {"threads",
          "--threads",
          "N",
@@ -478,6 +486,10 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
         if (o.method != "enumerate")
             throw InputError("--sweep counts by enumeration: drop --method");
     }
+    if (o.refine.clusters && (o.method != "enumerate" || o.sweep))
+        throw InputError(std::string("--clusters refines by enumeration, which ") +
+                         (o.sweep ? "--sweep" : "--method translation") +
+                         " does not: drop one of them");
     if (o.linkFormFactors) {
         const char *other = o.countOnly               ? "--count-only"
                             : o.method != "enumerate" ? "--method translation"
