@@ -14,7 +14,7 @@
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
 #include "hrbench/util/named.h"
-#include "cluster_transfer.h"
+#include "cluster/cluster_transfer.h"
 #include "reference_solve.h"
 #include "solve_internal.h"
 

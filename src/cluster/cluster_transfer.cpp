@@ -1,6 +1,6 @@
 // ClusterTransfer: the coefficients of the cluster links, and the pull, gather and push
 // of one sweep over the cluster tree (docs/solve.md, Clusters).
-#include "cluster_transfer.h"
+#include "cluster/cluster_transfer.h"
 
 #include <algorithm>
 #include <cmath>
