@@ -228,7 +228,8 @@ void SolveLinks(const Patches<Shape> &patches, const Refinement<Shape> &refineme
     std::optional<ClusterTransfer<Shape>> clusters;
     std::vector<double> clusterCoefficients;
     if (refinement.clusters.NumClusters() > 0) {
-        clusters.emplace(patches, refinement.clusters, refinement.clusterLinks);
+        clusters.emplace(patches, refinement.clusters, refinement.clusterLinks,
+                         options.clusterTransfer);
         clusterCoefficients = clusters->UnitIrradiance();
         result.clusters = ClusterFigures{refinement.clusters.NumClusters(),
                                          refinement.clusterLinks.size(), 0};
@@ -393,6 +394,28 @@ std::string SolveMethodName(SolveMethod method) {
     for (const SolveMethodInfo &m : SolveMethods())
         if (m.method == method)
             return m.name;
+    return "unknown";
+}
+
+const std::vector<ClusterTransferInfo> &ClusterTransfers() {
+    static const std::vector<ClusterTransferInfo> transfers = {
+        {"projected",
+         "a cluster end faces the other by its projected area, from its patches' axis sums",
+         ClusterTransferKind::Projected},
+        {"isotropic", "Sillion's isotropic cluster: its patches face every way alike",
+         ClusterTransferKind::Isotropic},
+    };
+    return transfers;
+}
+
+ClusterTransferKind ParseClusterTransfer(const std::string &name) {
+    return FindNamed(ClusterTransfers(), name, "cluster transfer").kind;
+}
+
+std::string ClusterTransferName(ClusterTransferKind kind) {
+    for (const ClusterTransferInfo &t : ClusterTransfers())
+        if (t.kind == kind)
+            return t.name;
     return "unknown";
 }
 

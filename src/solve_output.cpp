@@ -42,9 +42,8 @@ json SolveToJson(const Scene &scene, const RefineOptions &refine, const SolveOpt
     out["energy_balance_warning"] =
         result.energyWarning.empty() ? json(nullptr) : json(result.energyWarning);
     AddLinkFormFactors(result.linkFormFactors, out);
-    if (result.clusters) {
-        out["clusters"] = result.clusters->clusters;
-        out["cluster_links"] = result.clusters->links;
+    if (result.clusters) {  // the record holds clusters, cluster_nodes and cluster_links
+        out["cluster_transfer"] = ClusterTransferName(options.clusterTransfer);
         out["cluster_transfer_share"] = result.clusters->transferShare;
     }
     json radiosity = json::array();
@@ -116,8 +115,9 @@ void PrintSolveTable(const json &solve, std::ostream &out) {
     row("radiosity_max", Short(high));
     for (const char *key : {"link_form_factor_max", "link_form_factor_above_eps"})
         row(key, Short(solve[key].get<double>()));
-    if (solve.contains("cluster_links")) {
-        row("clusters", solve["clusters"].dump());
+    if (solve.contains("cluster_transfer")) {
+        row("cluster_transfer", solve["cluster_transfer"].get<std::string>());
+        row("cluster_nodes", solve["cluster_nodes"].dump());
         row("cluster_links", solve["cluster_links"].dump());
         row("cluster_transfer_share", Short(solve["cluster_transfer_share"].get<double>()));
     }

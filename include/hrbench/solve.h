@@ -43,6 +43,26 @@ const std::vector<SolveMethodInfo> &SolveMethods();
 SolveMethod ParseSolveMethod(const std::string &name);
 std::string SolveMethodName(SolveMethod method);
 
+// How light crosses a cluster link (`solve --cluster-transfer`; docs/solve.md, Clusters):
+// what stands for a cluster end's cosine toward the other end.
+enum class ClusterTransferKind {
+    Projected,  // the cluster's projected area toward the other end, from its axis sums
+    Isotropic,  // Sillion's isotropic cluster: the mean cosine, 1/4 (3D) or 1/pi (2D)
+};
+
+struct ClusterTransferInfo {
+    const char *name;  // "projected" or "isotropic"
+    const char *doc;   // one line
+    ClusterTransferKind kind;
+};
+
+// Every cluster transfer, the default first: the CLI's choices and capabilities read it.
+const std::vector<ClusterTransferInfo> &ClusterTransfers();
+
+// The transfer named _name_; throws InputError listing the names.
+ClusterTransferKind ParseClusterTransfer(const std::string &name);
+std::string ClusterTransferName(ClusterTransferKind kind);
+
 // The largest uniform mesh the dense reference solves (a dense n x n matrix).
 constexpr uint64_t kMaxReferenceElements = 8192;
 
@@ -60,6 +80,8 @@ struct SolveOptions {
     // HSA91's gather as published: a leaf's irradiance is what its chain's links gather,
     // without the consistency scale (docs/solve.md).
     bool plainGather = false;
+    // How cluster links carry light (read only when the refinement has cluster links).
+    ClusterTransferKind clusterTransfer = ClusterTransferKind::Projected;
 };
 
 constexpr int kDefaultPasses = 4;

@@ -1,6 +1,6 @@
 // ClusterTransfer: the coefficients of the cluster links, and the pull, gather and push
 // of one sweep over the cluster tree (docs/solve.md, Clusters).
-#include "cluster/cluster_transfer.h"
+#include "cluster_transfer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,8 @@ namespace hrbench {
 namespace {
 
 // The mean of max(0, cos) over isotropic directions: 1/4 over the sphere, 1/pi over the
-// circle. A cluster end receives and emits as if its patches faced every way alike.
+// circle. An isotropic cluster end receives and emits as if its patches faced every way
+// alike.
 template <int D>
 constexpr double kIsotropicCosine = D == 3 ? 0.25 : 1 / M_PI;
 
@@ -25,33 +26,51 @@ double KernelDenominator(double r) {
 template <typename Shape>
 ClusterTransfer<Shape>::ClusterTransfer(const Patches<Shape> &patches,
                                         const ClusterTree<Shape> &tree,
-                                        const std::vector<ClusterLink> &links)
+                                        const std::vector<ClusterLink> &links,
+                                        ClusterTransferKind kind)
     : tree_(tree), numPatches_(patches.size()), links_(links) {
     size_t slots = numPatches_ + tree.NumClusters();
     measure_.resize(slots), value_.resize(slots), gathered_.resize(slots);
     // Centres: a patch's centroid; a cluster's the area-weighted mean of its patches'.
+    // Axis sums: P+_a = sum A_p max(0, n_p,a) and P-_a = sum A_p max(0, -n_p,a).
     // Clusters are numbered in preorder, so a pass in reverse sees every child first.
-    std::vector<Vec> center(slots);
+    std::vector<Vec> center(slots), positive(slots), negative(slots);
     for (size_t p = 0; p < numPatches_; ++p) {
         measure_[p] = patches[p].shape.Measure();
         center[p] = patches[p].shape.Centroid();
+        Vec n = patches[p].shape.Normal();
+        positive[p] = measure_[p] * n.cwiseMax(0.0);
+        negative[p] = measure_[p] * (-n).cwiseMax(0.0);
     }
     for (size_t c = tree.NumClusters(); c-- > 0;) {
+        size_t slot = numPatches_ + c;
         double measure = 0;
         Vec moment = Vec::Zero();
+        positive[slot] = negative[slot] = Vec::Zero();
         for (uint32_t child : tree[uint32_t(c)].children) {
-            measure += measure_[Slot(child)];
-            moment += measure_[Slot(child)] * center[Slot(child)];
+            uint32_t s = Slot(child);
+            measure += measure_[s];
+            moment += measure_[s] * center[s];
+            positive[slot] += positive[s], negative[slot] += negative[s];
         }
-        measure_[numPatches_ + c] = measure;
-        center[numPatches_ + c] = moment / measure;
+        measure_[slot] = measure;
+        center[slot] = moment / measure;
     }
-    // H(X <- Y) = B_Y A_Y g_X g_Y / (c_D r^(D-1)): g is max(0, n . direction to the other
-    // end) for a patch, kIsotropicCosine for a cluster.
-    auto cosine = [&](uint32_t node, const Vec &toOther) {
-        return IsCluster(node) ? kIsotropicCosine<kDimension>
-                               : std::max(0.0, patches[node].shape.Normal().dot(toOther));
+    // A node's projected measure toward the unit vector _u_: a root patch's exact
+    // A max(0, n . u); a cluster's from its axis sums, or A times the isotropic cosine.
+    auto projected = [&](uint32_t node, const Vec &u) {
+        uint32_t s = Slot(node);
+        if (!IsCluster(node))
+            return measure_[s] * std::max(0.0, patches[node].shape.Normal().dot(u));
+        if (kind == ClusterTransferKind::Isotropic)
+            return measure_[s] * kIsotropicCosine<kDimension>;
+        double sum = 0;
+        for (int a = 0; a < kDimension; ++a)
+            sum += u[a] > 0 ? positive[s][a] * u[a] : negative[s][a] * -u[a];
+        return sum;
     };
+    // The flux from Y to X per unit B_Y, f_X(u) f_Y(-u) / (c_D r^(D-1)), u from X toward
+    // Y, is the same both ways: each end's irradiance divides it by its own measure.
     coefficients_.reserve(links.size());
     for (const ClusterLink &l : links) {
         Vec d = center[Slot(l.b)] - center[Slot(l.a)];
@@ -60,9 +79,9 @@ ClusterTransfer<Shape>::ClusterTransfer(const Patches<Shape> &patches,
             coefficients_.push_back({0, 0});
             continue;
         }
-        Vec dir = d / r;
-        double kernel = cosine(l.a, dir) * cosine(l.b, -dir) / KernelDenominator<kDimension>(r);
-        coefficients_.push_back({kernel * measure_[Slot(l.b)], kernel * measure_[Slot(l.a)]});
+        Vec u = d / r;
+        double flux = projected(l.a, u) * projected(l.b, -u) / KernelDenominator<kDimension>(r);
+        coefficients_.push_back({flux / measure_[Slot(l.a)], flux / measure_[Slot(l.b)]});
     }
 }
 
@@ -106,7 +125,7 @@ std::vector<double> ClusterTransfer<Shape>::UnitIrradiance() {
 template <typename Shape>
 size_t ClusterTransfer<Shape>::Bytes(size_t clusters, size_t patches, size_t links) {
     return links * (sizeof(ClusterLink) + sizeof(Coefficients)) +
-           (patches + clusters) * (3 * sizeof(double) + sizeof(Vec));
+           (patches + clusters) * (3 * sizeof(double) + 3 * sizeof(Vec));
 }
 
 template class ClusterTransfer<Segment>;

@@ -1,6 +1,7 @@
-// The light that crosses the cluster links of a refinement (`--clusters`): Sillion's
-// isotropic clusters, gathered once per sweep by the hierarchical solve (solve.cpp).
-// docs/solve.md (Clusters) derives the transfer and states the order of the sweep.
+// The light that crosses the cluster links of a refinement (`--clusters`), each cluster
+// end facing the other by its projected area or as Sillion's isotropic cluster, gathered
+// once per sweep by the hierarchical solve (solve.cpp). docs/solve.md (Clusters) derives
+// both transfers and states the order of the sweep.
 #pragma once
 
 #include <cstdint>
@@ -8,6 +9,7 @@
 
 #include "hrbench/clusters.h"
 #include "hrbench/scene.h"
+#include "hrbench/solve.h"
 
 namespace hrbench {
 
@@ -16,9 +18,10 @@ class ClusterTransfer {
   public:
     static constexpr int kDimension = Shape::kDimension;
 
-    // The coefficients of every link of _links_ over _tree_, whose patches are _patches_.
+    // The coefficients of every link of _links_ over _tree_, whose patches are _patches_,
+    // a cluster end facing the other as _kind_ says.
     ClusterTransfer(const Patches<Shape> &patches, const ClusterTree<Shape> &tree,
-                    const std::vector<ClusterLink> &links);
+                    const std::vector<ClusterLink> &links, ClusterTransferKind kind);
 
     size_t NumLinks() const { return coefficients_.size(); }
 
