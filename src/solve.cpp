@@ -399,10 +399,9 @@ std::string SolveMethodName(SolveMethod method) {
 
 const std::vector<ClusterTransferInfo> &ClusterTransfers() {
     static const std::vector<ClusterTransferInfo> transfers = {
-        {"projected",
-         "a cluster end faces the other by its projected area, from its patches' axis sums",
+        {"projected", "a cluster end's projected area, from its patches' axis sums",
          ClusterTransferKind::Projected},
-        {"isotropic", "Sillion's isotropic cluster: its patches face every way alike",
+        {"isotropic", "Sillion's: a cluster's patches face every way alike",
          ClusterTransferKind::Isotropic},
     };
     return transfers;
