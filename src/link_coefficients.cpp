@@ -103,7 +103,8 @@ template <typename Shape>
 std::vector<double> ConsistencyScales(const Patches<Shape> &patches, const Forest<Shape> &forest,
                                       const LinkBuffer &links,
                                       const std::vector<LinkCoefficients> &coefficients,
-                                      const RefineOptions &options) {
+                                      const RefineOptions &options,
+                                      const std::vector<double> *rootCoefficients) {
     size_t n = forest.Size();
     std::vector<double> scale(n, 1.0);
     if (options.visibility != VisibilityMode::None)
@@ -113,6 +114,9 @@ std::vector<double> ConsistencyScales(const Patches<Shape> &patches, const Fores
     std::vector<double> chain(n, 0.0);
     for (size_t k = 0; k < links.size(); ++k)
         chain[links[k].i] += coefficients[k].ij, chain[links[k].j] += coefficients[k].ji;
+    if (rootCoefficients)  // the roots are the first ids, in scene order
+        for (size_t r = 0; r < rootCoefficients->size(); ++r)
+            chain[r] += (*rootCoefficients)[r];
     for (uint32_t e = 0; e < n; ++e)
         if (forest.Parent(e) != e)
             chain[e] += chain[forest.Parent(e)];
@@ -135,11 +139,11 @@ std::vector<double> ConsistencyScales(const Patches<Shape> &patches, const Fores
 template std::vector<double> ConsistencyScales(const Patches<Segment> &, const Forest<Segment> &,
                                                const LinkBuffer &,
                                                const std::vector<LinkCoefficients> &,
-                                               const RefineOptions &);
+                                               const RefineOptions &, const std::vector<double> *);
 template std::vector<double> ConsistencyScales(const Patches<Polygon> &, const Forest<Polygon> &,
                                                const LinkBuffer &,
                                                const std::vector<LinkCoefficients> &,
-                                               const RefineOptions &);
+                                               const RefineOptions &, const std::vector<double> *);
 
 template std::vector<LinkCoefficients>
 ComputeCoefficients(const Patches<Segment> &, const Forest<Segment> &, const LinkBuffer &,

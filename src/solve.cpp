@@ -1,15 +1,12 @@
 // The hierarchical solve: HierarchySolver (gather, push-pull, Jacobi or Gauss-Seidel),
-// the bf oracle's refine-solve passes, the options, and the output (JSON, table, CSV).
-// The link coefficients are in link_coefficients.cpp, the dense reference in
-// reference_solve.cpp.
+// the bf oracle's refine-solve passes and the options. The link coefficients are in
+// link_coefficients.cpp, the cluster links' transfer in cluster_transfer.cpp, the dense
+// reference in reference_solve.cpp, the output (JSON, table, CSV) in solve_output.cpp.
 #include "hrbench/solve.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <iomanip>
-
-#include <nlohmann/json.hpp>
 
 #include "hrbench/culling.h"
 #include "hrbench/radiosity_estimate.h"
@@ -17,21 +14,13 @@
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
 #include "hrbench/util/named.h"
+#include "cluster/cluster_transfer.h"
 #include "reference_solve.h"
 #include "solve_internal.h"
 
 namespace hrbench {
 
-using nlohmann::json;
-
 namespace {
-
-// A number for a message: 3 significant digits.
-std::string Short(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.3g", value);
-    return text;
-}
 
 // Every element of each tree in preorder (first child first), tree by tree, with the
 // offset of each tree's first element: parents come before their children.
@@ -55,14 +44,15 @@ void Preorder(const Forest<Shape> &forest, std::vector<uint32_t> &order,
     }
 }
 
-// The hierarchical system (HSA91) of one refinement and its iteration.
+// The hierarchical system (HSA91) of one refinement and its iteration, with the cluster
+// links of _clusters_ when given.
 template <typename Shape>
 class HierarchySolver {
   public:
     HierarchySolver(const Forest<Shape> &forest, const LinkBuffer &links,
                     const std::vector<LinkCoefficients> &coefficients, std::vector<double> scale,
-                    const std::vector<Material> &materials)
-        : forest_(forest), n_(forest.Size()), scale_(std::move(scale)) {
+                    const std::vector<Material> &materials, ClusterTransfer<Shape> *clusters)
+        : forest_(forest), n_(forest.Size()), scale_(std::move(scale)), clusters_(clusters) {
         Preorder(forest, order_, treeStart_);
         area_.resize(n_), rho_.resize(n_), emission_.resize(n_);
         for (uint32_t e = 0; e < n_; ++e) {
@@ -107,6 +97,9 @@ class HierarchySolver {
         for (int k = 1;; ++k) {
             double change = 0, largest = 0;
             std::vector<double> &out = jacobi ? next : radiosity_;
+            // The cluster links first, from the radiosity of the sweep before, either method.
+            if (clusters_)
+                clusters_->Gather(radiosity_, clusterIrradiance_);
             for (size_t r = 0; r < forest_.NumRoots(); ++r) {
                 Gather(r);
                 if (!jacobi)
@@ -144,6 +137,8 @@ class HierarchySolver {
             gathered_[order_[k]] = 0;
         for (size_t h = start_[r]; h < start_[r + 1]; ++h)
             gathered_[half_[h].to] += half_[h].coefficient * radiosity_[half_[h].from];
+        if (clusters_)  // the root's element id is its patch index
+            gathered_[r] += clusterIrradiance_[r];
     }
 
     // Push-pull for root patch _r_ into _out_: each element's irradiance is the sum of
@@ -180,6 +175,14 @@ class HierarchySolver {
 
     // The leaves, tree by tree in preorder, and the powers.
     void Collect(SolveResult &result) const {
+        if (clusters_) {
+            double all = 0, clustered = 0;
+            for (uint32_t e : order_)
+                all += gathered_[e] * area_[e];
+            for (size_t r = 0; r < forest_.NumRoots(); ++r)
+                clustered += clusterIrradiance_[r] * area_[r];
+            result.clusters->transferShare = all > 0 ? clustered / all : 0;
+        }
         for (uint32_t e : order_) {
             if (forest_[e].firstChild != kNoChildren)
                 continue;
@@ -198,7 +201,60 @@ class HierarchySolver {
     std::vector<size_t> start_;
     std::vector<HalfLink> half_;
     std::vector<double> radiosity_, gathered_, irradiance_;
+    ClusterTransfer<Shape> *clusters_;
+    std::vector<double> clusterIrradiance_;  // by root patch
 };
+
+// The bytes the cluster links of _refinement_ add to the solver's.
+template <typename Shape>
+size_t ClusterBytes(const Refinement<Shape> &refinement) {
+    size_t clusters = refinement.clusters.NumClusters();
+    return clusters == 0 ? 0
+                         : ClusterTransfer<Shape>::Bytes(clusters, refinement.forest.NumRoots(),
+                                                         refinement.clusterLinks.size());
+}
+
+// One solve of _refinement_'s links into _result_, in the units of _unitMaterials_: the
+// coefficients, the consistency scales, the iteration and its times. With _radiosity_,
+// also every element's radiosity by id.
+template <typename Shape>
+void SolveLinks(const Patches<Shape> &patches, const Refinement<Shape> &refinement,
+                const RefineOptions &refine, const SolveOptions &options,
+                const std::vector<Material> &unitMaterials, SolveResult &result,
+                std::vector<double> *radiosity) {
+    Stopwatch coefficientWatch;
+    std::vector<LinkCoefficients> coefficients = ComputeCoefficients(
+        patches, refinement.forest, refinement.links, refine, &result.linkFormFactors);
+    std::optional<ClusterTransfer<Shape>> clusters;
+    std::vector<double> clusterCoefficients;
+    if (refinement.clusters.NumClusters() > 0) {
+        clusters.emplace(patches, refinement.clusters, refinement.clusterLinks,
+                         options.clusterTransfer);
+        clusterCoefficients = clusters->UnitIrradiance();
+        result.clusters = ClusterFigures{refinement.clusters.NumClusters(),
+                                         refinement.clusterLinks.size(), 0};
+    }
+    std::vector<double> scale =
+        options.plainGather
+            ? std::vector<double>(refinement.forest.Size(), 1.0)
+            : ConsistencyScales(patches, refinement.forest, refinement.links, coefficients, refine,
+                                clusters ? &clusterCoefficients : nullptr);
+    AddTime(result.coefficients, coefficientWatch.Elapsed());
+
+    // Each pass solves from B = E: only the last pass's solution is reported.
+    result.leaves.clear();
+    result.emittedPower = result.absorbedPower = 0;
+    Stopwatch solveWatch;
+    {
+        HierarchySolver<Shape> solver(refinement.forest, refinement.links, coefficients,
+                                      std::move(scale), unitMaterials,
+                                      clusters ? &*clusters : nullptr);
+        solver.Run(options, result);
+        if (radiosity)
+            *radiosity = solver.Radiosity();
+    }
+    AddTime(result.solve, solveWatch.Elapsed());
+}
 
 }  // namespace
 
@@ -288,37 +344,18 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
                                 refinement.pairs.capacity() * sizeof(PairTally)
                           : 0;
         size_t budget = EffectiveBudget(passOptions);
-        if (HierarchySolver<Shape>::Bytes(links, elements) > budget - std::min(budget, used))
+        if (HierarchySolver<Shape>::Bytes(links, elements) + ClusterBytes(refinement) >
+            budget - std::min(budget, used))
             throw LimitError("solving " + std::to_string(links) + " links and " +
                              std::to_string(elements) +
                              " elements would exceed the memory budget; raise --max-memory or "
                              "eps");
 
-        Stopwatch coefficientWatch;
-        std::vector<LinkCoefficients> coefficients = ComputeCoefficients(
-            patches, refinement.forest, refinement.links, refine, &result.linkFormFactors);
-        std::vector<double> scale = options.plainGather
-                                        ? std::vector<double>(refinement.forest.Size(), 1.0)
-                                        : ConsistencyScales(patches, refinement.forest,
-                                                            refinement.links, coefficients, refine);
-        AddTime(result.coefficients, coefficientWatch.Elapsed());
-
-        // Each pass solves from B = E: only the last pass's solution is reported.
-        result.leaves.clear();
-        result.emittedPower = result.absorbedPower = 0;
-        Stopwatch solveWatch;
         std::vector<double> radiosity;
-        {
-            HierarchySolver<Shape> solver(refinement.forest, refinement.links, coefficients,
-                                          std::move(scale), unitMaterials);
-            solver.Run(options, result);
-            if (!last) {
-                radiosity = solver.Radiosity();
-                for (double &b : radiosity)
-                    b *= unit;
-            }
-        }
-        AddTime(result.solve, solveWatch.Elapsed());
+        SolveLinks(patches, refinement, refine, options, unitMaterials, result,
+                   last ? nullptr : &radiosity);
+        for (double &b : radiosity)
+            b *= unit;
 
         if (!last) {
             // The next pass reads this solution; the refinement it was read by is done.
@@ -357,6 +394,27 @@ std::string SolveMethodName(SolveMethod method) {
     for (const SolveMethodInfo &m : SolveMethods())
         if (m.method == method)
             return m.name;
+    return "unknown";
+}
+
+const std::vector<ClusterTransferInfo> &ClusterTransfers() {
+    static const std::vector<ClusterTransferInfo> transfers = {
+        {"projected", "a cluster end's projected area, from its patches' axis sums",
+         ClusterTransferKind::Projected},
+        {"isotropic", "Sillion's: a cluster's patches face every way alike",
+         ClusterTransferKind::Isotropic},
+    };
+    return transfers;
+}
+
+ClusterTransferKind ParseClusterTransfer(const std::string &name) {
+    return FindNamed(ClusterTransfers(), name, "cluster transfer").kind;
+}
+
+std::string ClusterTransferName(ClusterTransferKind kind) {
+    for (const ClusterTransferInfo &t : ClusterTransfers())
+        if (t.kind == kind)
+            return t.name;
     return "unknown";
 }
 
@@ -418,6 +476,30 @@ SolveResult Solve(const Scene &scene, const RefineOptions &refine, const SolveOp
     return result;
 }
 
+template <typename Shape>
+SolveResult SolveRefinement(const Scene &scene, const Refinement<Shape> &refinement,
+                            const RefineOptions &refine, const SolveOptions &options) {
+    ValidateSolveOptions(options);
+    ValidateScene(scene);
+    SolveResult result;
+    result.materials = SolveMaterials(scene, options);
+    result.record = refinement.record;
+    result.passes = 1;
+    result.passLinks = {refinement.record.counters.links};
+    result.passNodes = {refinement.record.counters.nodes};
+    const double unit = EmissionUnit(result.materials);
+    SolveLinks(scene.Get<Shape>(), refinement, refine, options,
+               InEmissionUnits(result.materials, unit), result, nullptr);
+    ToEmissionScale(result.leaves, result.emittedPower, result.absorbedPower, unit);
+    result.energyWarning = EnergyBalanceWarning(scene, refine, result);
+    return result;
+}
+
+template SolveResult SolveRefinement(const Scene &, const Refinement<Segment> &,
+                                     const RefineOptions &, const SolveOptions &);
+template SolveResult SolveRefinement(const Scene &, const Refinement<Polygon> &,
+                                     const RefineOptions &, const SolveOptions &);
+
 VisibilityMode DefaultSolveVisibility(const Scene &scene) {
     return CanOcclude(scene) ? VisibilityMode::Fraction : VisibilityMode::None;
 }
@@ -441,169 +523,6 @@ std::string EnergyBalanceWarning(const Scene &scene, const RefineOptions &refine
            "% a discretisation may account for: refine further (a smaller eps or --min-area" +
            (refine.visibility != VisibilityMode::None ? ", more --rays-per-side" : "") +
            "; docs/solve.md, Energy balance)";
-}
-
-// ---------------------------------------------------------------------------------------
-// Output
-
-void AddLinkFormFactors(const LinkFormFactors &formFactors, json &record) {
-    record["link_form_factor_max"] = formFactors.max;
-    record["link_form_factor_above_eps"] = formFactors.aboveEps;
-}
-
-json SolveToJson(const Scene &scene, const RefineOptions &refine, const SolveOptions &options,
-                 const SolveResult &result) {
-    json out = RunToJson(scene, refine, result.record);
-    auto optional = [](const std::optional<double> &v) { return v ? json(*v) : json(nullptr); };
-    out["solver"] = SolveMethodName(options.method);
-    // "consistent": leaves scaled to their exact form factor sums; "plain": HSA91's gather
-    // as published, asked for or forced by visibility (ConsistencyScales).
-    out["gather"] =
-        options.plainGather || refine.visibility != VisibilityMode::None ? "plain" : "consistent";
-    out["tolerance"] = options.tolerance;
-    out["max_iterations"] = options.maxIterations;
-    out["emission"] = optional(options.emission);
-    out["reflectance"] = optional(options.reflectance);
-    out["passes"] = result.passes;
-    out["pass_links"] = result.passLinks;
-    out["pass_nodes"] = result.passNodes;
-    out["iterations"] = result.iterations;
-    out["residual"] = result.residual;
-    out["emitted_power"] = result.emittedPower;
-    out["absorbed_power"] = result.absorbedPower;
-    out["energy_balance_warning"] =
-        result.energyWarning.empty() ? json(nullptr) : json(result.energyWarning);
-    AddLinkFormFactors(result.linkFormFactors, out);
-    json radiosity = json::array();
-    for (const ElementRadiosity &leaf : result.leaves)
-        radiosity.push_back(leaf.radiosity);
-    out["radiosity"] = std::move(radiosity);
-    auto times = [&](const std::string &stage, const StageTime &t) {
-        out["seconds_" + stage] = t.wall;
-        out["cpu_seconds_" + stage] = t.cpu;
-    };
-    times("refine", result.refine);
-    times("coefficients", result.coefficients);
-    times("solve", result.solve);
-    if (result.reference) {
-        const UniformSolution &ref = *result.reference;
-        json values = json::array();
-        for (const ElementRadiosity &e : ref.elements)
-            values.push_back(e.radiosity);
-        out["reference_depth"] = ref.depth;
-        out["reference_radiosity"] = std::move(values);
-        out["reference_emitted_power"] = ref.emittedPower;
-        out["reference_absorbed_power"] = ref.absorbedPower;
-        const ReferenceComparison &c = *result.comparison;
-        for (const auto &[name, norms] :
-             {std::pair<std::string, const ErrorNorms &>{"reference", c},
-              {"projection", c.projection},
-              {"hierarchy", c.hierarchy}}) {
-            out[name + "_error_max"] = norms.maxError;
-            out[name + "_error_mean"] = norms.meanError;
-            out[name + "_error_l2"] = norms.l2Error;
-        }
-        if (ref.change)
-            out["reference_change"] = *ref.change;
-        times("reference", ref.time);
-    }
-    return out;
-}
-
-void PrintSolveTable(const json &solve, std::ostream &out) {
-    double low = INFINITY, high = -INFINITY;
-    for (const json &b : solve["radiosity"]) {
-        low = std::min(low, b.get<double>());
-        high = std::max(high, b.get<double>());
-    }
-    out << "scene     " << solve["scene"].get<std::string>();
-    for (const auto &[key, value] : solve["params"].items())
-        out << " " << key << "=" << FormatDouble(value.get<double>());
-    out << "\noracle    " << OracleLabel(solve) << "  eps "
-        << FormatDouble(solve["eps"].get<double>()) << "  visibility "
-        << solve["visibility"].get<std::string>() << "\nsolver    "
-        << solve["solver"].get<std::string>() << "  tolerance "
-        << FormatDouble(solve["tolerance"].get<double>()) << "  gather "
-        << solve["gather"].get<std::string>() << "\n\n";
-    auto row = [&](const std::string &name, const std::string &value) {
-        out << std::left << std::setw(27) << name << std::right << std::setw(12) << value << "\n";
-    };
-    for (const char *counter : {"leaves", "links", "passes"})
-        row(counter, solve[counter].dump());
-    for (const char *list : {"pass_links", "pass_nodes"}) {
-        std::string values;
-        for (const json &v : solve[list])
-            values += (values.empty() ? "" : " ") + v.dump();
-        row(list, values);
-    }
-    row("iterations", solve["iterations"].dump());
-    for (const char *value : {"residual", "emitted_power", "absorbed_power"})
-        row(value, Short(solve[value].get<double>()));
-    row("radiosity_min", Short(low));
-    row("radiosity_max", Short(high));
-    for (const char *key : {"link_form_factor_max", "link_form_factor_above_eps"})
-        row(key, Short(solve[key].get<double>()));
-    for (const char *stage : {"refine", "coefficients", "solve", "reference"}) {
-        std::string key = std::string("seconds_") + stage;
-        if (solve.contains(key))
-            row(key, Short(solve[key].get<double>()) + " (cpu " +
-                         Short(solve["cpu_" + key].get<double>()) + ")");
-    }
-    if (solve.contains("reference_depth")) {
-        row("reference_depth", solve["reference_depth"].dump());
-        row("reference_elements", std::to_string(solve["reference_radiosity"].size()));
-        for (const char *part : {"reference", "projection", "hierarchy"})
-            for (const char *norm : {"max", "mean", "l2"}) {
-                std::string key = std::string(part) + "_error_" + norm;
-                row(key, Short(solve[key].get<double>()));
-            }
-        if (solve.contains("reference_change"))
-            row("reference_change", Short(solve["reference_change"].get<double>()));
-    }
-}
-
-namespace {
-
-// The CSV's header: the columns of docs/solve.md.
-const char *SolveCsvHeader(int dimension) {
-    return dimension == 2
-               ? "element,root,depth,position,x,y,measure,radiosity,irradiance,reflectance,"
-                 "emission,red,green,blue,x0,y0,x1,y1"
-               : "element,root,depth,position,x,y,z,measure,radiosity,irradiance,reflectance,"
-                 "emission,red,green,blue,corners,x0,y0,z0,x1,y1,z1,x2,y2,z2,x3,y3,z3";
-}
-
-// The leaf's outline: 2D its end points x0,y0,x1,y1; 3D the number of corners and four
-// corners' x,y,z, those of a triangle's missing fourth corner empty.
-void WriteOutline(const ElementRadiosity &leaf, int dimension, std::ostream &out) {
-    if (dimension == 3)
-        out << ',' << leaf.numCorners;
-    for (int k = 0; k < (dimension == 2 ? 2 : 4); ++k)
-        for (int d = 0; d < dimension; ++d) {
-            out << ',';
-            if (k < leaf.numCorners)
-                out << FormatDouble(leaf.corners[size_t(k)][d]);
-        }
-}
-
-}  // namespace
-
-void WriteSolveCsv(const SolveResult &result, int dimension, std::ostream &out) {
-    out << SolveCsvHeader(dimension) << '\n';
-    for (const ElementRadiosity &leaf : result.leaves) {
-        out << leaf.element << ',' << leaf.root << ',' << leaf.depth << ',' << leaf.position;
-        for (int d = 0; d < dimension; ++d)
-            out << ',' << FormatDouble(leaf.centroid[d]);
-        out << ',' << FormatDouble(leaf.measure) << ',' << FormatDouble(leaf.radiosity) << ','
-            << FormatDouble(leaf.irradiance);
-        // The colour is for display: the solve used the scalar reflectance.
-        const Material &material = result.materials[leaf.root];
-        out << ',' << FormatDouble(material.reflectance) << ',' << FormatDouble(material.emission);
-        for (double c : material.DisplayColour())
-            out << ',' << FormatDouble(c);
-        WriteOutline(leaf, dimension, out);
-        out << '\n';
-    }
 }
 
 }  // namespace hrbench

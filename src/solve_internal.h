@@ -1,17 +1,26 @@
-// What the hierarchical solve (solve.cpp) and the dense reference (reference_solve.cpp)
-// share: timing a stage, describing a solved element the same way for both, and the
-// unit of emission they solve in.
+// What the hierarchical solve (solve.cpp, solve_output.cpp) and the dense reference
+// (reference_solve.cpp) share: short numbers, timing a stage, describing a solved
+// element the same way for both, and the unit of emission they solve in.
 #pragma once
 
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <ctime>
+#include <string>
 #include <vector>
 
 #include "hrbench/forest.h"
 #include "hrbench/solve.h"
 
 namespace hrbench {
+
+// A number for a message or the table: 3 significant digits.
+inline std::string Short(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", value);
+    return text;
+}
 
 inline double CpuSeconds() {
     timespec ts;

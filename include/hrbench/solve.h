@@ -43,6 +43,26 @@ const std::vector<SolveMethodInfo> &SolveMethods();
 SolveMethod ParseSolveMethod(const std::string &name);
 std::string SolveMethodName(SolveMethod method);
 
+// How light crosses a cluster link (`solve --cluster-transfer`; docs/solve.md, Clusters):
+// what stands for a cluster end's cosine toward the other end.
+enum class ClusterTransferKind {
+    Projected,  // the cluster's projected area toward the other end, from its axis sums
+    Isotropic,  // Sillion's isotropic cluster: the mean cosine, 1/4 (3D) or 1/pi (2D)
+};
+
+struct ClusterTransferInfo {
+    const char *name;  // "projected" or "isotropic"
+    const char *doc;   // one line
+    ClusterTransferKind kind;
+};
+
+// Every cluster transfer, the default first: the CLI's choices and capabilities read it.
+const std::vector<ClusterTransferInfo> &ClusterTransfers();
+
+// The transfer named _name_; throws InputError listing the names.
+ClusterTransferKind ParseClusterTransfer(const std::string &name);
+std::string ClusterTransferName(ClusterTransferKind kind);
+
 // The largest uniform mesh the dense reference solves (a dense n x n matrix).
 constexpr uint64_t kMaxReferenceElements = 8192;
 
@@ -60,6 +80,8 @@ struct SolveOptions {
     // HSA91's gather as published: a leaf's irradiance is what its chain's links gather,
     // without the consistency scale (docs/solve.md).
     bool plainGather = false;
+    // How cluster links carry light (read only when the refinement has cluster links).
+    ClusterTransferKind clusterTransfer = ClusterTransferKind::Projected;
 };
 
 constexpr int kDefaultPasses = 4;
@@ -118,21 +140,26 @@ LinkFormFactors MeasureLinkFormFactors(const AnyRefinement &refinement,
 // its ancestors give it, the sum of their coefficients; 1 for inner elements, for a leaf
 // its chain links to nothing, and under --visibility fraction or refine (the exact
 // occluded sum is not known). Multiplying a leaf's gathered irradiance by it makes a
-// uniform radiosity exact: B = E / (1 - rho) in a closed scene at any eps.
+// uniform radiosity exact: B = E / (1 - rho) in a closed scene at any eps. With
+// _rootCoefficients_ (by root patch: what its cluster links give it per unit radiosity,
+// ClusterTransfer), they count in the chain of every element of that root's tree.
 template <typename Shape>
 std::vector<double> ConsistencyScales(const Patches<Shape> &patches, const Forest<Shape> &forest,
                                       const LinkBuffer &links,
                                       const std::vector<LinkCoefficients> &coefficients,
-                                      const RefineOptions &options);
+                                      const RefineOptions &options,
+                                      const std::vector<double> *rootCoefficients = nullptr);
 
 extern template std::vector<double> ConsistencyScales(const Patches<Segment> &,
                                                       const Forest<Segment> &, const LinkBuffer &,
                                                       const std::vector<LinkCoefficients> &,
-                                                      const RefineOptions &);
+                                                      const RefineOptions &,
+                                                      const std::vector<double> *);
 extern template std::vector<double> ConsistencyScales(const Patches<Polygon> &,
                                                       const Forest<Polygon> &, const LinkBuffer &,
                                                       const std::vector<LinkCoefficients> &,
-                                                      const RefineOptions &);
+                                                      const RefineOptions &,
+                                                      const std::vector<double> *);
 
 // One element of a solution: a leaf of the hierarchy, or an element of a uniform mesh.
 struct ElementRadiosity {
@@ -192,6 +219,15 @@ struct ReferenceComparison : ErrorNorms {
     ErrorNorms hierarchy;
 };
 
+// The cluster links' part in a solve (`--clusters`; docs/solve.md, Clusters).
+struct ClusterFigures {
+    uint64_t clusters = 0;  // of the tree
+    uint64_t links = 0;     // cluster links gathered over
+    // Of the power gathered in the last sweep (before the consistency scale), the share
+    // that came over cluster links: sum of A H over cluster links' receivers / over all.
+    double transferShare = 0;
+};
+
 struct SolveResult {
     RunRecord record;                      // the last pass's counters; kernel time of all
     std::vector<ElementRadiosity> leaves;  // by root patch, then preorder of its tree
@@ -209,6 +245,7 @@ struct SolveResult {
     std::optional<UniformSolution> reference;  // with SolveOptions::referenceDepth
     std::optional<ReferenceComparison> comparison;
     LinkFormFactors linkFormFactors;  // of the last pass's links
+    std::optional<ClusterFigures> clusters;  // when the refinement has a cluster tree
     // EnergyBalanceWarning's line: occlusion ignored where the scene has some, or more
     // energy absorbed than the discretisation explains; "" otherwise.
     std::string energyWarning;
@@ -240,6 +277,18 @@ std::string EnergyBalanceWarning(const Scene &scene, const RefineOptions &refine
 // of range), LimitError when the memory budget is reached or the iteration does not
 // converge within SolveOptions::maxIterations.
 SolveResult Solve(const Scene &scene, const RefineOptions &refine, const SolveOptions &options);
+
+// Solves the links of _refinement_, a refinement of _scene_ made with _refine_ (element
+// links and cluster links), once: what Solve does for one pass, without the dense
+// reference. For refinements made otherwise than by Solve (tests, other kernels).
+template <typename Shape>
+SolveResult SolveRefinement(const Scene &scene, const Refinement<Shape> &refinement,
+                            const RefineOptions &refine, const SolveOptions &options);
+
+extern template SolveResult SolveRefinement(const Scene &, const Refinement<Segment> &,
+                                            const RefineOptions &, const SolveOptions &);
+extern template SolveResult SolveRefinement(const Scene &, const Refinement<Polygon> &,
+                                            const RefineOptions &, const SolveOptions &);
 
 // The dense reference of _scene_ at _depth_ (refine supplies threads, visibility, rays,
 // subdivision and the memory budget). InputError above kMaxReferenceElements elements.

@@ -93,6 +93,8 @@ json Capabilities() {
         doc["methods"].push_back({{"name", m.name}, {"doc", m.doc}});
     for (const SolveMethodInfo &m : SolveMethods())
         doc["solvers"].push_back({{"name", m.name}, {"doc", m.doc}});
+    for (const ClusterTransferInfo &t : ClusterTransfers())
+        doc["cluster_transfers"].push_back({{"name", t.name}, {"doc", t.doc}});
     for (const OptionSpec &o : OptionTable())
         doc["options"].push_back(OptionJson(o));
     for (const CounterInfo &c : CounterTable())

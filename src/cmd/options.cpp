@@ -190,6 +190,14 @@ const std::vector<OptionSpec> &OptionTable() {
          {"solve"},
          "HSA91's gather as published: no consistency scale of the\nleaves (docs/solve.md)",
          [](Options &o, S) { o.solve.plainGather = true; }},
+        {"cluster_transfer",
+         "--cluster-transfer",
+         "T",
+         ChoiceNames(ClusterTransfers()),
+         {"solve"},
+         "how light crosses a cluster link (docs/solve.md, Clusters):\n" +
+             ChoiceDoc(ClusterTransfers()),
+         [](Options &o, S v) { o.solve.clusterTransfer = ParseClusterTransfer(v); }},
         {"clusters",
          "--clusters",
          "",
@@ -490,6 +498,8 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
         throw InputError(std::string("--clusters refines by enumeration, which ") +
                          (o.sweep ? "--sweep" : "--method translation") +
                          " does not: drop one of them");
+    if (seen.count("--cluster-transfer") && !o.refine.clusters)
+        throw InputError("--cluster-transfer is how light crosses cluster links: add --clusters");
     if (o.linkFormFactors) {
         const char *other = o.countOnly               ? "--count-only"
                             : o.method != "enumerate" ? "--method translation"
