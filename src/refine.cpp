@@ -14,7 +14,7 @@
 
 #include "cluster/traversal.h"
 #include "hrbench/culling.h"
-#include "hrbench/kernel.h"
+#include "refine/kernel.h"
 #include "hrbench/oracles/registry.h"
 #include "hrbench/translation_count.h"
 #include "hrbench/util/error.h"
