@@ -500,7 +500,7 @@ Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options) {
     Refinement<Shape> result{Forest<Shape>(patches, SIZE_MAX, options.subdivision),
                              {},
                              {},
-                             {"enumerate", {}, 0},
+                             {"enumerate", {}, 0, {}, {}},
                              {},
                              {}};
     auto start = std::chrono::steady_clock::now();

@@ -221,8 +221,10 @@ std::vector<RunRecord> Sweep(const Patches<Shape> &patches,
         linksAt.push_back(d.Values());
     for (const PerValue &d : childrenPerDepth)
         childrenAt.push_back(d.Values());
-    std::vector<RunRecord> records(n, RunRecord{"enumerate", shared, 0});
+    std::vector<RunRecord> records(n, RunRecord{"enumerate", shared, 0, {}, {}});
     for (size_t k = 0; k < n; ++k) {
+        (sweepsEps ? records[k].sweptEps : records[k].sweptMinArea) =
+            sweepsEps ? perValue[k].eps : perValue[k].minArea;
         Counters &c = records[k].counters;
         c.oracleCalls = calls[k], c.links = linked[k], c.forcedLinks = forced[k];
         c.rays = rays[k], c.visibilityQueries = queries[k], c.occludedPairs = occluded[k];
