@@ -144,7 +144,7 @@ TEST_CASE("links writes one CSV row per link that tiles the parameter square", "
     CHECK_THAT(area, Catch::Matchers::WithinRel(64.0, 1e-12));
 }
 
-TEST_CASE("--clusters: its counters, its links and the options it refuses", "[cli][clusters]") {
+TEST_CASE("Option --clusters: its counters, its links and the options it refuses", "[cli][clusters]") {
     json plain = json::parse(Cli("run random n=30 seed=1 size=40 --eps 0.2 --json").out);
     CHECK(plain["clusters"] == false);
     for (const char *key : {"cluster_nodes", "cluster_links", "element_links",

@@ -434,7 +434,7 @@ TEST_CASE("Every cluster oracle is conservative: its links' element pairs would 
     }
 }
 
-TEST_CASE("--clusters refuses the translation method", "[clusters]") {
+TEST_CASE("Option --clusters refuses the translation method", "[clusters]") {
     Scene scene = MakeScene("parallel", {{"l", 4}, {"d", 1}});
     RefineOptions o = Clustered(0.5, "garmann", false);
     CHECK_THROWS_AS(Count(scene, o, "translation"), InputError);
