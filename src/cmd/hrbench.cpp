@@ -23,7 +23,7 @@
 #include "hrbench/hrbench.h"
 #include "hrbench/progress.h"
 #include "hrbench/util/input_file.h"
-#include "hrbench/util/output.h"
+#include "util/output.h"
 
 namespace hrbench {
 namespace {
