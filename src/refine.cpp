@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <numeric>
 #include <optional>
 #include <string>
@@ -22,6 +23,10 @@
 namespace hrbench {
 
 namespace {
+
+// Refines root pair (p, q), p < q; calls one for each root pair a run refines.
+using RootPairVisit = std::function<void(uint32_t, uint32_t)>;
+using RootPairTraversal = std::function<void(const RootPairVisit &)>;
 
 // A run's memory budget in bytes, and how many elements (per forest) and links it may
 // hold: SplitBudget's shares of it.
@@ -41,16 +46,6 @@ Budget SplitBudget(size_t bytes, const RefineOptions &options) {
             bytes / 4 * 3 / sizeof(Link)};
 }
 
-// What the second pass keeps of a task: the worker that ran it, the run of sibling
-// groups it made in that worker's forest (for ForestUnion), its links (their end in the
-// worker's buffer, and their number) and its oracle calls.
-struct TaskRecord {
-    size_t worker;
-    uint32_t begin, end;  // the task's elements in its worker's forest: [begin, end)
-    size_t linksEnd;
-    uint64_t links, oracleCalls;
-};
-
 // Grows the canonical forest, the union of the workers' forests, and maps each worker's
 // element ids to canonical ones. Every worker's forest began as a copy of the sequential
 // pass's forest, which the canonical one starts as too, so the ids of its elements are
@@ -62,10 +57,16 @@ struct TaskRecord {
 template <typename Forest>
 class ForestUnion {
   public:
-    // _splits_: each worker's Forest::SplitElements(); _tasks_: the tasks' records, in
-    // task order. _canonical_ holds the sequential pass's forest and grows to the union.
-    ForestUnion(const std::vector<std::vector<uint32_t>> &splits,
-                const std::vector<TaskRecord> &tasks, Forest &canonical)
+    // A task's run of sibling groups in its worker's forest.
+    struct Run {
+        size_t worker;
+        uint32_t begin, end;  // the run's elements: [begin, end)
+    };
+
+    // _splits_: each worker's Forest::SplitElements(); _runs_: the tasks' runs, in task
+    // order. _canonical_ holds the sequential pass's forest and grows to the union.
+    ForestUnion(const std::vector<std::vector<uint32_t>> &splits, const std::vector<Run> &runs,
+                Forest &canonical)
         : maps_(splits.size()) {
         const size_t topSize = canonical.Size();
         const uint32_t numRoots = uint32_t(canonical.NumRoots()), arity = canonical.Arity();
@@ -78,7 +79,7 @@ class ForestUnion {
             bound += maps_[w].size() - topSize;
         }
         canonical.Reserve(bound);
-        for (const TaskRecord &run : tasks) {
+        for (const Run &run : runs) {
             std::vector<uint32_t> &map = maps_[run.worker];
             for (uint32_t first = run.begin; first < run.end; first += arity) {
                 uint32_t parent = splits[run.worker][(first - numRoots) / arity];
@@ -181,233 +182,215 @@ void CountUnion(const Forest &top, const std::vector<Forest> &forests, int threa
     }
 }
 
-// Bytes of _tasks_ at their array's capacity, and of the record the second pass keeps
-// of each.
-size_t TaskBytes(const std::vector<Task> &tasks) {
-    return tasks.capacity() * sizeof(Task) + tasks.size() * sizeof(TaskRecord);
+// Bytes of _tasks_ at their array's capacity, and of what the second pass keeps for
+// each (RefineAllPairs: its links' end, links and calls, and its run of elements).
+template <typename F>
+size_t RecordBytes(const std::vector<Task> &tasks) {
+    constexpr size_t kPerTask =
+        sizeof(size_t) + 2 * sizeof(uint64_t) + sizeof(typename ForestUnion<F>::Run);
+    return tasks.capacity() * sizeof(Task) + tasks.size() * kPerTask;
 }
 
-// The counters that a kernel's tally, summed over a run, gives. With --clusters, links
-// and oracle calls count the cluster ones too, already in _c_.
-void CountTally(const Tally &total, bool clusters, Counters &c) {
-    c.oracleCalls = total.oracleCalls + c.clusterOracleCalls;
-    c.links = total.Links() + c.clusterLinks;
-    if (clusters)
-        c.elementLinks = total.Links();
-    c.forcedLinks = total.forcedLinks;
-    c.rays = total.visibility.rays;
-    c.visibilityQueries = total.visibility.queries;
-    c.occludedPairs = total.visibility.occludedPairs;
-    c.linksPerDepth.assign(total.linksPerDepth.begin(), total.linksPerDepth.end());
-    while (!c.linksPerDepth.empty() && c.linksPerDepth.back() == 0)
-        c.linksPerDepth.pop_back();
-}
-
-// Runs the kernel over the root pairs that a traversal gives (every one in scene order,
-// or those the cluster traversal reaches, in its order), in phases: a sequential pass
-// down to the task depth, the tasks on worker threads, each with its own copy of the
-// trees, then the sum of the counts and the merge of the trees and links.
+// Runs the kernel over the root pairs that _traverse_ gives (every one in scene order,
+// or those the cluster traversal reaches, in its order): a sequential pass down to the
+// task depth, then the tasks on worker threads, each with its own copy of the trees.
 template <typename Shape, int kArity, typename Oracle, bool kStoreLinks, typename Visibility>
-class AllPairs {
+void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
+                    const RefineOptions &options, const Budget &budget,
+                    const Visibility &visibility, const RootPairTraversal &traverse,
+                    Refinement<Shape> &result) {
     using F = Forest<Shape>;
-    template <bool kFrontier>
-    using Kernel = ProjectKernel<F, kArity, Oracle, kStoreLinks, kFrontier, Visibility>;
+    Counters &counters = result.record.counters;
+    F top(patches, budget.maxElements, options.subdivision);
+    ProjectKernel<F, kArity, Oracle, kStoreLinks, true, Visibility> topKernel(
+        top, oracle, options, budget.maxLinks, visibility);
+    LinkBuffer topLinks;
+    std::vector<Task> tasks;
 
-  public:
-    AllPairs(const Patches<Shape> &patches, const Oracle &oracle, const RefineOptions &options,
-             const Budget &budget, const Visibility &visibility, Refinement<Shape> &result)
-        : patches_(patches), oracle_(oracle), options_(options), budget_(budget),
-          visibility_(visibility), result_(result), counters_(result.record.counters),
-          top_(patches, budget.maxElements, options.subdivision),
-          topKernel_(top_, oracle, options, budget.maxLinks, visibility) {}
-
-    // _traverse_(visit) calls visit(p, q), p < q, for each root pair to refine.
-    template <typename Traverse>
-    void Run(const Traverse &traverse) {
-        FirstPass(traverse);
-        RunTasks();
-        SumCounts();
-        Merge();
+    // Classify every root pair and refine it down to the task depth.
+    const uint32_t numPatches = uint32_t(patches.size());
+    RefineProgress *progress = options.progress;
+    std::vector<uint64_t> pairOrdinal;  // of each refined pair among all root pairs, from 1
+    if (progress) {
+        // With clusters, how many root pairs the traversal reaches is not known ahead.
+        progress->rootPairs = options.clusters ? 0 : uint64_t(numPatches) * (numPatches - 1) / 2;
+        progress->StartPass(1);
     }
-
-  private:
-    // Classifies every root pair the traversal gives and refines it down to the task
-    // depth, on this thread, recording the pairs there as tasks.
-    template <typename Traverse>
-    void FirstPass(const Traverse &traverse) {
-        const uint32_t numPatches = uint32_t(patches_.size());
-        RefineProgress *progress = options_.progress;
-        if (progress) {
-            // With clusters, how many root pairs the traversal reaches is not known ahead.
-            progress->rootPairs =
-                options_.clusters ? 0 : uint64_t(numPatches) * (numPatches - 1) / 2;
-            progress->StartPass(1);
-        }
-        // The pair records grow here, so that the old and the new array, held at once
-        // while growing, are counted (CheckRecords) before they are taken.
-        const size_t pairBytes = sizeof(PairTally) + (progress ? sizeof(uint64_t) : 0);
-        // Clustered count-only runs keep the record of a refined pair only while a task
-        // refers to it: the pairs reached can be many more than the links.
-        const bool pairsForTasksOnly = options_.clusters && !kStoreLinks;
-        std::vector<PairTally> &pairs = result_.pairs;
-        traverse([&](uint32_t p, uint32_t q) {
-            ++counters_.rootPairs;
-            if (progress)
-                progress->At(counters_.rootPairs);
-            PairRelation relation = ClassifyPair(patches_[p].shape, patches_[q].shape);
-            if (!RefinesRootPair(relation, p, q, options_)) {
-                ++counters_.culledPairs;
-                return;
-            }
-            if (pairs.size() == pairs.capacity()) {
-                size_t grown = std::max<size_t>(2 * pairs.capacity(), 1024);
-                CheckRecords(grown * pairBytes);
-                pairs.reserve(grown);
-                if (progress)
-                    pairOrdinal_.reserve(grown);
-            }
-            Tally before = topKernel_.tally;
-            size_t tasksBefore = tasks_.size();
-            topKernel_.Project({p, q, 0, 0}, uint32_t(pairs.size()), topLinks_, &tasks_);
-            if (pairsForTasksOnly && tasks_.size() == tasksBefore)
-                return;
-            pairs.push_back({p, q, topKernel_.tally.Links() - before.Links(),
-                             topKernel_.tally.oracleCalls - before.oracleCalls});
-            if (progress)
-                pairOrdinal_.push_back(counters_.rootPairs);
-            CheckRecords(0);
-        });
-    }
-
-    // Besides the trees and links, the budget counts what the run keeps per refined
-    // root pair and per task, at its arrays' capacity: a scene of many patches can hold
-    // more in them than in its trees (24 bytes per refined pair).
-    size_t RecordsBytes() const {
-        return result_.pairs.capacity() * sizeof(PairTally) +
-               pairOrdinal_.capacity() * sizeof(uint64_t) + TaskBytes(tasks_);
-    }
-
-    // Throws the budget's LimitError where the records, _growing_ more bytes, the trees
-    // and the links would exceed it.
-    void CheckRecords(size_t growing) const {
-        if (RecordsBytes() + growing + top_.Size() * F::kBytesPerElement +
-                topLinks_.size() * sizeof(Link) >
-            budget_.bytes)
-            throw LimitError("the records of " + std::to_string(result_.pairs.size()) +
-                             " refined root pairs and " + std::to_string(tasks_.size()) +
+    // Besides the trees and links, the budget counts what the run keeps per refined root
+    // pair and per task, at its arrays' capacity (RecordBytes); the pair records grow
+    // here, so that the old and the new array, held at once while growing, are counted
+    // before they are taken. A scene of many patches can hold more in them than in its
+    // trees (24 bytes per refined pair).
+    const size_t pairBytes = sizeof(PairTally) + (progress ? sizeof(uint64_t) : 0);
+    auto recordBytes = [&] {
+        return result.pairs.capacity() * sizeof(PairTally) +
+               pairOrdinal.capacity() * sizeof(uint64_t) + RecordBytes<F>(tasks);
+    };
+    auto check = [&](size_t growing) {
+        if (recordBytes() + growing + top.Size() * F::kBytesPerElement +
+                topLinks.size() * sizeof(Link) >
+            budget.bytes)
+            throw LimitError("the records of " + std::to_string(result.pairs.size()) +
+                             " refined root pairs and " + std::to_string(tasks.size()) +
                              " tasks would exceed the memory budget; raise --max-memory or eps");
-    }
-
-    // Runs the tasks: each worker takes the next task in order and refines it fully, its
-    // trees and links within what the records leave of the budget. Each task's record
-    // goes to its index, whichever worker ran it; the earliest failed task's error
-    // surfaces (ParallelFor).
-    void RunTasks() {
-        numWorkers_ = std::max<size_t>(1, std::min<size_t>(options_.threads, tasks_.size()));
-        const Budget left = SplitBudget<Shape>(budget_.bytes - RecordsBytes(), options_);
-        // One worker takes the first pass's forest over, with nothing left to read it;
-        // several start from copies of it.
-        if (numWorkers_ == 1)
-            forests_.push_back(std::move(top_));
-        else
-            forests_.assign(numWorkers_, top_);
-        for (F &forest : forests_)
-            forest.LimitBudget(left.maxElements);
-        // Each worker appends its links to one buffer; a task's links are a range of it.
-        // The first worker's buffer starts with the sequential pass's links, whose ids
-        // are the same in every worker's forest.
-        workerLinks_.resize(kStoreLinks ? numWorkers_ : 0);
-        if constexpr (kStoreLinks)
-            workerLinks_[0] = std::move(topLinks_);
-        records_.assign(tasks_.size(), TaskRecord{});
-        std::vector<std::optional<Kernel<false>>> kernels(numWorkers_);
-        std::vector<LinkBuffer> unused(kStoreLinks ? 0 : numWorkers_);
-        RefineProgress *progress = options_.progress;
+    };
+    // Clustered count-only runs keep the record of a refined pair only while a task
+    // refers to it: the pairs reached can be many more than the links.
+    const bool pairsForTasksOnly = options.clusters && !kStoreLinks;
+    traverse([&](uint32_t p, uint32_t q) {
+        ++counters.rootPairs;
         if (progress)
-            progress->StartPass(2);
-        std::atomic<size_t> nextWorker{0};
-        ParallelFor(
-            tasks_.size(), 1, options_.threads,
-            [&] {
-                size_t w = nextWorker++;
-                kernels[w].emplace(forests_[w], oracle_, options_, left.maxLinks / numWorkers_,
-                                   visibility_);
-                return w;
-            },
-            [&](size_t w, size_t t) {
-                if (progress)
-                    progress->At(pairOrdinal_[tasks_[t].pair]);
-                Kernel<false> &kernel = *kernels[w];
-                LinkBuffer &links = kStoreLinks ? workerLinks_[w] : unused[w];
+            progress->At(counters.rootPairs);
+        PairRelation relation = ClassifyPair(patches[p].shape, patches[q].shape);
+        if (!RefinesRootPair(relation, p, q, options)) {
+            ++counters.culledPairs;
+            return;
+        }
+        if (result.pairs.size() == result.pairs.capacity()) {
+            size_t grown = std::max<size_t>(2 * result.pairs.capacity(), 1024);
+            check(grown * pairBytes);
+            result.pairs.reserve(grown);
+            if (progress)
+                pairOrdinal.reserve(grown);
+        }
+        Tally before = topKernel.tally;
+        size_t tasksBefore = tasks.size();
+        topKernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), topLinks, &tasks);
+        if (pairsForTasksOnly && tasks.size() == tasksBefore)
+            return;
+        result.pairs.push_back({p, q, topKernel.tally.Links() - before.Links(),
+                                topKernel.tally.oracleCalls - before.oracleCalls});
+        if (progress)
+            pairOrdinal.push_back(counters.rootPairs);
+        check(0);
+    });
+
+    // Run the tasks: each worker takes the next task in order and refines it fully, its
+    // trees and links within what the records leave of the budget.
+    size_t numWorkers = std::max<size_t>(1, std::min<size_t>(options.threads, tasks.size()));
+    const Budget left = SplitBudget<Shape>(budget.bytes - recordBytes(), options);
+    // One worker takes the first pass's forest over, with nothing left to read it;
+    // several start from copies of it.
+    std::vector<F> forests;
+    if (numWorkers == 1)
+        forests.push_back(std::move(top));
+    else
+        forests.assign(numWorkers, top);
+    for (F &forest : forests)
+        forest.LimitBudget(left.maxElements);
+    // Each worker appends its links to one buffer; a task's links are a range of it.
+    // The first worker's buffer starts with the sequential pass's links, whose ids are
+    // the same in every worker's forest.
+    std::vector<LinkBuffer> workerLinks(kStoreLinks ? numWorkers : 0);
+    if constexpr (kStoreLinks)
+        workerLinks[0] = std::move(topLinks);
+    std::vector<size_t> taskLinksEnd(tasks.size());
+    std::vector<uint64_t> taskLinkCount(tasks.size()), taskCallCount(tasks.size());
+    // Per task: its worker and the elements it made there, for the merge.
+    std::vector<typename ForestUnion<F>::Run> taskRuns(tasks.size());
+    std::vector<Tally> workerTally(numWorkers);
+    std::atomic<size_t> next{0};
+    std::atomic<bool> failed{false};
+    std::vector<std::pair<size_t, std::exception_ptr>> errors(numWorkers, {SIZE_MAX, nullptr});
+    if (progress)
+        progress->StartPass(2);
+    auto work = [&](size_t w) {
+        ProjectKernel<F, kArity, Oracle, kStoreLinks, false, Visibility> kernel(
+            forests[w], oracle, options, left.maxLinks / numWorkers, visibility);
+        LinkBuffer unused;
+        LinkBuffer &links = kStoreLinks ? workerLinks[w] : unused;
+        for (size_t t; !failed && (t = next++) < tasks.size();) {
+            if (progress)
+                progress->At(pairOrdinal[tasks[t].pair]);
+            try {
                 uint64_t linksBefore = kernel.tally.Links(), calls = kernel.tally.oracleCalls;
-                uint32_t elementsBefore = uint32_t(forests_[w].Size());
-                kernel.Project(tasks_[t].call, tasks_[t].pair, links, nullptr);
-                records_[t] = {w, elementsBefore, uint32_t(forests_[w].Size()), links.size(),
-                               kernel.tally.Links() - linksBefore,
-                               kernel.tally.oracleCalls - calls};
-            });
-        for (const std::optional<Kernel<false>> &kernel : kernels)
-            if (kernel)
-                workerTally_.Add(kernel->tally);
-    }
-
-    // Sums the counts: the sequential pass, then the workers; each task's to its pair.
-    void SumCounts() {
-        Tally total = topKernel_.tally;
-        total.Add(workerTally_);
-        for (size_t t = 0; t < tasks_.size(); ++t) {
-            result_.pairs[tasks_[t].pair].links += records_[t].links;
-            result_.pairs[tasks_[t].pair].oracleCalls += records_[t].oracleCalls;
-        }
-        CountTally(total, options_.clusters, counters_);
-    }
-
-    // The trees and links of the result, in canonical ids (refine.h), and the tree
-    // counters.
-    void Merge() {
-        // One worker ran every task in order: its ids are canonical, as made.
-        if (numWorkers_ == 1) {
-            if constexpr (kStoreLinks) {
-                result_.links = std::move(workerLinks_[0]);
-                result_.links.ShrinkToFit();
+                uint32_t elementsBefore = uint32_t(forests[w].Size());
+                kernel.Project(tasks[t].call, tasks[t].pair, links, nullptr);
+                taskRuns[t] = {w, elementsBefore, uint32_t(forests[w].Size())};
+                taskLinkCount[t] = kernel.tally.Links() - linksBefore;
+                taskCallCount[t] = kernel.tally.oracleCalls - calls;
+                taskLinksEnd[t] = links.size();
+            } catch (...) {
+                errors[w] = {t, std::current_exception()};
+                failed = true;
             }
-            result_.forest = std::move(forests_[0]);
-            result_.forest.LiftBudget();
-            return CountTrees(result_.forest, counters_);
         }
-        // Several workers, without links: no element id is seen, so their trees are
-        // counted as one instead of merged, and the result keeps only the roots.
-        if constexpr (!kStoreLinks)
-            CountUnion(top_, forests_, options_.threads, counters_);
-        else
-            MergeStored();
+        workerTally[w] = kernel.tally;
+    };
+    std::vector<std::thread> threads;
+    for (size_t w = 1; w < numWorkers; ++w)
+        threads.emplace_back(work, w);
+    work(0);
+    for (std::thread &t : threads)
+        t.join();
+
+    // Report the error of the earliest failed task: every task before it has run,
+    // so which error surfaces does not depend on timing.
+    auto first = std::min_element(errors.begin(), errors.end(),
+                                  [](const auto &a, const auto &b) { return a.first < b.first; });
+    if (first->second)
+        std::rethrow_exception(first->second);
+
+    // Sum the counts: the sequential pass, then the workers.
+    Tally total = topKernel.tally;
+    for (const Tally &t : workerTally)
+        total.Add(t);
+    for (size_t t = 0; t < tasks.size(); ++t) {
+        result.pairs[tasks[t].pair].links += taskLinkCount[t];
+        result.pairs[tasks[t].pair].oracleCalls += taskCallCount[t];
+    }
+    // With --clusters, links and oracle calls count the cluster ones too.
+    counters.oracleCalls = total.oracleCalls + counters.clusterOracleCalls;
+    counters.links = total.Links() + counters.clusterLinks;
+    if (options.clusters)
+        counters.elementLinks = total.Links();
+    counters.forcedLinks = total.forcedLinks;
+    counters.rays = total.visibility.rays;
+    counters.visibilityQueries = total.visibility.queries;
+    counters.occludedPairs = total.visibility.occludedPairs;
+    counters.linksPerDepth.assign(total.linksPerDepth.begin(), total.linksPerDepth.end());
+    while (!counters.linksPerDepth.empty() && counters.linksPerDepth.back() == 0)
+        counters.linksPerDepth.pop_back();
+
+    // One worker ran every task in order: its ids are canonical, as made.
+    if (numWorkers == 1) {
+        if constexpr (kStoreLinks) {
+            result.links = std::move(workerLinks[0]);
+            result.links.ShrinkToFit();
+        }
+        result.forest = std::move(forests[0]);
+        result.forest.LiftBudget();
+        return CountTrees(result.forest, counters);
     }
 
-    // Merges the workers' trees into canonical ids and translates the links to them.
-    void MergeStored() {
+    // Several workers, without links: no element id is seen, so their trees are
+    // counted as one instead of merged, and the result keeps only the roots.
+    if constexpr (!kStoreLinks) {
+        CountUnion(top, forests, options.threads, counters);
+    } else {
+        // Merge the trees into canonical ids and translate the links to them.
         std::vector<std::vector<uint32_t>> splits;
-        for (const F &forest : forests_)
+        for (const F &forest : forests)
             splits.push_back(forest.SplitElements());
-        std::vector<F>().swap(forests_);
-        result_.forest = std::move(top_);
-        result_.forest.LiftBudget();
-        ForestUnion<F> merged(splits, records_, result_.forest);
-        CountTrees(result_.forest, counters_);
+        std::vector<F>().swap(forests);
+        result.forest = std::move(top);
+        result.forest.LiftBudget();
+        ForestUnion<F> merged(splits, taskRuns, result.forest);
+        CountTrees(result.forest, counters);
 
         // Concatenate the tasks' ranges in task order, translating each worker's ids:
         // every task's range has its place known in advance, so the tasks are copied
         // on the run's threads, each giving its source range back to the system.
-        size_t topCount = workerLinks_[0].size();
-        for (const TaskRecord &record : records_)
-            if (record.worker == 0)
-                topCount -= record.links;
-        std::vector<size_t> taskStart(tasks_.size());
+        size_t topCount = workerLinks[0].size();
+        for (size_t t = 0; t < tasks.size(); ++t)
+            if (taskRuns[t].worker == 0)
+                topCount -= taskLinkCount[t];
+        std::vector<size_t> taskStart(tasks.size());
         size_t total = topCount;
-        for (size_t t = 0; t < tasks_.size(); ++t)
-            taskStart[t] = total, total += records_[t].links;
-        LinkBuffer &out = result_.links;
-        out.Reserve(total);
-        out.Resize(total);
+        for (size_t t = 0; t < tasks.size(); ++t)
+            taskStart[t] = total, total += taskLinkCount[t];
+        result.links.Reserve(total);
+        result.links.Resize(total);
         auto copy = [&](size_t w, size_t begin, size_t end, size_t to) {
             // Block by block, each given back once copied, so that the source and the
             // copy together hold little more than one of them (a task's range can be
@@ -416,75 +399,53 @@ class AllPairs {
             constexpr size_t kBlock = size_t(1) << 17;  // 1 MiB of links
             for (size_t block = begin; block < end; block += kBlock) {
                 size_t blockEnd = std::min(end, block + kBlock);
-                out.Populate(to, to + (blockEnd - block));  // one call, not a fault a page
+                result.links.Populate(to, to + (blockEnd - block));  // one call, not a fault a page
                 for (size_t k = block; k < blockEnd; ++k, ++to) {
-                    const Link &link = workerLinks_[w][k];
-                    out[to] = {merged.Canonical(w, link.i), merged.Canonical(w, link.j)};
+                    const Link &link = workerLinks[w][k];
+                    result.links[to] = {merged.Canonical(w, link.i), merged.Canonical(w, link.j)};
                 }
-                workerLinks_[w].Discard(block - std::min(block - begin, kBlock / 2), blockEnd);
+                workerLinks[w].Discard(block - std::min(block - begin, kBlock / 2), blockEnd);
             }
         };
         copy(0, 0, topCount, 0);
         ParallelFor(
-            tasks_.size(), 16, options_.threads, [] { return 0; },
+            tasks.size(), 16, options.threads, [] { return 0; },
             [&](int, size_t t) {
-                const TaskRecord &record = records_[t];
-                copy(record.worker, record.linksEnd - record.links, record.linksEnd,
-                     taskStart[t]);
+                size_t end = taskLinksEnd[t];
+                copy(taskRuns[t].worker, end - taskLinkCount[t], end, taskStart[t]);
             });
     }
-
-    const Patches<Shape> &patches_;
-    const Oracle &oracle_;
-    const RefineOptions &options_;
-    const Budget &budget_;
-    const Visibility &visibility_;
-    Refinement<Shape> &result_;
-    Counters &counters_;
-    // The first pass: its forest, kernel and links, the tasks it left, and (with a
-    // progress line) each refined pair's ordinal among all root pairs, from 1.
-    F top_;
-    Kernel<true> topKernel_;
-    LinkBuffer topLinks_;
-    std::vector<Task> tasks_;
-    std::vector<uint64_t> pairOrdinal_;
-    // The tasks: the workers' forests, links and summed tally, and each task's record.
-    size_t numWorkers_ = 1;
-    std::vector<F> forests_;
-    std::vector<LinkBuffer> workerLinks_;
-    Tally workerTally_;
-    std::vector<TaskRecord> records_;
-};
+}
 
 // Every root pair (p, q), p < q, in order.
-struct EveryRootPair {
-    uint32_t numPatches;
-    template <typename Visit>
-    void operator()(Visit &&visit) const {
+RootPairTraversal EveryRootPair(uint32_t numPatches) {
+    return [numPatches](const RootPairVisit &visit) {
         for (uint32_t p = 0; p < numPatches; ++p)
             for (uint32_t q = p + 1; q < numPatches; ++q)
                 visit(p, q);
-    }
-};
+    };
+}
 
 // The root pairs that the cluster traversal of _result_.clusters reaches under the
 // cluster form of _Oracle_, the traversal's counters and (store mode) its links going
-// to _result_.
+// to _result_. Throws InputError for an oracle without a cluster form.
 template <typename Oracle, typename Shape>
-struct ClusteredRootPairs {
-    const Patches<Shape> &patches;
-    const RefineOptions &options;
-    Refinement<Shape> &result;
-    template <typename Visit>
-    void operator()(Visit &&visit) const {
-        ClusterForm<Oracle> form(options, patches, result.clusters);
-        NodeViews<Shape> views(patches, result.clusters);
-        ClusterTraversal<Shape, ClusterForm<Oracle>, std::remove_reference_t<Visit>> traversal(
-            result.clusters, views, form, visit,
-            options.storeLinks ? &result.clusterLinks : nullptr);
-        traversal.Run(result.record.counters);
+RootPairTraversal ClusteredRootPairs(const Patches<Shape> &patches, const RefineOptions &options,
+                                     Refinement<Shape> &result) {
+    if constexpr (!ClusterForm<Oracle>::kExists) {
+        throw InputError("--clusters: the oracle " + std::string(Oracle::kInfo.name) +
+                         " has no cluster form");
+    } else {
+        return [&patches, &options, &result](const RootPairVisit &visit) {
+            ClusterForm<Oracle> form(options, patches, result.clusters);
+            NodeViews<Shape> views(patches, result.clusters);
+            ClusterTraversal<Shape, ClusterForm<Oracle>, const RootPairVisit> traversal(
+                result.clusters, views, form, visit,
+                options.storeLinks ? &result.clusterLinks : nullptr);
+            traversal.Run(result.record.counters);
+        };
     }
-};
+}
 
 // The one dispatch of a run: picks the oracle, the arity, the storage mode and the
 // visibility policy once, outside the recursion, and runs the kernel compiled for them.
@@ -499,23 +460,15 @@ void Dispatch(const Patches<Shape> &patches, const RefineOptions &options, const
         found = true;
         if constexpr (Oracle::kInfo.Supports(Shape::kDimension)) {
             Oracle oracle = MakeOracle<Oracle>(options, patches);
-            if constexpr (!ClusterForm<Oracle>::kExists) {
-                if (options.clusters)
-                    throw InputError("--clusters: the oracle " + std::string(Oracle::kInfo.name) +
-                                     " has no cluster form");
-            }
+            RootPairTraversal traverse = EveryRootPair(uint32_t(patches.size()));
+            if (options.clusters)
+                traverse = ClusteredRootPairs<Oracle>(patches, options, result);
             WithVisibility(patches, options, [&](const auto &visibility) {
                 using Visibility = std::decay_t<decltype(visibility)>;
                 auto run = [&](auto arity, auto store) {
-                    AllPairs<Shape, decltype(arity)::value, Oracle, decltype(store)::value,
-                             Visibility>
-                        all(patches, oracle, options, budget, visibility, result);
-                    if constexpr (ClusterForm<Oracle>::kExists) {
-                        if (options.clusters)
-                            return all.Run(ClusteredRootPairs<Oracle, Shape>{patches, options,
-                                                                             result});
-                    }
-                    all.Run(EveryRootPair{uint32_t(patches.size())});
+                    RefineAllPairs<Shape, decltype(arity)::value, Oracle, decltype(store)::value,
+                                   Visibility>(patches, oracle, options, budget, visibility,
+                                               traverse, result);
                 };
                 using Binary = std::integral_constant<int, 2>;
                 using Quadtree = std::integral_constant<int, 4>;
