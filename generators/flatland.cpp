@@ -1,4 +1,4 @@
-#include "hrbench/generators/flatland.h"
+#include "flatland.h"
 
 #include <cmath>
 #include <cstdint>

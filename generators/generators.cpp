@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "hrbench/generators/flatland.h"
-#include "hrbench/generators/space.h"
+#include "flatland.h"
+#include "space.h"
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
 

@@ -1,4 +1,4 @@
-#include "hrbench/generators/space.h"
+#include "space.h"
 
 #include <cmath>
 #include <cstdint>

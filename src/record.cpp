@@ -99,7 +99,7 @@ json RunToJson(const Scene &scene, const RefineOptions &options, const RunRecord
     out["patches"] = scene.NumPatches();
     out["dimension"] = scene.Dimension();
     out["scene_sha256"] = SceneSha256(scene);  // the geometry refined (docs/scene-format.md)
-    out["eps"] = options.eps;
+    out["eps"] = record.sweptEps.value_or(options.eps);
     out["oracle"] = options.oracle;
     // The form-factor estimate, for an oracle that reads one (null: does not apply).
     out["ff_estimate"] = FindOracle(options.oracle).Reads("ff_estimate")
@@ -107,7 +107,8 @@ json RunToJson(const Scene &scene, const RefineOptions &options, const RunRecord
                              : json(nullptr);
     out["method"] = record.method;
     out["mode"] = options.storeLinks ? "store" : "count-only";
-    out["min_area"] = options.minArea > 0 ? json(options.minArea) : json(nullptr);
+    double minArea = record.sweptMinArea.value_or(options.minArea);
+    out["min_area"] = minArea > 0 ? json(minArea) : json(nullptr);
     out["max_depth_limit"] = options.maxDepth >= 0 ? json(options.maxDepth) : json(nullptr);
     out["threads"] = options.threads;
     out["subdivision"] = SubdivisionName(options.subdivision);

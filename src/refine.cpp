@@ -14,7 +14,7 @@
 
 #include "cluster/traversal.h"
 #include "hrbench/culling.h"
-#include "hrbench/kernel.h"
+#include "refine/kernel.h"
 #include "hrbench/oracles/registry.h"
 #include "hrbench/translation_count.h"
 #include "hrbench/util/error.h"
@@ -500,7 +500,7 @@ Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options) {
     Refinement<Shape> result{Forest<Shape>(patches, SIZE_MAX, options.subdivision),
                              {},
                              {},
-                             {"enumerate", {}, 0},
+                             {"enumerate", {}, 0, {}, {}},
                              {},
                              {}};
     auto start = std::chrono::steady_clock::now();

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hrbench/util/error.h"
-#include "hrbench/util/output.h"
+#include "util/output.h"
 
 namespace hrbench {
 

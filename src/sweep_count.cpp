@@ -11,6 +11,7 @@
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
 #include "hrbench/visibility.h"
+#include "refine/decisions.h"
 
 namespace hrbench {
 
@@ -56,9 +57,7 @@ class SweepKernel {
     SweepKernel(F &forest, std::vector<Oracle> oracles, std::vector<double> bounds,
                 const RefineOptions &options, const Visibility &visibility, SweepTally &tally)
         : forest_(forest), oracles_(std::move(oracles)), bounds_(std::move(bounds)),
-          visibility_(visibility), tally_(tally),
-          depthLimit_(options.maxDepth >= 0 ? options.maxDepth : kSafetyDepth),
-          userDepthLimit_(options.maxDepth >= 0),
+          visibility_(visibility), tally_(tally), limits_(options),
           values_(int(std::max(oracles_.size(), bounds_.size()))) {}
 
     void Project(uint32_t p, uint32_t q) { Visit(p, q, 0, 0, values_); }
@@ -85,19 +84,19 @@ class SweepKernel {
 
         // Rejected below _accepted_: the recursion limit of each value, as the kernel
         // applies it, splits or links by force.
-        bool splitI = ei.sizeSquared >= ej.sizeSquared;
+        bool splitI = SplitsFirst(ei, ej);
         double preferredSizeSquared = splitI ? ei.sizeSquared : ej.sizeSquared;
         int preferredDepth = splitI ? depthI : depthJ;
         int split = accepted;
-        if (preferredDepth >= depthLimit_) {
-            if (!userDepthLimit_ && accepted > 0)
-                ThrowSafetyDepth(ei.root, ej.root);
+        if (split > 0 && limits_.DepthStops(preferredDepth, ei.root, ej.root))
             split = 0;
-        }
+        auto belowMinArea = [&](int k) {
+            return RecursionLimits::BelowMinArea(preferredSizeSquared, bounds_[k]);
+        };
         if (bounds_.size() == 1)
-            split = preferredSizeSquared < bounds_[0] ? 0 : split;
+            split = belowMinArea(0) ? 0 : split;
         else
-            while (split > 0 && preferredSizeSquared < bounds_[split - 1])
+            while (split > 0 && belowMinArea(split - 1))
                 --split;
         if (split < accepted) {
             tally_.forcedLinks.Add(split, accepted);
@@ -124,13 +123,8 @@ class SweepKernel {
     template <typename E>
     int FirstAccepting(const E &ei, const E &ej, double visible, int reached) const {
         auto accepts = [&](int k) {
-            const Oracle &oracle = oracles_[oracles_.size() == 1 ? 0 : k];
-            if constexpr (Visibility::kEnabled) {
-                if (visible < 1)  // refine: partially visible pairs go to the limit
-                    return visibility_.Mode() == VisibilityMode::Fraction &&
-                           oracle.AcceptableVisible(ei, ej, visible);
-            }
-            return oracle.Acceptable(ei, ej);
+            return AcceptsVisible(oracles_[oracles_.size() == 1 ? 0 : k], visibility_, ei, ej,
+                                  visible);
         };
         if (oracles_.size() == 1)
             return accepts(0) ? 0 : reached;
@@ -155,8 +149,7 @@ class SweepKernel {
     const std::vector<double> bounds_;  // SquaredSizeBound of --min-area, one or per value
     Visibility visibility_;
     SweepTally &tally_;
-    const int depthLimit_;
-    const bool userDepthLimit_;
+    const RecursionLimits limits_;
     const int values_;
 };
 
@@ -228,8 +221,10 @@ std::vector<RunRecord> Sweep(const Patches<Shape> &patches,
         linksAt.push_back(d.Values());
     for (const PerValue &d : childrenPerDepth)
         childrenAt.push_back(d.Values());
-    std::vector<RunRecord> records(n, RunRecord{"enumerate", shared, 0});
+    std::vector<RunRecord> records(n, RunRecord{"enumerate", shared, 0, {}, {}});
     for (size_t k = 0; k < n; ++k) {
+        (sweepsEps ? records[k].sweptEps : records[k].sweptMinArea) =
+            sweepsEps ? perValue[k].eps : perValue[k].minArea;
         Counters &c = records[k].counters;
         c.oracleCalls = calls[k], c.links = linked[k], c.forcedLinks = forced[k];
         c.rays = rays[k], c.visibilityQueries = queries[k], c.occludedPairs = occluded[k];

@@ -17,7 +17,7 @@
 
 #include "hrbench/generators/generators.h"
 #include "hrbench/hrbench.h"
-#include "hrbench/kernel.h"
+#include "refine/kernel.h"
 #include "refinement_helpers.h"
 
 using namespace hrbench;

@@ -38,6 +38,9 @@ std::string Differences(const Scene &scene, RefineOptions options, const std::st
         if (!d.empty())
             differences += param + " " + FormatDouble(values[k]) + ":\n" + d;
         CHECK(swept[k].method == "enumerate");
+        // The record carries the value it was counted at; the other stays the options'.
+        CHECK((param == "eps" ? swept[k].sweptEps : swept[k].sweptMinArea) == values[k]);
+        CHECK(!(param == "eps" ? swept[k].sweptMinArea : swept[k].sweptEps));
     }
     return differences;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -60,6 +61,9 @@ struct RunRecord {
     std::string method;  // "enumerate" or "translation"
     Counters counters;
     double seconds = 0;  // wall time of the count, in seconds
+    // The eps or --min-area the record was counted at where one count made records of
+    // several (run --sweep); unset: the run's options say it. RunToJson reads them.
+    std::optional<double> sweptEps, sweptMinArea;
 };
 
 // The JSON record of one run: schema version, context, scene and its provenance, the

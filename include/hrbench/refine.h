@@ -18,7 +18,8 @@ namespace hrbench {
 
 // Where a refinement is, for a display on another thread (RefineOptions::progress):
 // written at most once per root pair in the first pass (which refines every pair down
-// to the task depth, kernel.h) and once per task after it, never inside the recursion.
+// to the task depth, src/refine/kernel.h) and once per task after it, never inside the
+// recursion.
 struct RefineProgress {
     std::atomic<uint64_t> rootPairs{0};  // of the scene, set when the run starts; 0: unknown
     std::atomic<uint64_t> pair{0};       // the root pair being refined, from 1; 0: none yet
@@ -47,8 +48,8 @@ struct PairTally {
 
 // Element ids are canonical: roots first, in scene order, then each sibling group in
 // the order the refinement first splits its parent, running in task order (the
-// sequential pass down to the task depth, then the tasks in order, kernel.h), as one
-// thread makes them. Several workers' trees are merged into the same ids when links
+// sequential pass down to the task depth, then the tasks in order, src/refine/kernel.h),
+// as one thread makes them. Several workers' trees are merged into the same ids when links
 // are stored, so ids, like counts, do not depend on the number of threads. Links are in
 // that task order too. In count-only mode on several threads, where no link refers to
 // an id, the forest holds only the roots: the workers' trees are counted as one rather
@@ -58,7 +59,8 @@ struct Refinement {
     Forest<Shape> forest;
     LinkBuffer links;  // empty in count-only mode
     // Refined (non-culled) root pairs in order; with --clusters in count-only mode, only
-    // those that reached the task depth (kernel.h), so that nothing is kept per pair.
+    // those that reached the task depth (src/refine/kernel.h), so that nothing is kept
+    // per pair.
     std::vector<PairTally> pairs;
     RunRecord record;                       // method "enumerate", the counters and the time
     ClusterTree<Shape> clusters;            // empty without --clusters

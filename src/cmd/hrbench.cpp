@@ -23,7 +23,7 @@
 #include "hrbench/hrbench.h"
 #include "hrbench/progress.h"
 #include "hrbench/util/input_file.h"
-#include "hrbench/util/output.h"
+#include "util/output.h"
 
 namespace hrbench {
 namespace {
@@ -122,10 +122,9 @@ int SaveCommand(const Scene &scene, const std::string &out) {
 }
 
 // `hrbench run --sweep`: one record per value, in the order given.
-int PrintSweep(const Scene &scene, Options o) {
+int PrintSweep(const Scene &scene, const Options &o) {
     std::vector<RunRecord> records = CountSweep(scene, o.refine, *o.sweep);
     for (size_t k = 0; k < records.size(); ++k) {
-        (o.sweep->param == "eps" ? o.refine.eps : o.refine.minArea) = o.sweep->values[k];
         nlohmann::json record = RunToJson(scene, o.refine, records[k]);
         if (o.json)
             std::cout << record.dump() << "\n";

@@ -10,7 +10,7 @@
 
 #include "formats.h"
 #include "hrbench/util/format.h"
-#include "hrbench/util/output.h"
+#include "../util/output.h"
 #include "mtl.h"
 #include "numbers.h"
 #include "text_reader.h"

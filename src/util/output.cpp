@@ -1,4 +1,4 @@
-#include "hrbench/util/output.h"
+#include "output.h"
 
 #include <cerrno>
 #include <cstring>

@@ -1,6 +1,6 @@
 // ProjectKernel: the refinement recursion of docs/conventions.md, compiled once per
 // forest, arity, oracle, storage mode and visibility policy (chosen by Refine()).
-// Internal to refine.cpp.
+// Internal to the engine (refine.cpp and its tests), not installed.
 #pragma once
 
 #include <algorithm>
@@ -14,6 +14,7 @@
 #include "hrbench/refine_options.h"
 #include "hrbench/util/error.h"
 #include "hrbench/visibility.h"
+#include "decisions.h"
 
 namespace hrbench {
 
@@ -68,9 +69,8 @@ class ProjectKernel {
     ProjectKernel(Forest &forest, const Oracle &oracle, const RefineOptions &options,
                   size_t maxLinks, const Visibility &visibility = Visibility())
         : forest_(forest), oracle_(oracle), visibility_(visibility),
-          minAreaBound_(SquaredSizeBound(options.minArea)),
-          depthLimit_(options.maxDepth >= 0 ? options.maxDepth : kSafetyDepth),
-          userDepthLimit_(options.maxDepth >= 0), maxLinks_(maxLinks) {}
+          minAreaBound_(SquaredSizeBound(options.minArea)), limits_(options),
+          maxLinks_(maxLinks) {}
 
     // Refines _start_ completely (below the frontier), appending links to _links_
     // and frontier pairs to _tasks_.
@@ -109,7 +109,7 @@ class ProjectKernel {
     // that links, counts and errors come out exactly as from Recurse().
     void Split(uint32_t i, uint32_t j, int depthI, int depthJ) {
         bool acceptable[kArity];
-        if (forest_[i].sizeSquared >= forest_[j].sizeSquared) {
+        if (SplitsFirst(forest_[i], forest_[j])) {
             uint32_t child = ChildrenOrLink(i, depthI, i, j, depthI + depthJ);
             if (child == kNoChildren)
                 return;
@@ -156,20 +156,16 @@ class ProjectKernel {
                 ++tally.visibility.occludedPairs;
                 return;
             }
-            bool acceptable = visible == 1 ? oracle_.Acceptable(ei, ej)
-                              : visibility_.Mode() == VisibilityMode::Fraction
-                                  ? oracle_.AcceptableVisible(ei, ej, visible)
-                                  : false;  // refine: partially visible pairs go to the limit
-            if (acceptable)
+            if (AcceptsVisible(oracle_, visibility_, ei, ej, visible))
                 return AddLink(i, j, depthI + depthJ);
         } else {
             if (oracle_.Acceptable(ei, ej))
                 return AddLink(i, j, depthI + depthJ);
         }
 
-        // Recurse into the children of the larger element by A^2, exactly (ties: the
-        // first), first child first, unless the recursion limits stop it.
-        if (ei.sizeSquared >= ej.sizeSquared) {
+        // Recurse into the children of the preferred element, first child first, unless
+        // the recursion limits stop it.
+        if (SplitsFirst(ei, ej)) {
             uint32_t child = ChildrenOrLink(i, depthI, i, j, depthI + depthJ);
             if (child == kNoChildren)
                 return;
@@ -185,18 +181,17 @@ class ProjectKernel {
     }
 
     // The first child of element _e_ (at depth _depthE_), which the rejected pair (i, j)
-    // splits; or, where the recursion limits keep _e_ whole (A < --min-area, decided on
-    // A^2 without rounding, or the depth limit), kNoChildren, the pair then a forced
-    // link. The limits are properties of the element alone, fixed for a run, and an
+    // splits; or, where the recursion limits keep _e_ whole, kNoChildren, the pair then
+    // a forced link. The limits are properties of the element alone, fixed for a run, and an
     // element is only ever split after passing them, so an element split before needs
     // no check: the children it already has are all that the hot path reads.
     uint32_t ChildrenOrLink(uint32_t e, int depthE, uint32_t i, uint32_t j, int depth) {
         uint32_t first = forest_[e].firstChild;
         if (first != kNoChildren) [[likely]]
             return first;
-        if (forest_[e].sizeSquared < minAreaBound_ || depthE >= depthLimit_) {
-            if (!userDepthLimit_ && depthE >= depthLimit_)
-                ThrowSafetyDepth(forest_[i].root, forest_[j].root);
+        // The depth first: its error stands whatever --min-area says.
+        if (limits_.DepthStops(depthE, forest_[i].root, forest_[j].root) ||
+            RecursionLimits::BelowMinArea(forest_[e].sizeSquared, minAreaBound_)) {
             ++tally.forcedLinks;
             AddLink(i, j, depth);
             return kNoChildren;
@@ -240,8 +235,7 @@ class ProjectKernel {
     const Oracle oracle_;
     Visibility visibility_;
     const double minAreaBound_;  // sqrt(A^2) < --min-area iff A^2 < minAreaBound_
-    const int depthLimit_;
-    const bool userDepthLimit_;
+    const RecursionLimits limits_;
     const size_t maxLinks_;
     // Appending writes at next_, and syncs the buffer's size at the end of Project()
     // and in GrowLinks(): the kernel then keeps no buffer fields in step per link.
