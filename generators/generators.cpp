@@ -3,9 +3,9 @@
 #include <cmath>
 
 #include "flatland.h"
-#include "space.h"
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
+#include "space.h"
 
 namespace hrbench {
 

@@ -100,11 +100,10 @@ LinkFormFactors MeasureLinkFormFactors(const AnyRefinement &refinement,
 }
 
 template <typename Shape>
-std::vector<double> ConsistencyScales(const Patches<Shape> &patches, const Forest<Shape> &forest,
-                                      const LinkBuffer &links,
-                                      const std::vector<LinkCoefficients> &coefficients,
-                                      const RefineOptions &options,
-                                      const std::vector<double> *rootCoefficients) {
+std::vector<double>
+ConsistencyScales(const Patches<Shape> &patches, const Forest<Shape> &forest,
+                  const LinkBuffer &links, const std::vector<LinkCoefficients> &coefficients,
+                  const RefineOptions &options, const std::vector<double> *rootCoefficients) {
     size_t n = forest.Size();
     std::vector<double> scale(n, 1.0);
     if (options.visibility != VisibilityMode::None)

@@ -14,11 +14,11 @@
 
 #include "cluster/traversal.h"
 #include "hrbench/culling.h"
-#include "refine/kernel.h"
 #include "hrbench/oracles/registry.h"
 #include "hrbench/translation_count.h"
 #include "hrbench/util/error.h"
 #include "hrbench/util/parallel_for.h"
+#include "refine/kernel.h"
 
 namespace hrbench {
 

@@ -8,13 +8,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "cluster/cluster_transfer.h"
 #include "hrbench/culling.h"
 #include "hrbench/radiosity_estimate.h"
 #include "hrbench/refine.h"
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
 #include "hrbench/util/named.h"
-#include "cluster/cluster_transfer.h"
 #include "reference_solve.h"
 #include "solve_internal.h"
 
@@ -231,8 +231,8 @@ void SolveLinks(const Patches<Shape> &patches, const Refinement<Shape> &refineme
         clusters.emplace(patches, refinement.clusters, refinement.clusterLinks,
                          options.clusterTransfer);
         clusterCoefficients = clusters->UnitIrradiance();
-        result.clusters = ClusterFigures{refinement.clusters.NumClusters(),
-                                         refinement.clusterLinks.size(), 0};
+        result.clusters =
+            ClusterFigures{refinement.clusters.NumClusters(), refinement.clusterLinks.size(), 0};
     }
     std::vector<double> scale =
         options.plainGather

@@ -144,7 +144,8 @@ TEST_CASE("links writes one CSV row per link that tiles the parameter square", "
     CHECK_THAT(area, Catch::Matchers::WithinRel(64.0, 1e-12));
 }
 
-TEST_CASE("Clusters on the command line: their counters, their links and the options they refuse", "[cli][clusters]") {
+TEST_CASE("Clusters on the command line: their counters, their links and the options they refuse",
+          "[cli][clusters]") {
     json plain = json::parse(Cli("run random n=30 seed=1 size=40 --eps 0.2 --json").out);
     CHECK(plain["clusters"] == false);
     for (const char *key : {"cluster_nodes", "cluster_links", "element_links",

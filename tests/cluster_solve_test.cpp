@@ -16,9 +16,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_helpers.h"
 #include "hrbench/generators/generators.h"
 #include "hrbench/hrbench.h"
-#include "cli_helpers.h"
 
 using namespace hrbench;
 
@@ -33,7 +33,8 @@ RefineOptions Refining(double eps, double minArea, bool clusters = false) {
     return o;
 }
 
-SolveOptions Solving(double tolerance, ClusterTransferKind transfer = ClusterTransferKind::Projected,
+SolveOptions Solving(double tolerance,
+                     ClusterTransferKind transfer = ClusterTransferKind::Projected,
                      SolveMethod method = SolveMethod::Jacobi) {
     SolveOptions o;
     o.tolerance = tolerance;
@@ -53,8 +54,8 @@ Scene GridBox(int n, double rho) {
                 Vec3 du = u / n, dv = v / n;
                 bool lamp = ceiling && 2 * i + 1 >= n - 1 && 2 * i + 1 <= n + 1 &&
                             2 * j + 1 >= n - 1 && 2 * j + 1 <= n + 1;
-                quads.push_back({Polygon::Quad(a, a + du, a + du + dv, a + dv),
-                                 {rho, lamp ? 1.0 : 0.0}});
+                quads.push_back(
+                    {Polygon::Quad(a, a + du, a + du + dv, a + dv), {rho, lamp ? 1.0 : 0.0}});
             }
     };
     // u x v points inward on each face.
@@ -89,8 +90,7 @@ Scene Sphere(int rings, double rho) {
     };
     for (int i = 0; i < rings; ++i)
         for (int j = 0; j < sectors; ++j) {
-            Vec3 a = point(i, j), b = point(i + 1, j), c = point(i + 1, j + 1),
-                 d = point(i, j + 1);
+            Vec3 a = point(i, j), b = point(i + 1, j), c = point(i + 1, j + 1), d = point(i, j + 1);
             auto face = [&](bool turned) {
                 if (i == 0)
                     return turned ? Polygon::Triangle(c, b, a) : Polygon::Triangle(a, b, c);
@@ -184,8 +184,7 @@ TEST_CASE("The cluster tree splits at the median of the longest axis, numbered i
     CHECK(tree[0].measure == Approx(6.0));  // six walls of the unit circumradius
 }
 
-TEST_CASE("One cluster link between two clusters of two segments, by hand",
-          "[solve][clusters]") {
+TEST_CASE("One cluster link between two clusters of two segments, by hand", "[solve][clusters]") {
     // X = {p0, p1} facing +x at x = 0 and 0.5, Y = {p2, p3} facing -x at x = 10 and 10.5.
     // X emits and does not reflect, Y reflects and does not emit: one gather is final.
     Patches<Segment> patches = {{{{0, 1}, {0, 0}}, {0, 1}},
@@ -194,8 +193,12 @@ TEST_CASE("One cluster link between two clusters of two segments, by hand",
                                 {{{10.5, 0}, {10.5, 3}}, {0.8, 0}}};
     Scene scene{"file", {}, "", patches};
     RefineOptions refine = Refining(1, 0);
-    Refinement<Segment> r{Forest<Segment>(patches, SIZE_MAX, refine.subdivision), {}, {}, {},
-                          ClusterTree<Segment>(patches), {}};
+    Refinement<Segment> r{Forest<Segment>(patches, SIZE_MAX, refine.subdivision),
+                          {},
+                          {},
+                          {},
+                          ClusterTree<Segment>(patches),
+                          {}};
     // The median split along x: cluster 1 = {p0, p1}, cluster 2 = {p2, p3}.
     REQUIRE(r.clusters.NumClusters() == 3);
     REQUIRE(r.clusters[1].children[0] == 0);
@@ -261,8 +264,12 @@ TEST_CASE("One cluster link between two clusters of two segments, by hand",
         for (size_t p : {2, 3})
             std::swap(flipped[p].shape.a, flipped[p].shape.b);
         Scene away{"file", {}, "", flipped};
-        Refinement<Segment> f{Forest<Segment>(flipped, SIZE_MAX, refine.subdivision), {}, {},
-                              {}, ClusterTree<Segment>(flipped), r.clusterLinks};
+        Refinement<Segment> f{Forest<Segment>(flipped, SIZE_MAX, refine.subdivision),
+                              {},
+                              {},
+                              {},
+                              ClusterTree<Segment>(flipped),
+                              r.clusterLinks};
         for (ClusterTransferKind kind : {kIsotropic, kProjected}) {
             options.clusterTransfer = kind;
             SolveResult t = SolveRefinement(away, f, refine, options);
@@ -277,15 +284,18 @@ TEST_CASE("A 3D cluster link: B A / (16 pi r^2) between isotropic ends, exact be
           "[solve][clusters][3d]") {
     auto square = [](double x, double z, bool up, double rho, double e) {
         Vec3 a{x, 0, z}, b{x + 1, 0, z}, c{x + 1, 1, z}, d{x, 1, z};
-        return Patch<Polygon>{up ? Polygon::Quad(a, b, c, d) : Polygon::Quad(a, d, c, b),
-                              {rho, e}};
+        return Patch<Polygon>{up ? Polygon::Quad(a, b, c, d) : Polygon::Quad(a, d, c, b), {rho, e}};
     };
     SolveOptions options = Solving(1e-14);
     options.plainGather = true;
     RefineOptions refine = Refining(1, 0);
     auto solve = [&](const Patches<Polygon> &patches, ClusterTransferKind kind) {
-        Refinement<Polygon> r{Forest<Polygon>(patches, SIZE_MAX, refine.subdivision), {}, {}, {},
-                              ClusterTree<Polygon>(patches), {}};
+        Refinement<Polygon> r{Forest<Polygon>(patches, SIZE_MAX, refine.subdivision),
+                              {},
+                              {},
+                              {},
+                              ClusterTree<Polygon>(patches),
+                              {}};
         REQUIRE(r.clusters.NumClusters() == 3);
         REQUIRE(r.clusters[1].begin == 0);  // {p0, p1}, {p2, p3}
         r.clusterLinks = {{ClusterNode(1), ClusterNode(2)}};
@@ -342,10 +352,10 @@ TEST_CASE("Through clusters, energy balances in closed scenes and the radiosity 
         for (const Bound &b : bounds) {
             SolveResult c = Solve(scene, clustered, Solving(1e-10, b.kind));
             Difference d = Differ(c, u, SubdivisionArity(refine.subdivision));
-            INFO(ClusterTransferName(b.kind) << ": cluster links " << c.record.counters.clusterLinks
-                                             << " share " << c.clusters->transferShare
-                                             << " imbalance " << Imbalance(c) << " max " << d.max
-                                             << " l2 " << d.l2);
+            INFO(ClusterTransferName(b.kind)
+                 << ": cluster links " << c.record.counters.clusterLinks << " share "
+                 << c.clusters->transferShare << " imbalance " << Imbalance(c) << " max " << d.max
+                 << " l2 " << d.l2);
             CHECK(c.record.counters.clusterLinks > 0);
             CHECK(Imbalance(c) < b.imbalance);
             CHECK(d.max < b.max);
@@ -425,8 +435,8 @@ TEST_CASE("solve --clusters through the command line: its fields, the same JSON 
     nlohmann::json saved = nlohmann::json::parse(hrbench_test::ReadFile(file));
     saved["patches"][0]["emission"] = 1;
     std::ofstream(file) << saved.dump();
-    const std::string scene = "solve --scene-file " + file +
-                              " --eps 0.1 --min-area 0.005 --reflectance 0.7 --json ";
+    const std::string scene =
+        "solve --scene-file " + file + " --eps 0.1 --min-area 0.005 --reflectance 0.7 --json ";
     // The JSON without what may differ between runs: times, context and the thread count.
     auto steady = [&](const std::string &args) {
         hrbench_test::CliResult r = Cli(scene + args);
@@ -452,8 +462,8 @@ TEST_CASE("solve --clusters through the command line: its fields, the same JSON 
     CHECK(share > 0.5);  // measured 0.968
     CHECK(share < 1);
     double emitted = j["emitted_power"], absorbed = j["absorbed_power"];
-    CHECK(emitted == Approx(2 * std::sin(M_PI / 256)));  // one wall of 256 emits 1
-    CHECK(std::abs(absorbed - emitted) < 0.041 * emitted);   // measured 0.0273
+    CHECK(emitted == Approx(2 * std::sin(M_PI / 256)));     // one wall of 256 emits 1
+    CHECK(std::abs(absorbed - emitted) < 0.041 * emitted);  // measured 0.0273
     CHECK(j["energy_balance_warning"].is_null());
     CHECK(steady("--clusters --threads 2") == j);
     CHECK(steady("--clusters --threads 3") == j);
@@ -497,7 +507,8 @@ TEST_CASE("cluster-figures", "[.cluster-figures]") {
         {"enclosure-256", LitEnclosure(256, 0.7), {Refining(0.05, 0.005), Refining(0.1, 0.005)}},
         {"room", MakeScene("room", {{"lamp", 1}}), {Refining(0.05, 0.01)}},
         {"cornell", MakeScene("cornell", {}), {Refining(0.05, 0.002), Refining(0.2, 0.002)}},
-        {"gridbox-6", GridBox(6, 0.6),
+        {"gridbox-6",
+         GridBox(6, 0.6),
          {Refining(0.05, 0.01), Refining(0.2, 0.01), Refining(0.2, 0.04)}},
         {"sphere-12", Sphere(12, 0.6), {Refining(0.05, 0.01), Refining(0.2, 0.01)}},
         {"sphere-8", Sphere(8, 0.6), {Refining(0.2, 0.01), Refining(0.2, 0.04)}},
@@ -518,9 +529,9 @@ TEST_CASE("cluster-figures", "[.cluster-figures]") {
                           << " element links " << k.elementLinks << " cluster links "
                           << k.clusterLinks << " share " << s.clusters->transferShare
                           << " imbalance " << Imbalance(s) << " max " << d.max << " l2 " << d.l2
-                          << " iterations " << u.iterations << " -> " << s.iterations
-                          << " solve s " << s.solve.wall << " coefficients s "
-                          << u.coefficients.wall << " -> " << s.coefficients.wall << "\n";
+                          << " iterations " << u.iterations << " -> " << s.iterations << " solve s "
+                          << s.solve.wall << " coefficients s " << u.coefficients.wall << " -> "
+                          << s.coefficients.wall << "\n";
             }
         }
 }

@@ -244,7 +244,7 @@ struct SolveResult {
     std::vector<uint64_t> passLinks, passNodes;
     std::optional<UniformSolution> reference;  // with SolveOptions::referenceDepth
     std::optional<ReferenceComparison> comparison;
-    LinkFormFactors linkFormFactors;  // of the last pass's links
+    LinkFormFactors linkFormFactors;         // of the last pass's links
     std::optional<ClusterFigures> clusters;  // when the refinement has a cluster tree
     // EnergyBalanceWarning's line: occlusion ignored where the scene has some, or more
     // energy absorbed than the discretisation explains; "" otherwise.

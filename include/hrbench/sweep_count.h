@@ -47,9 +47,9 @@ constexpr size_t kMaxSweepValues = 255;
 // "enumerate") reports for each, with _seconds_ an equal share of the enumeration's
 // time (so that the records' seconds add up to it); the option the sweep varies is
 // ignored in _options_, and each record carries its value (RunRecord::sweptEps or
-// sweptMinArea), which its JSON reports. Count-only and one thread (InputError otherwise, naming the
-// option). Throws what Refine() throws at the smallest value (the safety depth, the
-// memory budget, precision), even where a larger value alone would succeed.
+// sweptMinArea), which its JSON reports. Count-only and one thread (InputError otherwise, naming
+// the option). Throws what Refine() throws at the smallest value (the safety depth, the memory
+// budget, precision), even where a larger value alone would succeed.
 std::vector<RunRecord> CountSweep(const Scene &scene, const RefineOptions &options,
                                   const SweepValues &sweep);
 

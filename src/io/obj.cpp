@@ -8,9 +8,9 @@
 #include <unordered_map>
 #include <vector>
 
+#include "../util/output.h"
 #include "formats.h"
 #include "hrbench/util/format.h"
-#include "../util/output.h"
 #include "mtl.h"
 #include "numbers.h"
 #include "text_reader.h"

@@ -9,12 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "decisions.h"
 #include "hrbench/forest.h"
 #include "hrbench/link_buffer.h"
 #include "hrbench/refine_options.h"
 #include "hrbench/util/error.h"
 #include "hrbench/visibility.h"
-#include "decisions.h"
 
 namespace hrbench {
 
@@ -69,8 +69,7 @@ class ProjectKernel {
     ProjectKernel(Forest &forest, const Oracle &oracle, const RefineOptions &options,
                   size_t maxLinks, const Visibility &visibility = Visibility())
         : forest_(forest), oracle_(oracle), visibility_(visibility),
-          minAreaBound_(SquaredSizeBound(options.minArea)), limits_(options),
-          maxLinks_(maxLinks) {}
+          minAreaBound_(SquaredSizeBound(options.minArea)), limits_(options), maxLinks_(maxLinks) {}
 
     // Refines _start_ completely (below the frontier), appending links to _links_
     // and frontier pairs to _tasks_.

@@ -25,7 +25,6 @@ from .model import (
     range_problem,
 )
 from .validate import (
-    BOUNDS,
     _CLAIM_KEYS,
     _MODE_KEYS,
     _PARAM_NAME,
@@ -35,6 +34,7 @@ from .validate import (
     _REQUIRED,
     _SOURCE_KEYS,
     _SWEEP_KEYS,
+    BOUNDS,
     COMMANDS,
     _grid_iv,
     _mesh_iv,
