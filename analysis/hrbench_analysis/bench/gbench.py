@@ -78,6 +78,29 @@ def load_benchmark_file(path):
     return data
 
 
+
+def iteration_rows(data):
+    """The rows of a Google Benchmark JSON report that measure one run each.
+
+    Parameters
+    ----------
+    data : dict
+        The report, with its list ``benchmarks``.
+
+    Yields
+    ------
+    name, row : object, dict
+        The row's ``run_name`` (its ``name`` when it has none; not checked) and the row,
+        for every row of ``run_type`` iteration (aggregates such as means are left out)
+        without ``error_occurred``.
+    """
+    for row in data["benchmarks"]:
+        if not isinstance(row, dict) or row.get("run_type", "iteration") != "iteration":
+            continue
+        if row.get("error_occurred"):
+            continue
+        yield row.get("run_name", row.get("name")), row
+
 def get_repetition_times(data, metric="real_time"):
     """Collect the per-repetition times of every benchmark.
 
@@ -104,12 +127,7 @@ def get_repetition_times(data, metric="real_time"):
     if metric not in ("real_time", "cpu_time"):
         raise ValueError(f"metric must be 'real_time' or 'cpu_time', not {metric!r}")
     times = {}
-    for row in data["benchmarks"]:
-        if not isinstance(row, dict) or row.get("run_type", "iteration") != "iteration":
-            continue
-        if row.get("error_occurred"):
-            continue
-        name = row.get("run_name", row.get("name"))
+    for name, row in iteration_rows(data):
         value = row.get(metric)
         if not isinstance(name, str) or value is None:
             continue

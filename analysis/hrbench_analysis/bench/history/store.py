@@ -27,6 +27,7 @@ from ..gbench import (
     MAX_FILE_BYTES,
     InputError,
     get_repetition_times,
+    iteration_rows,
     load_benchmark_file,
 )
 from ..machine import cpu_model
@@ -275,12 +276,7 @@ def _read_run_file(path):
 
 def _get_counters(data):
     counters = {}
-    for row in data["benchmarks"]:
-        if not isinstance(row, dict) or row.get("run_type", "iteration") != "iteration":
-            continue
-        if row.get("error_occurred"):
-            continue
-        name = row.get("run_name", row.get("name"))
+    for name, row in iteration_rows(data):
         if name is None:
             continue
         per = counters.setdefault(name, {})
