@@ -35,7 +35,7 @@ from .summary import (
     source_label,
     verdict_tally,
 )
-from .verdict import MEASURED, SKIPPED
+from .verdict import MEASURED, SKIPPED, expected_text
 
 __all__ = [
     "ClaimOutcome",
@@ -166,7 +166,7 @@ def get_claims_table(outcomes):
             "source_short": source_label(c, short=True),
             "citation": c.source,
             "group": GROUPS[claim_group(c)][1],
-            "expected": f"{c.expected_exponent:g} +/- {c.tolerance:g}",
+            "expected": expected_text(c),
             "measured": _num(fit.exponent) if fit else "-",
             "interval": f"[{_num(iv.low)}, {_num(iv.high)}]" if iv else "-",
             "verdict": a.verdict,

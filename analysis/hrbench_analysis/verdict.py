@@ -289,7 +289,7 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
     return result
 
 
-def _hypothesis(claim):
+def expected_text(claim):
     """The exponent a claim expects, as its verdicts name it: "2 +/- 0.15", "<= 1 + 0.15"."""
     if getattr(claim, "bound", "theta") == "upper":
         return f"<= {claim.expected_exponent:g} + {claim.tolerance:g}"
@@ -347,7 +347,7 @@ def assess_claim(claim, data, n_boot=2000):
         result.reason = (f"no published value: measured exponent {i.fit.exponent:.3f} "
                          f"[{i.low:.3f}, {i.high:.3f}] over {result.decades:.1f} decades "
                          f"({result.n_regime} points); against the hypothesis "
-                         f"{_hypothesis(claim)} it would be "
+                         f"{expected_text(claim)} it would be "
                          f"{result.verdict}")
         result.verdict = MEASURED
     if fitted is not None:
