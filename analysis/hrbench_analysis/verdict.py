@@ -21,6 +21,7 @@ __all__ = [
     "get_verdict",
     "assess_claim",
     "skipped_assessment",
+    "expected_text",
 ]
 
 #: The verdict of a claim whose exponent has no published value (key ``published =
