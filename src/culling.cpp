@@ -1,7 +1,9 @@
 #include "hrbench/culling.h"
 
 #include <cstdio>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
@@ -85,18 +87,72 @@ int SideOf(const Polygon &p, int plane, const Vec3 &v) {
                                  ToPoint(v)));
 }
 
+// Which sides of a patch's lines or planes the other patches' corners lie on, each test
+// asking until it knows. It asks first about a few corners far out in the scene, those
+// furthest along each of the 8 (2D) or 26 (3D) directions with components -1, 0, 1,
+// then about every corner in scene order: the answers are the same as from the scan
+// alone, but most patches have a far corner in front and stop there, where the scan
+// alone costs O(k) a patch and O(k^2) in all (the bunny's box: 75,792 patches, 5 s).
+template <typename Shape>
+class SideTests {
+  public:
+    explicit SideTests(const Patches<Shape> &patches) : patches_(patches) {
+        constexpr int D = Shape::kDimension;
+        constexpr int kDirections = D == 3 ? 26 : 8;
+        std::vector<typename Shape::Vec> directions;
+        for (int code = 0; code < (D == 3 ? 27 : 9); ++code) {
+            typename Shape::Vec d;
+            for (int a = 0, rest = code; a < D; ++a, rest /= 3)
+                d[a] = double(rest % 3 - 1);
+            if (!d.isZero())
+                directions.push_back(d);
+        }
+        std::vector<double> best(kDirections, -std::numeric_limits<double>::infinity());
+        std::vector<Far> far(kDirections);
+        for (uint32_t k = 0; k < patches.size(); ++k)
+            for (int c = 0; c < NumCorners(patches[k].shape); ++c)
+                for (int d = 0; d < kDirections; ++d)
+                    if (double along = directions[size_t(d)].dot(Corner(patches[k].shape, c));
+                        along > best[size_t(d)])
+                        best[size_t(d)] = along, far[size_t(d)] = {k, c};
+        if (!patches.empty())
+            far_ = far;
+    }
+
+    // Calls visit(side) for the side of every corner of every other patch with respect
+    // to patch _r_'s line or plane _plane_ (some more than once), until it returns false.
+    template <typename Visit>
+    void ForEachSide(size_t r, int plane, Visit visit) const {
+        const Shape &shape = patches_[r].shape;
+        for (const Far &f : far_)
+            if (f.patch != r &&
+                !visit(SideOf(shape, plane, Corner(patches_[f.patch].shape, f.corner))))
+                return;
+        for (size_t k = 0; k < patches_.size(); ++k)
+            for (int c = 0; k != r && c < NumCorners(patches_[k].shape); ++c)
+                if (!visit(SideOf(shape, plane, Corner(patches_[k].shape, c))))
+                    return;
+    }
+
+  private:
+    struct Far {
+        uint32_t patch = 0;
+        int corner = 0;
+    };
+    const Patches<Shape> &patches_;
+    std::vector<Far> far_;
+};
+
 // Whether the other patches have corners strictly on both sides of a line or plane of
 // patch _r_.
 template <typename Shape>
-bool Separates(const Patches<Shape> &patches, size_t r) {
-    const Shape &shape = patches[r].shape;
+bool Separates(const SideTests<Shape> &sides, const Shape &shape, size_t r) {
     for (int plane = 0; plane < NumPlanes(shape); ++plane) {
         bool front = false, back = false;
-        for (size_t k = 0; k < patches.size() && !(front && back); ++k)
-            for (int c = 0; k != r && c < NumCorners(patches[k].shape); ++c) {
-                int side = SideOf(shape, plane, Corner(patches[k].shape, c));
-                front |= side > 0, back |= side < 0;
-            }
+        sides.ForEachSide(r, plane, [&](int side) {
+            front |= side > 0, back |= side < 0;
+            return !(front && back);
+        });
         if (front && back)
             return true;
     }
@@ -106,16 +162,13 @@ bool Separates(const Patches<Shape> &patches, size_t r) {
 // Whether patch _r_ has every other patch behind or in its line or plane, some corner
 // strictly behind: then every root pair of _r_ is culled, and it exchanges no light.
 template <typename Shape>
-bool FacesOut(const Patches<Shape> &patches, size_t r) {
-    bool behind = false;
-    for (size_t k = 0; k < patches.size(); ++k)
-        for (int c = 0; k != r && c < NumCorners(patches[k].shape); ++c) {
-            int side = SideOf(patches[r].shape, 0, Corner(patches[k].shape, c));
-            if (side > 0)
-                return false;
-            behind |= side < 0;
-        }
-    return behind;
+bool FacesOut(const SideTests<Shape> &sides, size_t r) {
+    bool front = false, behind = false;
+    sides.ForEachSide(r, 0, [&](int side) {
+        front |= side > 0, behind |= side < 0;
+        return !front;
+    });
+    return behind && !front;
 }
 
 }  // namespace
@@ -125,8 +178,9 @@ bool CanOcclude(const Scene &scene) {
         [](const auto &patches) {
             if (patches.size() <= 2)
                 return false;  // no third patch to stand between two others
+            SideTests sides(patches);
             for (size_t r = 0; r < patches.size(); ++r)
-                if (Separates(patches, r))
+                if (Separates(sides, patches[r].shape, r))
                     return true;
             return false;
         },
@@ -139,9 +193,10 @@ std::string FacingAwayHint(const Scene &scene) {
     const Patches<Polygon> &patches = scene.Get<Polygon>();
     double area = 0, outArea = 0;
     size_t out = 0;
+    SideTests sides(patches);
     for (size_t r = 0; r < patches.size(); ++r) {
         area += patches[r].shape.Area();
-        if (FacesOut(patches, r))
+        if (FacesOut(sides, r))
             ++out, outArea += patches[r].shape.Area();
     }
     if (!(2 * outArea > area))

@@ -1,4 +1,10 @@
 // Root-pair classification with exact predicates, in 2D and 3D.
+#include <algorithm>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <catch2/catch.hpp>
 
 #include "hrbench/generators/generators.h"
@@ -135,4 +141,80 @@ TEST_CASE("A mesh whose faces mostly have every other face behind them draws a h
               .empty());
     // Only meshes: a scene file or a family is written in hrbench's own convention.
     CHECK(FacingAwayHint(Segments({{S(1, 0, 0, 0), {}}, {S(0, 1, 1, 1), {}}})).empty());
+}
+
+// Every corner of every other face, tested one by one: what the hull's corners stand for.
+// Returns whether a face has corners strictly on both sides of its plane, the number of
+// faces with every other corner behind or in their plane (some behind), and their area.
+static std::tuple<bool, size_t, double> EveryCorner(const Patches<Polygon> &patches) {
+    using Point = CGAL::Epick::Point_3;
+    auto side = [](const Polygon &p, const Vec3 &v) {
+        auto point = [](const Vec3 &x) { return Point(x.x(), x.y(), x.z()); };
+        return int(CGAL::orientation(point(p.v[0]), point(p.v[1]), point(p.v[2]), point(v)));
+    };
+    bool separates = false;
+    size_t out = 0;
+    double outArea = 0;
+    for (size_t r = 0; r < patches.size(); ++r) {
+        bool front = false, back = false;
+        for (size_t k = 0; k < patches.size(); ++k)
+            for (int c = 0; k != r && c < patches[k].shape.n; ++c) {
+                int s = side(patches[r].shape, patches[k].shape.v[size_t(c)]);
+                front |= s > 0, back |= s < 0;
+            }
+        separates |= front && back;
+        if (back && !front)
+            ++out, outArea += patches[r].shape.Area();
+    }
+    return {separates, out, outArea};
+}
+
+TEST_CASE("The scene-wide side tests through the corners' hull agree with every corner tested",
+          "[culling][mesh]") {
+    auto asMesh = [](const Patches<Polygon> &patches, bool flip) {
+        std::string obj;
+        for (const auto &p : patches)
+            for (int c = 0; c < p.shape.n; ++c)
+                obj += "v " + std::to_string(p.shape.v[size_t(c)].x()) + " " +
+                       std::to_string(p.shape.v[size_t(c)].y()) + " " +
+                       std::to_string(p.shape.v[size_t(c)].z()) + "\n";
+        for (size_t k = 0, v = 1; k < patches.size(); ++k) {
+            std::vector<size_t> face;
+            for (int c = 0; c < patches[k].shape.n; ++c)
+                face.push_back(v++);
+            if (flip)
+                std::reverse(face.begin(), face.end());
+            obj += "f";
+            for (size_t f : face)
+                obj += " " + std::to_string(f);
+            obj += "\n";
+        }
+        return ParseMesh(obj, MeshFormat::Obj, "scene.obj", {});
+    };
+    std::vector<Scene> scenes;
+    // Soups: their hull corners are each one face's alone, so those faces test everything.
+    for (int seed = 1; seed <= 4; ++seed)
+        scenes.push_back(asMesh(
+            MakeScene("random3d", {{"n", 40}, {"seed", seed}, {"size", 3}}).Get<Polygon>(), false));
+    // A closed sphere seen from inside, and from outside (each face hinted).
+    for (bool flip : {false, true})
+        scenes.push_back(asMesh(MakeScene("sphere", {{"n", 3}}).Get<Polygon>(), flip));
+    // The outward sphere beside a lone triangle: a hull corner shared, and three alone.
+    Patches<Polygon> lone = MakeScene("sphere", {{"n", 2}}).Get<Polygon>();
+    lone.push_back({Polygon::Triangle(Vec3(3, 0, 0), Vec3(3, 1, 0), Vec3(3, 0, 1)), {}});
+    scenes.push_back(asMesh(lone, true));
+    for (size_t s = 0; s < scenes.size(); ++s) {
+        INFO("scene " << s);
+        const Patches<Polygon> &patches = scenes[s].Get<Polygon>();
+        auto [separates, out, outArea] = EveryCorner(patches);
+        CHECK(CanOcclude(scenes[s]) == separates);
+        double area = 0;
+        for (const auto &p : patches)
+            area += p.shape.Area();
+        std::string hint = FacingAwayHint(scenes[s]);
+        CHECK(hint.empty() == !(2 * outArea > area));
+        if (!hint.empty())
+            CHECK_THAT(hint, Catch::Contains("(" + std::to_string(out) + " of " +
+                                             std::to_string(patches.size()) + " faces)"));
+    }
 }

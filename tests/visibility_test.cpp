@@ -20,7 +20,7 @@ std::vector<VisibilityBackend> Backends() {
 }
 
 double Fraction3D(const Scene &scene, int k, uint32_t i = 0, uint32_t j = 1,
-                  VisibilityBackend backend = DefaultVisibilityBackend()) {
+                  VisibilityBackend backend = VisibilityBackend::Auto) {
     Occluders occluders(scene.Get<Polygon>(), backend);
     Forest<Polygon> forest(scene.Get<Polygon>(), 1000, Subdivision::Binary);
     SampledVisibility<Polygon> visibility(occluders, k, VisibilityMode::Fraction);

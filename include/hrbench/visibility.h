@@ -17,15 +17,13 @@ namespace hrbench {
 
 // How 3D segment queries find their candidate patches: CGAL's AABB tree, or Embree's
 // BVH in single precision, whose hits are accepted only where they are beyond doubt
-// and otherwise decided by the same exact predicate (docs/3d.md). 2D scenes always
-// use CGAL.
-enum class VisibilityBackend { Cgal, Embree };
+// and otherwise decided by the same exact predicate (docs/3d.md); Auto takes Embree
+// where the build has it and the scene's triangles are large beside Embree's margins,
+// else CGAL. 2D scenes always use CGAL.
+enum class VisibilityBackend { Auto, Cgal, Embree };
 
 // True when this build has Embree (found when it was configured).
 bool HasEmbree();
-
-// Embree where the build has it, else CGAL.
-VisibilityBackend DefaultVisibilityBackend();
 
 struct EmbreeScene;  // visibility.cpp
 
@@ -39,9 +37,9 @@ class Occluders {
   public:
     // Throws std::invalid_argument when _backend_ is Embree and the build has none.
     explicit Occluders(const Patches<Segment> &patches,
-                       VisibilityBackend backend = DefaultVisibilityBackend());
+                       VisibilityBackend backend = VisibilityBackend::Auto);
     explicit Occluders(const Patches<Polygon> &patches,
-                       VisibilityBackend backend = DefaultVisibilityBackend());
+                       VisibilityBackend backend = VisibilityBackend::Auto);
     ~Occluders();
     Occluders(const Occluders &) = delete;
     Occluders &operator=(const Occluders &) = delete;
