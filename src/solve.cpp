@@ -15,6 +15,7 @@
 #include "hrbench/util/error.h"
 #include "hrbench/util/format.h"
 #include "hrbench/util/named.h"
+#include "link_coefficients.h"
 #include "reference_solve.h"
 #include "solve_internal.h"
 
@@ -228,11 +229,14 @@ void SolveLinks(const Patches<Shape> &patches, const Refinement<Shape> &refineme
     std::optional<ClusterTransfer<Shape>> clusters;
     std::vector<double> clusterCoefficients;
     if (refinement.clusters.NumClusters() > 0) {
+        std::unique_ptr<Occluders> occluders = OccludersFor(patches, refine);
         clusters.emplace(patches, refinement.clusters, refinement.clusterLinks,
-                         options.clusterTransfer);
+                         options.clusterTransfer, occluders.get(), refine.raysPerSide,
+                         refine.threads);
         clusterCoefficients = clusters->UnitIrradiance();
         result.clusters =
-            ClusterFigures{refinement.clusters.NumClusters(), refinement.clusterLinks.size(), 0};
+            ClusterFigures{refinement.clusters.NumClusters(), refinement.clusterLinks.size(), 0,
+                           clusters->Rays(), clusters->OccludedLinks()};
     }
     std::vector<double> scale =
         options.plainGather
@@ -399,7 +403,7 @@ std::string SolveMethodName(SolveMethod method) {
 
 const std::vector<ClusterTransferInfo> &ClusterTransfers() {
     static const std::vector<ClusterTransferInfo> transfers = {
-        {"projected", "a cluster end's projected area, from its patches' axis sums",
+        {"projected", "a cluster end's projected area, tabled over directions",
          ClusterTransferKind::Projected},
         {"isotropic", "Sillion's: a cluster's patches face every way alike",
          ClusterTransferKind::Isotropic},

@@ -45,6 +45,8 @@ json SolveToJson(const Scene &scene, const RefineOptions &refine, const SolveOpt
     if (result.clusters) {  // the record holds clusters, cluster_nodes and cluster_links
         out["cluster_transfer"] = ClusterTransferName(options.clusterTransfer);
         out["cluster_transfer_share"] = result.clusters->transferShare;
+        out["cluster_rays"] = result.clusters->rays;
+        out["occluded_cluster_links"] = result.clusters->occludedLinks;
     }
     json radiosity = json::array();
     for (const ElementRadiosity &leaf : result.leaves)
@@ -120,6 +122,8 @@ void PrintSolveTable(const json &solve, std::ostream &out) {
         row("cluster_nodes", solve["cluster_nodes"].dump());
         row("cluster_links", solve["cluster_links"].dump());
         row("cluster_transfer_share", Short(solve["cluster_transfer_share"].get<double>()));
+        row("cluster_rays", solve["cluster_rays"].dump());
+        row("occluded_cluster_links", solve["occluded_cluster_links"].dump());
     }
     for (const char *stage : {"refine", "coefficients", "solve", "reference"}) {
         std::string key = std::string("seconds_") + stage;

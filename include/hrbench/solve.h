@@ -46,7 +46,7 @@ std::string SolveMethodName(SolveMethod method);
 // How light crosses a cluster link (`solve --cluster-transfer`; docs/solve.md, Clusters):
 // what stands for a cluster end's cosine toward the other end.
 enum class ClusterTransferKind {
-    Projected,  // the cluster's projected area toward the other end, from its axis sums
+    Projected,  // the cluster's projected area toward the other end, tabled over directions
     Isotropic,  // Sillion's isotropic cluster: the mean cosine, 1/4 (3D) or 1/pi (2D)
 };
 
@@ -226,6 +226,8 @@ struct ClusterFigures {
     // Of the power gathered in the last sweep (before the consistency scale), the share
     // that came over cluster links: sum of A H over cluster links' receivers / over all.
     double transferShare = 0;
+    uint64_t rays = 0;           // segments cast for the cluster links' visible fractions
+    uint64_t occludedLinks = 0;  // cluster links whose every segment was blocked
 };
 
 struct SolveResult {

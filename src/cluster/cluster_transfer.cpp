@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "direction_table.h"
+#include "hrbench/util/parallel_for.h"
+
 namespace hrbench {
 
 namespace {
@@ -21,67 +24,148 @@ double KernelDenominator(double r) {
     return D == 3 ? M_PI * r * r : 2 * r;
 }
 
+// How many patches on from its place a sample looks for one facing the other end.
+constexpr uint32_t kTries = 8;
+
 }  // namespace
+
+template <typename Shape>
+void ClusterTransfer<Shape>::SamplePatches(const Patches<Shape> &patches, uint32_t node,
+                                           const Vec &u, int samples,
+                                           std::vector<uint32_t> &out) const {
+    out.clear();
+    if (!IsCluster(node)) {
+        out.push_back(node);
+        return;
+    }
+    const auto &cluster = tree_[ClusterIndex(node)];
+    uint32_t n = cluster.end - cluster.begin;
+    uint32_t count = std::min(uint32_t(samples), n);
+    for (uint32_t s = 0; s < count; ++s) {
+        uint32_t place = uint32_t((uint64_t(2 * s + 1) * n) / (2 * uint64_t(count)));
+        uint32_t chosen = tree_.Patches()[cluster.begin + place];
+        for (uint32_t t = 0; t < std::min(kTries, n); ++t) {
+            uint32_t p = tree_.Patches()[cluster.begin + (place + t) % n];
+            if (patches[p].shape.Normal().dot(u) > 0) {
+                chosen = p;
+                break;
+            }
+        }
+        out.push_back(chosen);
+    }
+}
 
 template <typename Shape>
 ClusterTransfer<Shape>::ClusterTransfer(const Patches<Shape> &patches,
                                         const ClusterTree<Shape> &tree,
                                         const std::vector<ClusterLink> &links,
-                                        ClusterTransferKind kind)
+                                        ClusterTransferKind kind, const Occluders *occluders,
+                                        int samples, int threads)
     : tree_(tree), numPatches_(patches.size()), links_(links) {
-    size_t slots = numPatches_ + tree.NumClusters();
+    size_t slots = numPatches_ + tree.NumClusters(), clusters = tree.NumClusters();
     measure_.resize(slots), value_.resize(slots), gathered_.resize(slots);
-    // Centres: a patch's centroid; a cluster's the area-weighted mean of its patches'.
-    // Axis sums: P+_a = sum A_p max(0, n_p,a) and P-_a = sum A_p max(0, -n_p,a).
-    // Clusters are numbered in preorder, so a pass in reverse sees every child first.
-    std::vector<Vec> center(slots), positive(slots), negative(slots);
+    // Per node: its centre (a patch's centroid; a cluster's the area-weighted mean of its
+    // patches'), and whether its patches share one normal (then the node's projected
+    // measure is exact from it). Per cluster of mixed normals: the projected measure
+    // sum A_p max(0, n_p . v) at every direction v of the table. Clusters are numbered in
+    // preorder, so a pass in reverse sees every child first.
+    using Table = DirectionTable<kDimension>;
+    std::vector<Vec> center(slots), normal(slots);
+    std::vector<char> uniform(slots, 1);
+    std::vector<float> table(kind == ClusterTransferKind::Projected ? clusters * Table::kSize : 0);
     for (size_t p = 0; p < numPatches_; ++p) {
         measure_[p] = patches[p].shape.Measure();
         center[p] = patches[p].shape.Centroid();
-        Vec n = patches[p].shape.Normal();
-        positive[p] = measure_[p] * n.cwiseMax(0.0);
-        negative[p] = measure_[p] * (-n).cwiseMax(0.0);
+        normal[p] = patches[p].shape.Normal();
     }
-    for (size_t c = tree.NumClusters(); c-- > 0;) {
+    for (size_t c = clusters; c-- > 0;) {
         size_t slot = numPatches_ + c;
         double measure = 0;
         Vec moment = Vec::Zero();
-        positive[slot] = negative[slot] = Vec::Zero();
-        for (uint32_t child : tree[uint32_t(c)].children) {
+        const auto &children = tree[uint32_t(c)].children;
+        for (uint32_t child : children) {
             uint32_t s = Slot(child);
             measure += measure_[s];
             moment += measure_[s] * center[s];
-            positive[slot] += positive[s], negative[slot] += negative[s];
+            if (table.empty())
+                continue;
+            float *row = &table[c * Table::kSize];
+            if (IsCluster(child)) {
+                const float *from = &table[ClusterIndex(child) * Table::kSize];
+                for (size_t m = 0; m < Table::kSize; ++m)
+                    row[m] += from[m];
+            } else {
+                for (size_t m = 0; m < Table::kSize; ++m)
+                    row[m] +=
+                        float(measure_[s] * std::max(0.0, normal[s].dot(Table::Direction(m))));
+            }
         }
         measure_[slot] = measure;
         center[slot] = moment / measure;
+        uint32_t a = Slot(children[0]), b = Slot(children[1]);
+        uniform[slot] = uniform[a] && uniform[b] && normal[a] == normal[b];
+        normal[slot] = normal[a];
     }
-    // A node's projected measure toward the unit vector _u_: a root patch's exact
-    // A max(0, n . u); a cluster's from its axis sums, or A times the isotropic cosine.
+    // A node's projected measure toward the unit vector _u_: exact for a root patch or a
+    // cluster of one normal, A max(0, n . u); else A times the isotropic cosine, or
+    // interpolated in the cluster's table.
     auto projected = [&](uint32_t node, const Vec &u) {
         uint32_t s = Slot(node);
-        if (!IsCluster(node))
-            return measure_[s] * std::max(0.0, patches[node].shape.Normal().dot(u));
+        if (!IsCluster(node) || (kind == ClusterTransferKind::Projected && uniform[s]))
+            return measure_[s] * std::max(0.0, normal[s].dot(u));
         if (kind == ClusterTransferKind::Isotropic)
             return measure_[s] * kIsotropicCosine<kDimension>;
+        const float *row = &table[ClusterIndex(node) * Table::kSize];
+        auto lookup = Table::Lookup(u);
         double sum = 0;
-        for (int a = 0; a < kDimension; ++a)
-            sum += u[a] > 0 ? positive[s][a] * u[a] : negative[s][a] * -u[a];
+        for (size_t w = 0; w < lookup.index.size(); ++w)
+            sum += lookup.weight[w] * double(row[lookup.index[w]]);
         return sum;
     };
     // The flux from Y to X per unit B_Y, f_X(u) f_Y(-u) / (c_D r^(D-1)), u from X toward
     // Y, is the same both ways: each end's irradiance divides it by its own measure.
-    coefficients_.reserve(links.size());
-    for (const ClusterLink &l : links) {
-        Vec d = center[Slot(l.b)] - center[Slot(l.a)];
-        double r = d.norm();
-        if (!(r > 0)) {  // ends sharing a centre: no direction to exchange light along
-            coefficients_.push_back({0, 0});
-            continue;
-        }
-        Vec u = d / r;
-        double flux = projected(l.a, u) * projected(l.b, -u) / KernelDenominator<kDimension>(r);
-        coefficients_.push_back({flux / measure_[Slot(l.a)], flux / measure_[Slot(l.b)]});
+    // Link by link, in parallel: each writes its own coefficients and ray counts.
+    coefficients_.resize(links.size());
+    std::vector<uint32_t> linkRays(occluders ? links.size() : 0);
+    struct Scratch {
+        std::vector<uint32_t> from, to;
+    };
+    ParallelFor(
+        links.size(), 1024, threads, [] { return Scratch(); },
+        [&](Scratch &scratch, size_t k) {
+            const ClusterLink &l = links[k];
+            Vec d = center[Slot(l.b)] - center[Slot(l.a)];
+            double r = d.norm();
+            if (!(r > 0)) {  // ends sharing a centre: no direction to exchange light along
+                coefficients_[k] = {0, 0};
+                return;
+            }
+            Vec u = d / r;
+            double flux = projected(l.a, u) * projected(l.b, -u) / KernelDenominator<kDimension>(r);
+            if (occluders && flux > 0) {
+                SamplePatches(patches, l.a, u, samples, scratch.from);
+                SamplePatches(patches, l.b, -u, samples, scratch.to);
+                // Only segments whose ends face each other carry light: the others
+                // (two coplanar cells of a wall, say) are not cast.
+                uint32_t visible = 0, rays = 0;
+                for (uint32_t p : scratch.from)
+                    for (uint32_t q : scratch.to) {
+                        Vec a = patches[p].shape.Centroid(), b = patches[q].shape.Centroid();
+                        if (!(patches[p].shape.Normal().dot(b - a) > 0 &&
+                              patches[q].shape.Normal().dot(a - b) > 0))
+                            continue;
+                        ++rays;
+                        visible += !occluders->Blocked(a, b, p, q);
+                    }
+                linkRays[k] = rays;
+                if (rays > 0)
+                    flux *= double(visible) / double(rays);
+            }
+            coefficients_[k] = {flux / measure_[Slot(l.a)], flux / measure_[Slot(l.b)]};
+        });
+    for (size_t k = 0; k < linkRays.size(); ++k) {
+        rays_ += linkRays[k];
+        occludedLinks_ += linkRays[k] > 0 && coefficients_[k].ab == 0;
     }
 }
 
@@ -125,7 +209,8 @@ std::vector<double> ClusterTransfer<Shape>::UnitIrradiance() {
 template <typename Shape>
 size_t ClusterTransfer<Shape>::Bytes(size_t clusters, size_t patches, size_t links) {
     return links * (sizeof(ClusterLink) + sizeof(Coefficients)) +
-           (patches + clusters) * (3 * sizeof(double) + 3 * sizeof(Vec));
+           (patches + clusters) * (3 * sizeof(double) + 2 * sizeof(Vec) + 1) +
+           clusters * DirectionTable<kDimension>::kSize * sizeof(float);
 }
 
 template class ClusterTransfer<Segment>;

@@ -10,6 +10,7 @@
 #include "hrbench/clusters.h"
 #include "hrbench/scene.h"
 #include "hrbench/solve.h"
+#include "hrbench/visibility.h"
 
 namespace hrbench {
 
@@ -19,11 +20,18 @@ class ClusterTransfer {
     static constexpr int kDimension = Shape::kDimension;
 
     // The coefficients of every link of _links_ over _tree_, whose patches are _patches_,
-    // a cluster end facing the other as _kind_ says.
+    // a cluster end facing the other as _kind_ says. With _occluders_, each weighed by
+    // its visible fraction: the share of unblocked segments between up to _samples_
+    // patch centroids of either end (VisibleFraction), on _threads_ threads.
     ClusterTransfer(const Patches<Shape> &patches, const ClusterTree<Shape> &tree,
-                    const std::vector<ClusterLink> &links, ClusterTransferKind kind);
+                    const std::vector<ClusterLink> &links, ClusterTransferKind kind,
+                    const Occluders *occluders = nullptr, int samples = 1, int threads = 1);
 
     size_t NumLinks() const { return coefficients_.size(); }
+
+    // Segments cast for the visible fractions, and links found fully occluded.
+    uint64_t Rays() const { return rays_; }
+    uint64_t OccludedLinks() const { return occludedLinks_; }
 
     // What every root patch gathers through the cluster links, per unit of its measure,
     // into _irradiance_ (by patch index), from _radiosity_, which holds each root patch's
@@ -48,8 +56,15 @@ class ClusterTransfer {
         return IsCluster(node) ? uint32_t(numPatches_) + ClusterIndex(node) : node;
     }
 
+    // The patches of node _node_ that stand for it as a light's end toward _u_: itself
+    // for a root patch; for a cluster, up to _samples_ of its patches, spread over its
+    // range, each the first from its place on (up to kTries on) that faces _u_.
+    void SamplePatches(const Patches<Shape> &patches, uint32_t node, const Vec &u, int samples,
+                       std::vector<uint32_t> &out) const;
+
     const ClusterTree<Shape> &tree_;
     size_t numPatches_;
+    uint64_t rays_ = 0, occludedLinks_ = 0;
     std::vector<ClusterLink> links_;
     std::vector<Coefficients> coefficients_;
     std::vector<double> measure_;  // by slot: the patch's, the sum of the cluster's patches'
