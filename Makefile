@@ -4,7 +4,7 @@ CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release
 
 .PHONY: setup build build-cli build-tests build-asan build-fuzz test test-cpp test-asan \
         test-asan-core test-python test-browser reproduce reproduce-full bench bench-naive history gates \
-        baseline examples python-package fuzz fuzz-smoke lint format clean meshes
+        baseline examples python-package fuzz fuzz-smoke lint format clean meshes bunny-box
 JOBS := $(shell nproc)
 CONFIGURE := cmake -S . -B build $(CMAKE_FLAGS) >/dev/null
 
@@ -64,6 +64,7 @@ test-browser: build-cli
 test: test-cpp test-asan-core test-python
 
 reproduce: build-cli
+	@$(MAKE) --no-print-directory bunny-box || echo "warning: no bunny box: the report goes without its picture"
 	$(PYTHON) -m hrbench_analysis.reproduce --quick
 
 reproduce-full: build-cli
@@ -173,10 +174,13 @@ format: setup
 # The meshes of scenes at scale, in data/meshes/ (git-ignored; docs/meshes.md): the
 # Stanford bunny from libcgal-demo (CGAL_DEMO_DEB=path/to/libcgal-demo_*.deb, or an
 # installed package, or apt-get download) in a closed box lit from its ceiling, and the
-# closed sphere of 1,002,528 triangles.
-meshes: build-cli
+# closed sphere of 1,002,528 triangles. `make reproduce` makes the bunny's box (for the
+# report's picture of it) and goes on without it where the package cannot be had.
+bunny-box: build-cli
 	@bash scripts/fetch_bunny.sh $(CGAL_DEMO_DEB)
 	@$(PYTHON) -m hrbench_analysis.meshes bunny-box --off data/meshes/bunny00.off --out data/meshes
+
+meshes: bunny-box
 	@build/hrbench save sphere n=354 --out data/meshes/sphere1m.obj
 	@echo "data/meshes/sphere1m.obj: 1002528 triangles"
 
