@@ -73,6 +73,9 @@ ClusterTransfer<Shape>::ClusterTransfer(const Patches<Shape> &patches,
     std::vector<Vec> center(slots), normal(slots);
     std::vector<char> uniform(slots, 1);
     std::vector<float> table(kind == ClusterTransferKind::Projected ? clusters * Table::kSize : 0);
+    std::vector<Vec> directions;
+    for (size_t m = 0; !table.empty() && m < Table::kSize; ++m)
+        directions.push_back(Table::Direction(m));
     for (size_t p = 0; p < numPatches_; ++p) {
         measure_[p] = patches[p].shape.Measure();
         center[p] = patches[p].shape.Centroid();
@@ -96,8 +99,7 @@ ClusterTransfer<Shape>::ClusterTransfer(const Patches<Shape> &patches,
                     row[m] += from[m];
             } else {
                 for (size_t m = 0; m < Table::kSize; ++m)
-                    row[m] +=
-                        float(measure_[s] * std::max(0.0, normal[s].dot(Table::Direction(m))));
+                    row[m] += float(measure_[s] * std::max(0.0, normal[s].dot(directions[m])));
             }
         }
         measure_[slot] = measure;
