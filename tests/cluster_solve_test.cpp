@@ -412,6 +412,8 @@ TEST_CASE("The solve's JSON gives the cluster transfer and its share only with c
     CHECK(with["cluster_transfer"] == "isotropic");
     CHECK(with["cluster_transfer_share"].get<double>() > 0);
     CHECK(with["cluster_transfer_share"].get<double>() < 1);
+    CHECK(with["cluster_rays"] == 0);  // the enclosure cannot occlude: --visibility none
+    CHECK(with["occluded_cluster_links"] == 0);
     std::ostringstream table;
     PrintSolveTable(with, table);
     CHECK(table.str().find("cluster_transfer ") != std::string::npos);
@@ -421,6 +423,8 @@ TEST_CASE("The solve's JSON gives the cluster transfer and its share only with c
     CHECK(without["cluster_links"] == 0);
     CHECK_FALSE(without.contains("cluster_transfer"));
     CHECK_FALSE(without.contains("cluster_transfer_share"));
+    CHECK_FALSE(without.contains("cluster_rays"));
+    CHECK_FALSE(without.contains("occluded_cluster_links"));
     std::ostringstream plainTable;
     PrintSolveTable(without, plainTable);
     CHECK(plainTable.str().find("cluster") == std::string::npos);
@@ -479,6 +483,8 @@ TEST_CASE("solve --clusters through the command line: its fields, the same JSON 
     CHECK(without["cluster_links"] == 0);
     CHECK_FALSE(without.contains("cluster_transfer"));
     CHECK_FALSE(without.contains("cluster_transfer_share"));
+    CHECK_FALSE(without.contains("cluster_rays"));
+    CHECK_FALSE(without.contains("occluded_cluster_links"));
     CHECK(steady("--threads 2") == without);
 
     nlohmann::json caps = nlohmann::json::parse(Cli("capabilities --json").out);
