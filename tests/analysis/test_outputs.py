@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-import hrbench_analysis.report as report
+import hrbench_analysis.report.write as report_write
 import hrbench_analysis.reproduce as reproduce
 from hrbench_analysis.bench.history import main as history_main
 from hrbench_analysis.claimfile import load_claims
@@ -357,8 +357,8 @@ def test_a_full_disk_at_any_step_of_the_report_leaves_the_previous_one(
     # A figure drawn again comes out a few pixels different (its layout settles), so
     # each is drawn once and every write below gets the same bytes.
     pngs = {f.name: f.png() for f in figures}
-    monkeypatch.setattr(report, "render_pngs", lambda figs, jobs=1: [pngs[f.name]
-                                                                      for f in figs])
+    monkeypatch.setattr(report_write, "render_pngs", lambda figs, jobs=1: [pngs[f.name]
+                                                                            for f in figs])
     old = snapshot(results)
     assert {"report.md", "report.html", "claims.json", "plots/chart-t-elements.png",
             "plots/slopes-t-elements.png"} <= set(old)

@@ -96,7 +96,7 @@ def test_usage_errors_exit_2(capsys):
 def test_figures_render_the_same_bytes_on_several_processes():
     from matplotlib.figure import Figure
 
-    from hrbench_analysis.report import ReportFigure, render_pngs
+    from hrbench_analysis.report.figure import ReportFigure, render_pngs
 
     figures = []
     for k in range(3):
