@@ -12,14 +12,18 @@ loader      read the engine's output (run JSON, link CSV, solution CSV)
 store       the SQLite results cache: checked when opened, leases for concurrent sweeps
 sweep       expand claims into runs and run them in parallel, dearest first
 schedulers  where the runs execute: a local pool, or a Dask cluster
-fit         power-law fits, bootstrap intervals, local slopes, Theta checks, models
+powerlaw    the least-squares power law and its bootstrap interval
+slopes      local slopes, window exponents, one point per plateau of a staircase
+fit         exponent intervals, Theta checks, models; exports every fitting function
 verdict     the verdict of a claim
 plots       plotting functions (each draws on a given Axes)
 report      the Markdown, HTML and JSON report
 output      every output file written whole: a temporary file renamed over it, a
             symlink's target, a device written through; a report set all or none
-render      render a 3D solution, draw a 2D profile;
-            ``hrbench-render``, a solve drawn with mplot3d
+raster      the camera and the z-buffer rasteriser of a 3D solution's leaves
+drawing     render a 3D solution, draw a 2D profile or mplot3d polygons
+render      ``hrbench-render``, a solve drawn with mplot3d; exports the drawing
+            functions with the camera and the solution reader
 solution    the report's pictures of a solve: the profile on the plates, the Cornell box
 tiling      ``hrbench-tiling``: the link tilings of a flatland pair at several eps
 explorer    the page of sliders over eps and l (``results/explorer.html``, ``hrbench-explorer``)

@@ -11,10 +11,11 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
+from .drawing import plot_radiosity_profile, render_figure
 from .engine import MESH_SCENE, EngineError, run_engine, solve_argv
 from .loader import ResultFormatError, read_solution
 from .output import staged
-from .render import Camera, plot_radiosity_profile, render_figure
+from .raster import Camera
 from .report import ReportFigure
 
 __all__ = ["PROFILE", "CORNELL", "BUNNY", "BUNNY_CAMERA", "solution_figures", "profile_figure",

@@ -33,10 +33,10 @@ from .engine import (
     save_argv,
     solve_argv,
 )
-from .fit import plateau_ends
 from .lemmas import STATISTICS_MODE, StatisticsJob, add_to_record, measure, record_statistics
 from .loader import ResultFormatError, parse_run_json, run_environment
 from .schedulers import LOCAL, open_scheduler
+from .slopes import plateau_ends
 from .store import ACQUIRED, DONE, LEASE_RENEW, PointKey, StoredPoint, StoreError
 
 __all__ = [
@@ -528,7 +528,7 @@ class ClaimData:
         Sum of the refinement times reported by the engine (s).
     fitted : ndarray of bool or None
         Which points the fit reads, in the order of `x`: for a claim with the key
-        ``plateaus``, one per plateau (:func:`hrbench_analysis.fit.plateau_ends`); ``None``
+        ``plateaus``, one per plateau (:func:`hrbench_analysis.slopes.plateau_ends`); ``None``
         for every point.
     """
 

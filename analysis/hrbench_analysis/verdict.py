@@ -5,13 +5,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .fit import (
-    compare_models,
-    exponent_interval,
-    local_slopes,
-    theta_check,
-    window_slopes,
-)
+from .fit import compare_models, exponent_interval, theta_check
+from .slopes import local_slopes, window_slopes
 
 __all__ = [
     "VERDICTS",
@@ -150,7 +145,7 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
         subdivision), see :func:`hrbench_analysis.fit.exponent_interval`.
     one_per_step : bool, optional
         Whether the points are one per plateau of a staircase
-        (:func:`hrbench_analysis.fit.plateau_ends`): then the windows, of the interval and
+        (:func:`hrbench_analysis.slopes.plateau_ends`): then the windows, of the interval and
         of the settling check alike, are runs of 3 consecutive points (two periods), and
         no staircase is left for the bootstrap's blocks.
     bound : {"theta", "upper"}, optional
@@ -160,7 +155,7 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
     n_boot : int, optional
         Bootstrap resamples of the exponent's interval (default 2000).
     seed : int, optional
-        Bootstrap seed (default :data:`hrbench_analysis.fit.DEFAULT_SEED`).
+        Bootstrap seed (default :data:`hrbench_analysis.powerlaw.DEFAULT_SEED`).
 
     Returns
     -------

@@ -1,16 +1,9 @@
 import numpy as np
 import pytest
 
-from hrbench_analysis.fit import (
-    compare_models,
-    exponent_interval,
-    fit_power_law,
-    local_slopes,
-    octave_window_slopes,
-    steps_block_length,
-    theta_check,
-    window_slopes,
-)
+from hrbench_analysis.fit import compare_models, exponent_interval, theta_check
+from hrbench_analysis.powerlaw import fit_power_law, steps_block_length
+from hrbench_analysis.slopes import local_slopes, octave_window_slopes, window_slopes
 
 
 def noisy_power_law(k, c=3.0, sigma=0.05, n=40, decades=3.0, seed=1):

@@ -1,4 +1,4 @@
-"""One point per plateau of a staircase (claims key ``plateaus``): fit.plateau_ends, the
+"""One point per plateau of a staircase (claims key ``plateaus``): slopes.plateau_ends, the
 verdict on the kept points, and the key's checks in claims files."""
 
 import json
@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from hrbench_analysis.claimfile import ClaimsFileError, load_claims
-from hrbench_analysis.fit import plateau_ends, point_window_slopes
 from hrbench_analysis.reproduce import main
+from hrbench_analysis.slopes import plateau_ends, point_window_slopes
 from hrbench_analysis.verdict import get_verdict
 
 

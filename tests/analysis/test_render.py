@@ -7,22 +7,17 @@ import pytest
 from matplotlib.figure import Figure
 from matplotlib.image import imread
 
-from hrbench_analysis.loader import ResultFormatError
-from hrbench_analysis.render import (
-    COLUMNS_2D,
-    COLUMNS_3D,
-    CORNELL_CAMERA,
+from hrbench_analysis.drawing import (
     MESH_SHADE,
-    Camera,
     plot_radiosity_profile,
     plot_solution_3d,
     radiosity_scale,
-    rasterise,
-    read_solution,
     render_figure,
     render_image,
     view_direction,
 )
+from hrbench_analysis.loader import COLUMNS_2D, COLUMNS_3D, ResultFormatError, read_solution
+from hrbench_analysis.raster import CORNELL_CAMERA, Camera, rasterise
 from hrbench_analysis.render import main as render_main
 
 HEADER_2D = ("element,root,depth,position,x,y,measure,radiosity,irradiance,reflectance,"
