@@ -10,7 +10,14 @@ claimfile   read and check the claims files (``analysis/hrbench_analysis/claims/
 expr        the safe formula evaluator used for a claim's x and y
 loader      read the engine's output (run JSON, link CSV, solution CSV)
 store       the SQLite results cache: checked when opened, leases for concurrent sweeps
-sweep       expand claims into runs and run them in parallel, dearest first
+store_points
+            a point of the cache: its key, a cached run, which failures are final
+store_leases
+            a sweep's lease on a point, and whether its owner still runs
+store_schema
+            the cache's tables, columns and cell types, its id and layout number
+sweep_plan  expand claims into runs
+sweep       run the points in parallel, dearest first, and read them back
 schedulers  where the runs execute: a local pool, or a Dask cluster
 powerlaw    the least-squares power law and its bootstrap interval
 slopes      local slopes, window exponents, one point per plateau of a staircase
@@ -30,6 +37,8 @@ explorer    the page of sliders over eps and l (``results/explorer.html``, ``hrb
 cli         what the drawing commands share: engine options, scene words, one-line errors
 reproduce   the command lines ``hrbench-reproduce`` (``python -m hrbench_analysis.reproduce``)
             and ``hrbench-sweep``
+reproduce_options
+            their options, and the engine they run when none is named
 bench       the benchmark and regression tooling: Google Benchmark files (gbench),
             ``hrbench-compare`` (benchcompare, cmdtiming), a commit built in its git
             worktree (builds, the CI gates), ``hrbench-history`` (history)

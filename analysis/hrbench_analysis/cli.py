@@ -34,8 +34,8 @@ class Parser(argparse.ArgumentParser):
 
 def add_engine_options(parser):
     """Add ``--engine CMD`` and ``--hrbench PATH`` (as ``hrbench-reproduce`` has them)."""
-    # Imported here: reproduce imports the explorer, which imports this module.
-    from .reproduce import _engine_arg
+    # Imported here: reproduce_options imports this module.
+    from .reproduce_options import _engine_arg
 
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--engine", type=_engine_arg, default=None, metavar="CMD",
@@ -47,8 +47,9 @@ def add_engine_options(parser):
 
 
 def engine_of(args):
-    """The engine the options name, else :func:`hrbench_analysis.reproduce.default_engine`."""
-    from .reproduce import default_engine
+    """The engine the options name, else
+    :func:`hrbench_analysis.reproduce_options.default_engine`."""
+    from .reproduce_options import default_engine
 
     return args.engine if args.engine is not None else default_engine()
 

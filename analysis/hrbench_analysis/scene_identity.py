@@ -89,7 +89,7 @@ def scene_mismatch(claim, mode, points, store, reference, digests=None):
     claim : Claim
     mode : {"quick", "full"}
     points : sequence of SweepPoint
-        The claim's points, run (:func:`hrbench_analysis.sweep.expand_claim`).
+        The claim's points, run (:func:`hrbench_analysis.sweep_plan.expand_claim`).
     store : ResultStore
     reference : str or None
         hrbench (:func:`reference_engine`); ``None``: nothing to compare with.

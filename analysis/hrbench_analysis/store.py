@@ -21,102 +21,46 @@ owner has not renewed it for :data:`LEASE_TIMEOUT` seconds (owners renew every
 :data:`LEASE_RENEW` seconds while the point runs), or when it is dated more than
 :data:`LEASE_RENEW` seconds ahead of this host's clock; then another sweep takes the
 point over. So no lease outlives its process by more than :data:`LEASE_TIMEOUT`.
+
+A point's key and record are :mod:`hrbench_analysis.store_points`'s, a lease and its
+timing :mod:`hrbench_analysis.store_leases`'s, the database's tables and columns
+:mod:`hrbench_analysis.store_schema`'s.
 """
 
 import json
-import math
 import os
-import re
 import socket
 import sqlite3
 import time
 import uuid
 from contextlib import contextmanager
-from dataclasses import dataclass
 
 from .errors import AnalysisError, one_line
+from .store_leases import LEASE_RENEW, LEASE_TIMEOUT, Lease, _pid_alive
+from .store_points import StoredPoint, _without_version, is_verdict
+from .store_schema import (
+    _CELL_TYPES,
+    _COLUMNS,
+    _LEASE_COLUMNS,
+    _LEASES,
+    _SCHEMA,
+    _SQLITE_MAGIC,
+    _TABLES,
+    APPLICATION_ID,
+    STORE_SCHEMA_VERSION,
+    _options_of,
+)
 
 __all__ = [
-    "PointKey",
-    "StoredPoint",
-    "Lease",
     "ResultStore",
     "StoreError",
-    "CACHED_FAILURES",
     "is_verdict",
-    "APPLICATION_ID",
-    "STORE_SCHEMA_VERSION",
-    "LEASE_TIMEOUT",
-    "LEASE_RENEW",
     "BUSY_TIMEOUT",
     "ACQUIRED",
     "DONE",
     "BUSY",
 ]
 
-#: Exit codes of the engine's own verdicts on a run, the only failures that are cached
-#: (see :func:`is_verdict`): 2 (usage or input error) and 3 (a refinement limit was
-#: reached). Any other failure (a crash, a signal, a timeout, a program that could not
-#: be started) is tried again on the next sweep.
-CACHED_FAILURES = (2, 3)
-
-# The message of an interpreter or shell that could not open the engine's script
-# (python3, sh, perl): exit code 2, but no verdict of the engine.
-_SCRIPT_NOT_OPENED = re.compile(r": can't open file |^\S+: \d+: (?:can't|cannot) open |"
-                                r"^Can't open perl script ", re.IGNORECASE)
-# A limit that depends on the memory free at the moment of the run.
-_MEMORY_LIMIT = re.compile(r"memory budget|out of memory", re.IGNORECASE)
-
-
-def is_verdict(exit_code, message, options=()):
-    """Whether a failed run is the engine's own verdict on its point, so that it is cached.
-
-    The rule: exit code 2 or 3 (:data:`CACHED_FAILURES`) with a message (the last line
-    of standard error), except
-
-    - exit code 2 from an interpreter or a shell that could not open the engine's script
-      (``python3: can't open file ...``, ``sh: 0: cannot open ...``): the script missing
-      for a moment, not the engine refusing the run;
-    - exit code 3 for the memory budget or memory running out (``... exceed the memory
-      budget ...``, ``out of memory``), unless the run gave ``--max-memory`` and the
-      message names the budget: the default budget is a share of the memory free at
-      that moment, and memory running out depends on the machine's load.
-
-    Every other failure (exit code 1, 126, 127, a signal, a timeout, an unreadable
-    record, output beyond the analysis's bound) is not a verdict.
-
-    Parameters
-    ----------
-    exit_code : int
-    message : str
-        Last non-empty line of standard error.
-    options : sequence of (str, str), optional
-        The run's engine options (:attr:`PointKey.options`).
-
-    Returns
-    -------
-    verdict : bool
-    """
-    message = (message or "").strip()
-    if exit_code not in CACHED_FAILURES or not message:
-        return False
-    if exit_code == 2:
-        return not _SCRIPT_NOT_OPENED.search(message)
-    budget_given = "max_memory" in dict(options) and "memory budget" in message.lower()
-    return budget_given or not _MEMORY_LIMIT.search(message)
-
-#: SQLite ``application_id`` of a results cache ("hrbc"). A cache written before the id
-#: existed has 0 and is recognised by its tables.
-APPLICATION_ID = 0x68726263
-#: SQLite ``user_version`` of the current layout: 2 = table ``points`` with ``options``
-#: and table ``leases``. 0 is a cache written before the layout had a number (``points``
-#: with or without ``options``), migrated when opened.
-STORE_SCHEMA_VERSION = 2
-
-#: Seconds after which a lease that its owner has not renewed lapses.
-LEASE_TIMEOUT = 120.0
-#: Seconds between two renewals of the leases of the points a sweep is running.
-LEASE_RENEW = 15.0
 #: Seconds to wait for another process's write transaction before giving up.
 BUSY_TIMEOUT = 60.0
 
@@ -127,8 +71,6 @@ DONE = "done"
 #: ... or another live sweep holds its lease.
 BUSY = "busy"
 
-_SQLITE_MAGIC = b"SQLite format 3\x00"
-
 
 class StoreError(AnalysisError):
     """A results cache that cannot be used: not SQLite, corrupt, foreign, unwritable.
@@ -136,241 +78,6 @@ class StoreError(AnalysisError):
     The message is one line naming the file and what to do.
     """
 
-
-@dataclass(frozen=True)
-class PointKey:
-    """Everything that determines the counts of one run.
-
-    Attributes
-    ----------
-    version : str
-        Engine version (output of ``hrbench --version``).
-    scene : str
-        Scene family.
-    params : tuple of (str, float)
-        Scene parameters as requested, sorted by name (scene units).
-    eps : float
-        Oracle threshold (dimensionless).
-    oracle : str
-        Oracle name.
-    min_area : float or None
-        ``--min-area`` (scene units), if given.
-    max_depth : int or None
-        ``--max-depth`` (levels), if given.
-    mode : str
-        ``"count-only"`` or ``"store"``; ``"count-only+hierarchy-statistics-v2"``
-        (:data:`hrbench_analysis.lemmas.STATISTICS_MODE`) for a run whose record also holds the
-        hierarchy statistics of its link list, so that it never shares a key with a
-        record without them.
-    options : tuple of (str, str)
-        Further engine options as passed on the command line, sorted by name, e.g.
-        ``(("method", "translation"),)`` for ``--method translation``.
-    """
-
-    version: str
-    scene: str
-    params: tuple
-    eps: float
-    oracle: str
-    min_area: object = None
-    max_depth: object = None
-    mode: str = "count-only"
-    options: tuple = ()
-
-    def text(self):
-        """A canonical string form of the key, used as the database's primary key.
-
-        A key without options has the same text as before options existed, so points
-        cached then stay valid.
-        """
-        obj = {
-            "version": self.version, "scene": self.scene,
-            "params": {k: repr(float(v)) for k, v in self.params},
-            "eps": repr(float(self.eps)), "oracle": self.oracle,
-            "min_area": None if self.min_area is None else repr(float(self.min_area)),
-            "max_depth": self.max_depth, "mode": self.mode}
-        if self.options:
-            obj["options"] = {k: str(v) for k, v in self.options}
-        return json.dumps(obj, sort_keys=True)
-
-    def run_text(self):
-        """The key text without the engine version: the same run of any version."""
-        return _without_version(self.text())
-
-
-def _without_version(text):
-    obj = json.loads(text)
-    obj.pop("version", None)
-    return json.dumps(obj, sort_keys=True)
-
-
-@dataclass
-class StoredPoint:
-    """One cached run.
-
-    Attributes
-    ----------
-    key : PointKey
-    ok : bool
-        Whether the run exited with code 0 and printed a readable record.
-    exit_code : int
-        Exit code of the run (0 when ok; negative for a signal).
-    stderr : str
-        Last non-empty line of standard error ("" when ok).
-    output : str
-        Standard output (the JSON record when ok).
-    wall_seconds : float
-        Wall time of the whole process (s).
-    finished_at : float or None
-        When it was stored (seconds since the epoch); ``None`` before it is stored.
-    """
-
-    key: PointKey
-    ok: bool
-    exit_code: int
-    stderr: str
-    output: str
-    wall_seconds: float
-    finished_at: object = None
-
-    @property
-    def final(self):
-        """bool: whether the point needs no new run: it succeeded, or its failure is the
-        engine's own verdict (:func:`is_verdict`)."""
-        return self.ok or is_verdict(self.exit_code, self.stderr, self.key.options)
-
-
-@dataclass(frozen=True)
-class Lease:
-    """A sweep's claim on a point it is running.
-
-    Attributes
-    ----------
-    key : str
-        Canonical key text of the point (:meth:`PointKey.text`).
-    host : str
-        Host name of the owner.
-    pid : int
-        Process id of the owner.
-    token : str
-        Identifies the owning :class:`ResultStore` (one per sweep).
-    started_at, renewed_at : float
-        When it was taken and last renewed (seconds since the epoch).
-    """
-
-    key: str
-    host: str
-    pid: int
-    token: str
-    started_at: float
-    renewed_at: float
-
-
-_SCHEMA = """
-CREATE TABLE IF NOT EXISTS points (
-    key TEXT PRIMARY KEY,
-    version TEXT NOT NULL,
-    scene TEXT NOT NULL,
-    params TEXT NOT NULL,
-    eps REAL NOT NULL,
-    oracle TEXT NOT NULL,
-    min_area REAL,
-    max_depth INTEGER,
-    mode TEXT NOT NULL,
-    ok INTEGER NOT NULL,
-    exit_code INTEGER NOT NULL,
-    stderr TEXT NOT NULL,
-    output TEXT NOT NULL,
-    wall_seconds REAL NOT NULL,
-    finished_at REAL NOT NULL,
-    options TEXT NOT NULL DEFAULT '{}'
-)
-"""
-_LEASES = """
-CREATE TABLE IF NOT EXISTS leases (
-    key TEXT PRIMARY KEY,
-    host TEXT NOT NULL,
-    pid INTEGER NOT NULL,
-    token TEXT NOT NULL,
-    started_at REAL NOT NULL,
-    renewed_at REAL NOT NULL
-)
-"""
-_COLUMNS = ("key", "version", "scene", "params", "eps", "oracle", "min_area", "max_depth",
-            "mode", "ok", "exit_code", "stderr", "output", "wall_seconds", "finished_at",
-            "options")
-_LEASE_COLUMNS = ("key", "host", "pid", "token", "started_at", "renewed_at")
-#: Tables of a results cache; any other table makes a database foreign.
-_TABLES = ("points", "leases")
-
-
-def _is_real(value):
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and \
-        math.isfinite(value)
-
-
-#: What each cell of the points table read back must be.
-_CELL_TYPES = {
-    "key": lambda v: isinstance(v, str),
-    "ok": lambda v: v in (0, 1) and isinstance(v, int),
-    "exit_code": lambda v: isinstance(v, int) and not isinstance(v, bool),
-    "stderr": lambda v: isinstance(v, str),
-    "output": lambda v: isinstance(v, str),
-    "options": lambda v: v is None or isinstance(v, str),
-    "wall_seconds": lambda v: _is_real(v) and v >= 0,
-    "finished_at": _is_real,
-}
-
-
-def _options_of(text):
-    # The options column as (name, text) pairs; a cell that is not a JSON object as none.
-    try:
-        options = json.loads(text)
-    except (TypeError, ValueError):
-        return ()
-    return tuple(options.items()) if isinstance(options, dict) else ()
-
-
-def _boot_time():
-    # Seconds since the epoch at which this host booted (Linux), or None.
-    try:
-        with open("/proc/stat", "rb") as fh:
-            for line in fh:
-                if line.startswith(b"btime "):
-                    return float(line.split()[1])
-    except (OSError, ValueError, IndexError):
-        pass
-    return None
-
-
-def _pid_alive(pid, since=None):
-    # Whether a process of this host with id `pid` still runs (a zombie does not) and,
-    # given `since` (seconds since the epoch), started before then: a process started
-    # later has only inherited the id of the lease's owner.
-    if not isinstance(pid, int) or isinstance(pid, bool) or not 0 < pid < 2**31:
-        return False
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:
-        pass  # exists, owned by someone else
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as fh:
-            fields = fh.read().rsplit(b")", 1)[1].split()
-    except OSError:
-        return True  # no /proc: the id is all there is to go by
-    if fields[:1] == [b"Z"]:
-        return False
-    boot = _boot_time()
-    if since is None or boot is None:
-        return True
-    try:
-        # Field 22 of stat: the start time in clock ticks after boot (20th after the name).
-        started = boot + int(fields[19]) / os.sysconf("SC_CLK_TCK")
-    except (IndexError, ValueError, OSError):
-        return True
-    return started <= since + 1.0  # btime is whole seconds
 
 
 class ResultStore:
@@ -565,7 +272,8 @@ class ResultStore:
         Returns
         -------
         seconds : dict of str to float
-            Wall seconds of the latest successful run of each :meth:`PointKey.run_text`:
+            Wall seconds of the latest successful run of each
+            :meth:`~hrbench_analysis.store_points.PointKey.run_text`:
             the sweep's cost model (:func:`hrbench_analysis.sweep.run_points`).
         """
         with self._guard():
@@ -631,7 +339,8 @@ class ResultStore:
             return self._db.execute("SELECT COUNT(*) FROM points").fetchone()[0]
 
     def keys(self):
-        """Canonical key strings of every stored run (see :meth:`PointKey.text`)."""
+        """Canonical key strings of every stored run (see
+        :meth:`~hrbench_analysis.store_points.PointKey.text`)."""
         with self._guard():
             return [row[0] for row in self._db.execute("SELECT key FROM points")]
 

@@ -1,4 +1,4 @@
-"""Sweeps: expand claims into ``hrbench run`` invocations and run them in parallel.
+"""Sweeps: run the ``hrbench run`` invocations of claims in parallel, read their points back.
 
 Every run is looked up in the :class:`~hrbench_analysis.store.ResultStore` first; only missing
 points are run, on a pool of worker threads (each runs one ``hrbench`` process: one point,
@@ -6,42 +6,34 @@ or the missing points of a count-only eps or min_area sweep together, ``hrbench 
 --sweep``), and each finished point is committed to the store as soon as it finishes. Before a point
 runs, the sweep takes its lease in the store, so that sweeps sharing one cache run each
 point once: a point another sweep is running is skipped and its result read when it is
-stored. The command lines and the processes themselves are :mod:`hrbench_analysis.engine`'s.
+stored. The command lines and the processes themselves are :mod:`hrbench_analysis.engine`'s;
+which points a claim needs is :mod:`hrbench_analysis.sweep_plan`'s (:func:`expand_claim`).
 """
 
-import itertools
 import math
 import os
 import sys
 import time
 from collections import deque
 from concurrent.futures import FIRST_COMPLETED, wait
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .claimfile import ClaimsFileError
-from .engine import (
-    OUTPUT_EXCEEDED,
-    SharedRun,
-    engine_argv,
-    format_number,
-    links_argv,
-    option_text,
-    run_argv,
-    run_engine,
-    save_argv,
-    solve_argv,
-)
-from .lemmas import STATISTICS_MODE, StatisticsJob, add_to_record, measure, record_statistics
+from .engine import OUTPUT_EXCEEDED, format_number, run_engine
+from .lemmas import add_to_record, measure, record_statistics
 from .loader import ResultFormatError, parse_run_json, run_environment
 from .schedulers import LOCAL, open_scheduler
 from .slopes import plateau_ends
-from .store import ACQUIRED, DONE, LEASE_RENEW, PointKey, StoredPoint, StoreError
+from .store import ACQUIRED, DONE, StoreError
+from .store_leases import LEASE_RENEW
+from .store_points import StoredPoint
+from .sweep_plan import expand_claim
 
 __all__ = [
-    "SweepPoint",
     "ClaimData",
+    # Planned in sweep_plan; named here too, where the sweep's functions are documented.
     "expand_claim",
     "run_points",
     "order_by_cost",
@@ -66,137 +58,6 @@ WORKER_LOST = -1000
 #: read (:class:`~hrbench_analysis.loader.ResultFormatError`) starts; such a point is not
 #: cached as final, and the command line reports it as an error of the engine.
 UNREADABLE_RECORD = "unreadable output: "
-
-
-@dataclass(frozen=True)
-class SweepPoint:
-    """One run of a sweep.
-
-    Attributes
-    ----------
-    key : PointKey
-        Cache key of the run.
-    value : float
-        Value of the swept parameter.
-    argv : tuple of str
-        Command line (the engine's words first).
-    statistics : StatisticsJob or None
-        For a claim whose formulas read hierarchy statistics (:mod:`hrbench_analysis.lemmas`):
-        the commands that measure them after the run; ``None`` otherwise.
-    series : str
-        The values of ``sweep.grid`` this run belongs to, e.g. ``"l=16"`` ("" without a
-        grid).
-    shared : SharedRun or None
-        For a point of an ``eps`` or ``min_area`` sweep that one engine run can count
-        together with the others of its series (``--sweep``): that run, the same for all
-        of them; ``None`` otherwise.
-    """
-
-    key: PointKey
-    value: float
-    argv: tuple
-    statistics: object = None
-    series: str = ""
-    shared: object = None
-
-
-#: Options with which ``--sweep`` cannot count (it runs count-only, on one thread, by
-#: enumeration).
-_NOT_SHARED = ("threads", "method")
-#: The parameters ``--sweep`` varies.
-_SHARED_PARAMS = ("eps", "min_area")
-
-
-def expand_claim(claim, mode, hrbench, version, shared_runs=False):
-    """The runs a claim needs.
-
-    Parameters
-    ----------
-    claim : Claim
-    mode : {"quick", "full"}
-        Which of the claim's ranges to sweep.
-    hrbench : str, path-like or sequence of them
-        The engine: a path, or a command of several words
-        (:func:`~hrbench_analysis.engine.engine_argv`).
-    version : str
-        Engine version, part of every cache key.
-    shared_runs : bool, optional
-        Whether the engine counts several values of eps or ``--min-area`` in one run
-        (``--sweep`` in its capabilities); if so, the points of a count-only sweep over
-        ``eps`` or ``min_area`` get a ``shared`` command line.
-
-    Returns
-    -------
-    points : list of SweepPoint
-        One per value of the swept parameter, in sweep order, for every combination of
-        the values of ``sweep.grid`` (in the order given); command lines as in
-        :func:`hrbench_analysis.engine.run_argv`, or
-        :func:`~hrbench_analysis.engine.solve_argv` for a claim with ``command = "solve"``.
-    """
-    points = []
-    options = claim.options_for(mode)
-    key_options = dict((name, option_text(v)) for name, v in options.items())
-    if claim.mesh is not None:
-        # The file by its path on the command line, by its bytes in the cache key.
-        options = options | {"mesh": claim.mesh}
-        key_options["mesh"] = f"sha256:{claim.mesh_sha256}"
-    key_options = tuple(sorted(key_options.items()))
-    grid = [dict(zip(claim.grid, combo, strict=True))
-            for combo in itertools.product(*claim.grid.values())]
-    # A solve is its own record (the counters and the solve's measures), never a count's.
-    solve = getattr(claim, "command", "run") == "solve"
-    make_argv, mode_key = (solve_argv, "solve") if solve else (run_argv, "count-only")
-    share = (shared_runs and claim.sweep_param in _SHARED_PARAMS and not solve
-             and not claim.statistics and not set(options) & set(_NOT_SHARED))
-    for fixed in grid:
-        for value in claim.range_for(mode).values():
-            params = dict(claim.params) | fixed
-            eps, min_area = claim.eps, claim.min_area
-            if claim.sweep_param == "eps":
-                eps = value
-            elif claim.sweep_param == "min_area":
-                min_area = value
-            else:
-                params[claim.sweep_param] = value
-            key = PointKey(version=version, scene=claim.scene,
-                           params=tuple(sorted(params.items())), eps=float(eps),
-                           oracle=claim.oracle, min_area=min_area,
-                           max_depth=claim.max_depth, mode=mode_key, options=key_options)
-            argv = make_argv(hrbench, claim.scene, params, eps, claim.oracle,
-                             min_area=min_area, max_depth=claim.max_depth, options=options)
-            series = ", ".join(f"{k}={format_number(v)}" for k, v in fixed.items())
-            shared = None
-            if share:
-                # The run of the series: without the value swept.
-                swept = claim.sweep_param
-                shared = SharedRun(tuple(engine_argv(hrbench)), claim.scene,
-                                   tuple(sorted(params.items())),
-                                   None if swept == "eps" else eps, claim.oracle, swept,
-                                   None if swept == "min_area" else min_area,
-                                   claim.max_depth, tuple(sorted(options.items())))
-            points.append(SweepPoint(key=key, value=value, argv=tuple(argv), series=series,
-                                     shared=shared))
-    return _with_statistics(claim, points, hrbench)
-
-
-def _with_statistics(claim, points, hrbench):
-    # A claim whose formulas read hierarchy statistics (lemmas.py) measures them
-    # at every point: under its own cache key (mode STATISTICS_MODE, so that a record
-    # without them is never reused), with the commands that dump and measure the links.
-    if not claim.statistics:
-        return points
-    out = []
-    for point in points:
-        k = point.key
-        params = dict(k.params)
-        options = {name: text for name, text in k.options if name != "method"}
-        job = StatisticsJob(
-            save_argv=tuple(save_argv(hrbench, k.scene, params)),
-            links_argv=tuple(links_argv(hrbench, k.scene, params, k.eps, None, k.oracle,
-                                        min_area=k.min_area, max_depth=k.max_depth,
-                                        options=options)))
-        out.append(replace(point, key=replace(k, mode=STATISTICS_MODE), statistics=job))
-    return out
 
 
 def _execute(point, timeout=None, tag=None):
@@ -374,7 +235,7 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
     live sweep waits until that sweep stores it (it is then read back, even if it
     failed) or its lease lapses (the owner died or stopped renewing; then this sweep
     runs it). Leases are renewed every
-    :data:`~hrbench_analysis.store.LEASE_RENEW` seconds while their points run, and
+    :data:`~hrbench_analysis.store_leases.LEASE_RENEW` seconds while their points run, and
     released when the sweep ends, normally or not. A point whose worker was lost (a Dask
     worker killed) is submitted again, up to :data:`MAX_ATTEMPTS` times in all, and then
     stored as failed with exit code :data:`WORKER_LOST`, which the next sweep runs again.
@@ -485,9 +346,9 @@ def order_by_cost(points, known_seconds):
     """The points, dearest first.
 
     The cost model: a point that ran before (under any engine version, found in
-    `known_seconds` by :meth:`~hrbench_analysis.store.PointKey.run_text`) costs what it
-    took then; these come first, longest first. The others keep the reverse of their
-    sweep order, since a sweep runs from cheap to dear (eps falling, the geometry
+    `known_seconds` by :meth:`~hrbench_analysis.store_points.PointKey.run_text`) costs
+    what it took then; these come first, longest first. The others keep the reverse of
+    their sweep order, since a sweep runs from cheap to dear (eps falling, the geometry
     growing), so that each sweep's dearest points start first and the cheap ones fill
     the tail.
 

@@ -8,7 +8,7 @@ from hrbench_analysis.claimfile import (
     load_claims,
     load_claims_dir,
 )
-from hrbench_analysis.reproduce import CLAIMS_DIR
+from hrbench_analysis.reproduce_options import CLAIMS_DIR
 
 
 def test_shipped_claims_load_and_cover_c1_to_c4():

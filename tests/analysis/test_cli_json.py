@@ -22,7 +22,8 @@ from hrbench_analysis.loader import (
     read_links_csv,
     run_environment,
 )
-from hrbench_analysis.reproduce import CLAIMS_DIR, check_claims
+from hrbench_analysis.reproduce import check_claims
+from hrbench_analysis.reproduce_options import CLAIMS_DIR
 
 ROOT = Path(__file__).resolve().parents[2]
 HRBENCH = ROOT / "build" / "hrbench"

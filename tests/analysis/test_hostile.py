@@ -388,7 +388,7 @@ def test_a_sweep_too_large_to_plan_exits_2_before_any_run(tmp_path, fake_hrbench
 
 def test_the_shipped_claims_are_well_within_the_sweep_bound():
     from hrbench_analysis.claimfile import MAX_SWEEP_POINTS, load_claims_dir, sweep_points
-    from hrbench_analysis.reproduce import CLAIMS_DIR
+    from hrbench_analysis.reproduce_options import CLAIMS_DIR
     claims = load_claims_dir(CLAIMS_DIR)
     total = sum(sweep_points(c) for c in claims)
     assert 1000 < total < MAX_SWEEP_POINTS / 10

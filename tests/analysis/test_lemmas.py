@@ -30,9 +30,11 @@ from hrbench_analysis.lemmas import (
     read_scene_segments,
 )
 from hrbench_analysis.loader import read_links_csv
-from hrbench_analysis.reproduce import CLAIMS_DIR
-from hrbench_analysis.store import ResultStore, StoredPoint, StoreError
-from hrbench_analysis.sweep import expand_claim, get_claim_data, run_points
+from hrbench_analysis.reproduce_options import CLAIMS_DIR
+from hrbench_analysis.store import ResultStore, StoreError
+from hrbench_analysis.store_points import StoredPoint
+from hrbench_analysis.sweep import get_claim_data, run_points
+from hrbench_analysis.sweep_plan import expand_claim
 
 ROOT = Path(__file__).resolve().parents[2]
 HRBENCH = ROOT / "build" / "hrbench"

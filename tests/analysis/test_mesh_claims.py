@@ -12,7 +12,7 @@ import pytest
 from hrbench_analysis.claimfile import ClaimsFileError, load_claims, missing_capability
 from hrbench_analysis.engine import engine_version, get_capabilities, option_argv
 from hrbench_analysis.reproduce import main
-from hrbench_analysis.sweep import expand_claim
+from hrbench_analysis.sweep_plan import expand_claim
 
 ROOT = Path(__file__).resolve().parents[2]
 HRBENCH = ROOT / "build" / "hrbench"

@@ -14,8 +14,10 @@ from hrbench_analysis.claimfile import ClaimsFileError, SweepRange, load_claims,
 from hrbench_analysis.engine import engine_version, format_number, get_capabilities, option_argv
 from hrbench_analysis.plots import PowerLawSeries, plot_power_law_comparison
 from hrbench_analysis.reproduce import check_claims, main
-from hrbench_analysis.store import PointKey, ResultStore, StoredPoint
-from hrbench_analysis.sweep import expand_claim, get_claim_data, run_points
+from hrbench_analysis.store import ResultStore
+from hrbench_analysis.store_points import PointKey, StoredPoint
+from hrbench_analysis.sweep import get_claim_data, run_points
+from hrbench_analysis.sweep_plan import expand_claim
 
 HEADER = '''[source]
 key = "test"

@@ -26,8 +26,10 @@ from hrbench_analysis.engine import (
     run_engine,
 )
 from hrbench_analysis.reproduce import main
-from hrbench_analysis.store import ACQUIRED, BUSY, PointKey, ResultStore, is_verdict
-from hrbench_analysis.sweep import expand_claim, run_points
+from hrbench_analysis.store import ACQUIRED, BUSY, ResultStore
+from hrbench_analysis.store_points import PointKey, is_verdict
+from hrbench_analysis.sweep import run_points
+from hrbench_analysis.sweep_plan import expand_claim
 
 ROOT = Path(__file__).resolve().parents[2]
 ARGV = ("parallel", {"l": 8.0, "d": 1.0}, 0.5, "garmann")

@@ -19,7 +19,8 @@ from hypothesis import strategies as st
 from hrbench_analysis.claimfile import MAX_RANGE_POINTS, ClaimsFileError, load_claims
 from hrbench_analysis.expr import FUNCTIONS, Expression, ExpressionError
 from hrbench_analysis.powerlaw import fit_power_law
-from hrbench_analysis.store import PointKey, ResultStore, StoredPoint
+from hrbench_analysis.store import ResultStore
+from hrbench_analysis.store_points import PointKey, StoredPoint
 
 DATA = Path(__file__).resolve().parent / "data"
 

@@ -14,14 +14,10 @@ from hrbench_analysis.claimfile import load_claims
 from hrbench_analysis.engine import engine_version
 from hrbench_analysis.reproduce import main
 from hrbench_analysis.schedulers import SchedulerError, check_scheduler, open_scheduler
-from hrbench_analysis.store import ResultStore, StoredPoint
-from hrbench_analysis.sweep import (
-    MAX_ATTEMPTS,
-    WORKER_LOST,
-    expand_claim,
-    order_by_cost,
-    run_points,
-)
+from hrbench_analysis.store import ResultStore
+from hrbench_analysis.store_points import StoredPoint
+from hrbench_analysis.sweep import MAX_ATTEMPTS, WORKER_LOST, order_by_cost, run_points
+from hrbench_analysis.sweep_plan import expand_claim
 
 distributed = pytest.importorskip("distributed")
 psutil = pytest.importorskip("psutil")

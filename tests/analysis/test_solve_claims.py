@@ -9,8 +9,10 @@ import pytest
 
 from hrbench_analysis.claimfile import ClaimsFileError, check_names, load_claims
 from hrbench_analysis.loader import SOLVE_MEASURES, parse_run_json, run_environment
-from hrbench_analysis.reproduce import CLAIMS_DIR, main
-from hrbench_analysis.sweep import ClaimData, expand_claim
+from hrbench_analysis.reproduce import main
+from hrbench_analysis.reproduce_options import CLAIMS_DIR
+from hrbench_analysis.sweep import ClaimData
+from hrbench_analysis.sweep_plan import expand_claim
 from hrbench_analysis.verdict import MEASURED, VERDICTS, assess_claim
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -8,17 +8,9 @@ import time
 
 import pytest
 
-from hrbench_analysis.store import (
-    ACQUIRED,
-    APPLICATION_ID,
-    BUSY,
-    DONE,
-    STORE_SCHEMA_VERSION,
-    PointKey,
-    ResultStore,
-    StoredPoint,
-    StoreError,
-)
+from hrbench_analysis.store import ACQUIRED, BUSY, DONE, ResultStore, StoreError
+from hrbench_analysis.store_points import PointKey, StoredPoint
+from hrbench_analysis.store_schema import APPLICATION_ID, STORE_SCHEMA_VERSION
 
 
 def key(eps=0.5):
@@ -116,7 +108,8 @@ def test_not_a_file_or_not_writable(tmp_path):
 
 def test_unreadable_record_is_a_store_error(tmp_path, data_dir):
     from hrbench_analysis.claimfile import load_claims
-    from hrbench_analysis.sweep import expand_claim, get_claim_data
+    from hrbench_analysis.sweep import get_claim_data
+    from hrbench_analysis.sweep_plan import expand_claim
     (claim,) = load_claims(data_dir / "small_claims.toml")
     points = expand_claim(claim, "quick", "hrbench", "v")[:1]
     with ResultStore(tmp_path / "c.sqlite") as store:

@@ -12,7 +12,8 @@ import pytest
 from hrbench_analysis.claimfile import load_claims
 from hrbench_analysis.engine import engine_version
 from hrbench_analysis.store import ResultStore
-from hrbench_analysis.sweep import expand_claim, get_claim_data, run_points
+from hrbench_analysis.sweep import get_claim_data, run_points
+from hrbench_analysis.sweep_plan import expand_claim
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -57,7 +57,7 @@ def test_the_tutorial_runs_python_from_the_venv_only():
 
 def test_the_tutorials_reports_go_to_their_own_folder():
     # The report of `make reproduce` (results/) is never overwritten by the tutorial's.
-    from hrbench_analysis.reproduce import _reproduce_parser
+    from hrbench_analysis.reproduce_options import _reproduce_parser
 
     reproductions = [c for c in tutorial_commands() if "hrbench_analysis.reproduce" in c]
     assert len(reproductions) >= 2

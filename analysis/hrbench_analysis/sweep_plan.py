@@ -1,0 +1,157 @@
+"""The points of a sweep: a claim expanded into the engine runs it needs.
+
+One :class:`SweepPoint` per value of the swept parameter and combination of the values
+of ``sweep.grid``, with its cache key, its command line, the commands that measure the
+hierarchy statistics of a claim that reads them, and the run it shares with the other
+points of its series when the engine counts several values at once (``--sweep``).
+:mod:`hrbench_analysis.sweep` runs them.
+"""
+
+import itertools
+from dataclasses import dataclass, replace
+
+from .engine import (
+    SharedRun,
+    engine_argv,
+    format_number,
+    links_argv,
+    option_text,
+    run_argv,
+    save_argv,
+    solve_argv,
+)
+from .lemmas import STATISTICS_MODE, StatisticsJob
+from .store_points import PointKey
+
+__all__ = ["SweepPoint", "expand_claim"]
+
+
+@dataclass(frozen=True)
+class SweepPoint:
+    """One run of a sweep.
+
+    Attributes
+    ----------
+    key : PointKey
+        Cache key of the run.
+    value : float
+        Value of the swept parameter.
+    argv : tuple of str
+        Command line (the engine's words first).
+    statistics : StatisticsJob or None
+        For a claim whose formulas read hierarchy statistics (:mod:`hrbench_analysis.lemmas`):
+        the commands that measure them after the run; ``None`` otherwise.
+    series : str
+        The values of ``sweep.grid`` this run belongs to, e.g. ``"l=16"`` ("" without a
+        grid).
+    shared : SharedRun or None
+        For a point of an ``eps`` or ``min_area`` sweep that one engine run can count
+        together with the others of its series (``--sweep``): that run, the same for all
+        of them; ``None`` otherwise.
+    """
+
+    key: PointKey
+    value: float
+    argv: tuple
+    statistics: object = None
+    series: str = ""
+    shared: object = None
+
+
+#: Options with which ``--sweep`` cannot count (it runs count-only, on one thread, by
+#: enumeration).
+_NOT_SHARED = ("threads", "method")
+#: The parameters ``--sweep`` varies.
+_SHARED_PARAMS = ("eps", "min_area")
+
+
+def expand_claim(claim, mode, hrbench, version, shared_runs=False):
+    """The runs a claim needs.
+
+    Parameters
+    ----------
+    claim : Claim
+    mode : {"quick", "full"}
+        Which of the claim's ranges to sweep.
+    hrbench : str, path-like or sequence of them
+        The engine: a path, or a command of several words
+        (:func:`~hrbench_analysis.engine.engine_argv`).
+    version : str
+        Engine version, part of every cache key.
+    shared_runs : bool, optional
+        Whether the engine counts several values of eps or ``--min-area`` in one run
+        (``--sweep`` in its capabilities); if so, the points of a count-only sweep over
+        ``eps`` or ``min_area`` get a ``shared`` command line.
+
+    Returns
+    -------
+    points : list of SweepPoint
+        One per value of the swept parameter, in sweep order, for every combination of
+        the values of ``sweep.grid`` (in the order given); command lines as in
+        :func:`hrbench_analysis.engine.run_argv`, or
+        :func:`~hrbench_analysis.engine.solve_argv` for a claim with ``command = "solve"``.
+    """
+    points = []
+    options = claim.options_for(mode)
+    key_options = dict((name, option_text(v)) for name, v in options.items())
+    if claim.mesh is not None:
+        # The file by its path on the command line, by its bytes in the cache key.
+        options = options | {"mesh": claim.mesh}
+        key_options["mesh"] = f"sha256:{claim.mesh_sha256}"
+    key_options = tuple(sorted(key_options.items()))
+    grid = [dict(zip(claim.grid, combo, strict=True))
+            for combo in itertools.product(*claim.grid.values())]
+    # A solve is its own record (the counters and the solve's measures), never a count's.
+    solve = getattr(claim, "command", "run") == "solve"
+    make_argv, mode_key = (solve_argv, "solve") if solve else (run_argv, "count-only")
+    share = (shared_runs and claim.sweep_param in _SHARED_PARAMS and not solve
+             and not claim.statistics and not set(options) & set(_NOT_SHARED))
+    for fixed in grid:
+        for value in claim.range_for(mode).values():
+            params = dict(claim.params) | fixed
+            eps, min_area = claim.eps, claim.min_area
+            if claim.sweep_param == "eps":
+                eps = value
+            elif claim.sweep_param == "min_area":
+                min_area = value
+            else:
+                params[claim.sweep_param] = value
+            key = PointKey(version=version, scene=claim.scene,
+                           params=tuple(sorted(params.items())), eps=float(eps),
+                           oracle=claim.oracle, min_area=min_area,
+                           max_depth=claim.max_depth, mode=mode_key, options=key_options)
+            argv = make_argv(hrbench, claim.scene, params, eps, claim.oracle,
+                             min_area=min_area, max_depth=claim.max_depth, options=options)
+            series = ", ".join(f"{k}={format_number(v)}" for k, v in fixed.items())
+            shared = None
+            if share:
+                # The run of the series: without the value swept.
+                swept = claim.sweep_param
+                shared = SharedRun(tuple(engine_argv(hrbench)), claim.scene,
+                                   tuple(sorted(params.items())),
+                                   None if swept == "eps" else eps, claim.oracle, swept,
+                                   None if swept == "min_area" else min_area,
+                                   claim.max_depth, tuple(sorted(options.items())))
+            points.append(SweepPoint(key=key, value=value, argv=tuple(argv), series=series,
+                                     shared=shared))
+    return _with_statistics(claim, points, hrbench)
+
+
+def _with_statistics(claim, points, hrbench):
+    # A claim whose formulas read hierarchy statistics (lemmas.py) measures them
+    # at every point: under its own cache key (mode STATISTICS_MODE, so that a record
+    # without them is never reused), with the commands that dump and measure the links.
+    if not claim.statistics:
+        return points
+    out = []
+    for point in points:
+        k = point.key
+        params = dict(k.params)
+        options = {name: text for name, text in k.options if name != "method"}
+        job = StatisticsJob(
+            save_argv=tuple(save_argv(hrbench, k.scene, params)),
+            links_argv=tuple(links_argv(hrbench, k.scene, params, k.eps, None, k.oracle,
+                                        min_area=k.min_area, max_depth=k.max_depth,
+                                        options=options)))
+        out.append(replace(point, key=replace(k, mode=STATISTICS_MODE), statistics=job))
+    return out
