@@ -191,6 +191,18 @@ TEST_CASE("check-links --clusters on the four plates: each violation", "[check-l
               std::vector<std::string>{"missing-link"});
         CHECK_THAT(first, Catch::Contains("missing link: nothing covers the element pair 0 3"));
     }
+    SECTION("a pair opened where the cluster oracle links it: the engine's counts differ") {
+        hrbench::RefineOptions plain = Clustered(0.5);
+        plain.clusters = false;
+        plain.storeLinks = true;
+        std::ostringstream unclustered;
+        hrbench::WriteLinkDump(
+            hrbench::AnyRefinement(hrbench::Refine<hrbench::Segment>(FourPlates(), plain)),
+            unclustered);
+        CHECK(Categories(Edit(unclustered.str(), {}), 0.5, &first) ==
+              std::vector<std::string>{"counter-mismatch"});
+        CHECK_THAT(first, Catch::Contains("counts: the links give links"));
+    }
     SECTION("a cluster index out of range") {
         CHECK(Categories(Edit(at05, {}, "C3 0\n"), 0.5, &first) ==
               std::vector<std::string>{"bad-cluster"});
@@ -221,6 +233,13 @@ TEST_CASE("check-links --clusters on the command line: exit codes and refusals",
     CHECK_THAT(r.out, Catch::Contains("links (1 cluster link) cover every root pair once"));
     CheckError(check + bad + " --clusters", hrbench::kExitViolation,
                "link within one cluster: C1 0");
+    r = Cli(check + bad + " --clusters --summary");
+    CHECK(r.exitCode == hrbench::kExitViolation);
+    CHECK_THAT(r.out, Catch::Contains("link-within-cluster (link within one cluster): 1"));
+    r = Cli(check + bad + " --clusters --json");
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    CHECK(j["categories"][0]["category"] == "link-within-cluster");
+    CHECK(j["counters"]["dump"]["cluster_links"] == 2);
     // A cluster token without --clusters, and what --clusters refuses.
     CheckError(check + good, 2, "C1 C2 is a cluster link: add --clusters");
     std::string directed = Scratch("four_directed.dump");
