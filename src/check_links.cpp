@@ -6,6 +6,7 @@
 
 #include "check_links/checker.h"
 #include "check_links/internal.h"
+#include "cluster/cluster_oracles.h"
 
 namespace hrbench {
 
@@ -23,6 +24,10 @@ LinkCheck CheckShape(const Scene &scene, const RefineOptions &options, const Lin
         using Oracle = typename decltype(tag)::template Type<Shape>;
         if constexpr (Oracle::kInfo.Supports(Shape::kDimension)) {
             if (name == Oracle::kInfo.name) {
+                if constexpr (!ClusterForm<Oracle>::kExists)
+                    if (options.clusters && !conv.ownOracle)
+                        throw InputError("--clusters: the oracle " + std::string(name) +
+                                         " has no cluster form");
                 RefineOptions at = options;
                 if (conv.ownOracle)
                     at.oracle = name;
@@ -49,8 +54,17 @@ LinkCheck CheckLinks(const Scene &scene, const RefineOptions &given, const LinkD
     if (given.visibility != VisibilityMode::None)
         throw InputError("check-links checks refinement without visibility: the links of a "
                          "root pair tile it only when no pair is occluded");
+    if (!given.clusters && !dump.clusterLinks.empty()) {
+        const DumpClusterLink &l = dump.clusterLinks.front();
+        throw InputError(dump.name + ":" + std::to_string(l.line) + ": " + LinkDump::NodeName(l.a) +
+                         " " + LinkDump::NodeName(l.b) +
+                         " is a cluster link: add --clusters to check a clustered refinement");
+    }
     RefineOptions options = given;
     const LinkConventions conv = ResolveConventions(dump, extra, options);
+    if (options.clusters && conv.directed)
+        throw InputError("--clusters checks undirected links: a cluster link stands for both "
+                         "directions, and links=directed has one per direction");
     RefineOptions counting = options;
     counting.storeLinks = false;
     counting.threads = 1;
@@ -75,7 +89,11 @@ LinkCheck CheckLinks(const Scene &scene, const RefineOptions &given, const LinkD
     check.oracle = conv.ownOracle ? "own" : options.oracle;
     check.treeComplete = violations.Total() == 0;
     check.oracleCallsFromRecord = !resolved.decisions.empty();
-    check.fromLinks.links = resolved.links.size();
+    check.fromLinks.links = resolved.links.size() + resolved.clusterLinks.size();
+    if (check.clusters) {
+        check.fromLinks.elementLinks = resolved.links.size();
+        check.fromLinks.clusterLinks = resolved.clusterLinks.size();
+    }
     // Named pairs, not structured bindings: C++17 lambdas cannot capture those.
     for (const auto &counter : dump.counters) {
         const std::string &key = counter.first;
@@ -102,7 +120,7 @@ LinkCheck CheckLinks(const Scene &scene, const RefineOptions &given, const LinkD
             inRange.patches);
         check.engine = std::visit([&](auto &&r) { return std::move(r.record.counters); },
                                   Refine(inRange, counting));
-        for (const auto &compared : ComparedCounters()) {
+        for (const auto &compared : ComparedCounters(check.clusters)) {
             const std::string &name = compared.first;
             uint64_t Counters::*field = compared.second;
             if (check.engine.*field != check.fromLinks.*field &&

@@ -39,6 +39,11 @@ class DumpReader {
         if (fields.size() != 2)
             Fail("expected a link, two elements ROOT or ROOT/PATH, or a counters line; got " +
                  std::to_string(fields.size()) + " fields");
+        if (IsClusterToken(fields[0]) || IsClusterToken(fields[1])) {
+            dump_.clusterLinks.push_back({Node(fields[0]), Node(fields[1]), line_});
+            records_ = true;
+            return;
+        }
         DumpLink link{Element(fields[0]), Element(fields[1]), line_};
         if (dump_.version == 1 && link.i.root > link.j.root)
             std::swap(link.i, link.j);
@@ -117,6 +122,31 @@ class DumpReader {
         dump_.decisions.push_back(d);
         records_ = true;
         return true;
+    }
+
+    static bool IsClusterToken(const std::string &token) { return token[0] == 'C'; }
+
+    // An end of a cluster link: C<index> (a cluster, index below 2^31) or a root patch,
+    // written as its root token.
+    uint32_t Node(const std::string &token) {
+        if (!IsClusterToken(token)) {
+            if (token.find('/') != std::string::npos)
+                Fail("element '" + token + "' in a cluster link: a root patch paired with a " +
+                     "cluster is written as its root, never subdivided against it");
+            return Element(token).root;
+        }
+        std::string index = token.substr(1);
+        if (index.find('/') != std::string::npos)
+            Fail("bad cluster '" + token + "': a cluster has no path");
+        if (index.empty() ||
+            !std::all_of(index.begin(), index.end(), [](char c) { return c >= '0' && c <= '9'; }))
+            Fail("bad cluster '" + token + "': expected C<index>, the index a whole number");
+        uint64_t value = 0;
+        if (index.size() > 10 ||
+            std::from_chars(index.data(), index.data() + index.size(), value).ec != std::errc() ||
+            value >= kClusterBit)
+            Fail("bad cluster '" + token + "': the index is beyond 2^31 - 1");
+        return ClusterNode(uint32_t(value));
     }
 
     DumpElement Element(const std::string &token) {
@@ -207,6 +237,10 @@ std::string LinkDump::Name(const DumpElement &e) const {
     return e.depth == 0 ? root : root + "/" + digits.substr(e.offset, e.depth);
 }
 
+std::string LinkDump::NodeName(uint32_t node) {
+    return IsCluster(node) ? "C" + std::to_string(ClusterIndex(node)) : std::to_string(node);
+}
+
 const std::vector<std::string> &DumpCounterNames(int version) {
     static const std::vector<std::string> names1 = {"links", "oracle_calls", "nodes",
                                                     "forced_links", "max_depth"};
@@ -254,6 +288,8 @@ void WriteLinkDump(const AnyRefinement &refinement, std::ostream &out) {
             out << probe::kDumpHeader << '\n';
             for (const Link &link : r.links)
                 probe::WriteLinkLine(out, PathOf(r.forest, link.i), PathOf(r.forest, link.j));
+            for (const ClusterLink &link : r.clusterLinks)
+                out << LinkDump::NodeName(link.a) << ' ' << LinkDump::NodeName(link.b) << '\n';
             const Counters &c = r.record.counters;
             probe::WriteCountersLine(out,
                                      {c.oracleCalls, c.links, c.nodes, c.forcedLinks, c.maxDepth});

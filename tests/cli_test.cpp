@@ -179,8 +179,7 @@ TEST_CASE("Clusters on the command line: their counters, their links and the opt
 
     for (const char *refused :
          {"run parallel --eps 0.5 --clusters --count-only --method translation",
-          "run parallel --clusters --count-only --sweep eps=0.1,0.2",
-          "links parallel --eps 0.5 --clusters --format probe --out /dev/null"}) {
+          "run parallel --clusters --count-only --sweep eps=0.1,0.2"}) {
         CliResult bad = Cli(refused);
         INFO(refused);
         CHECK(bad.exitCode == 2);

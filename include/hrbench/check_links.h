@@ -89,6 +89,7 @@ struct LinkCheck {
     bool oracleCallsFromRecord = false;                // counted on the decision records
     bool treeComplete = true;  // the recursion down to the links went through: the
                                // counts it gives (nodes, max_depth, ...) are known
+    bool clusters = false;     // --clusters: the dump's cluster links walked with the hierarchy
     bool engineCompared = false;
     Counters engine;  // hrbench's own refinement of the same scene and options
     LinkConventions conventions;
@@ -103,6 +104,11 @@ struct LinkCheck {
 // same scene and options (touching patches without a recursion limit) before any of
 // these, and LimitError where Refine() does. Refine() runs last, once the dump has
 // passed, so that the work and memory of a check grow with the dump, not the scene.
+//
+// With options.clusters (docs/probe.md, "Cluster links"), the root pairs checked are
+// those the walk of the cluster hierarchy reaches past the dump's cluster links, each
+// cluster link is checked with the cluster form of the oracle, and a pair covered twice
+// is an overlap. A dump with cluster links needs it (InputError).
 //
 // Version 2 (docs/probe.md): under the dump's conventions (merged with _extra_'s), every
 // check runs and every violation is collected; the LinkViolation thrown carries their

@@ -30,6 +30,14 @@ struct DumpLink {
     size_t line;  // 1-based line number in the dump
 };
 
+// A cluster link of a dump (--clusters): a line with a cluster token C<index> at one end
+// at least, its other end a cluster or a root patch. Its ends are nodes as in clusters.h
+// (kClusterBit set for a cluster, else the patch index), in the order written.
+struct DumpClusterLink {
+    uint32_t a, b;
+    size_t line;
+};
+
 // What a kernel did in one ProjectKernel call (version 2, "decide X Y ACTION").
 enum class DumpAction : uint8_t { Accept, Split, ForcedMinArea, ForcedMaxDepth, Cull };
 
@@ -44,9 +52,10 @@ struct DumpDecision {
 struct LinkDump {
     std::string name;  // the file, for messages
     int version = 1;
-    std::string digits;             // child digits of every element, back to back
-    std::vector<DumpLink> links;    // every link line, in dump order
-    std::vector<DumpLink> unlinks;  // every unlink record, in dump order
+    std::string digits;                         // child digits of every element, back to back
+    std::vector<DumpLink> links;                // every link line between elements, in dump order
+    std::vector<DumpClusterLink> clusterLinks;  // every cluster link line, in dump order
+    std::vector<DumpLink> unlinks;              // every unlink record, in dump order
     std::vector<DumpDecision> decisions;
     uint32_t passes = 1;
     // The conventions line's tokens (KEY=VALUE, or a set name with an empty value).
@@ -59,6 +68,8 @@ struct LinkDump {
     int Digit(const DumpElement &e, int level) const { return digits[e.offset + level] - '0'; }
     // "3" or "3/0110", as the dump writes it.
     std::string Name(const DumpElement &e) const;
+    // A node of a cluster link as the dump writes it: "C2" or "3".
+    static std::string NodeName(uint32_t node);
 };
 
 // The names the counters line of a dump of _version_ may use.
@@ -69,7 +80,8 @@ const std::vector<std::string> &DumpCounterNames(int version = 1);
 // digit or root, a path deeper than the safety depth, a repeated counters line).
 LinkDump ReadLinkDump(std::istream &in, const std::string &name, int arity, size_t numPatches);
 
-// Writes the stored links of _refinement_ as a dump, ending with its counters.
+// Writes the stored links of _refinement_ as a dump: its element links, then its cluster
+// links (--clusters) in traversal order, ending with its counters.
 void WriteLinkDump(const AnyRefinement &refinement, std::ostream &out);
 
 }  // namespace hrbench

@@ -22,8 +22,10 @@ LinkConventions ResolveConventions(const LinkDump &dump, const CheckLinksOptions
 // by root, the unlinked links removed.
 LinkDump Resolve(const LinkDump &dump, const LinkConventions &conv, Violations &violations);
 
-// The counters that a dump and a check compare, by the counters line's names.
-const std::vector<std::pair<std::string, uint64_t Counters::*>> &ComparedCounters();
+// The counters that a dump and a check compare, by the counters line's names; with
+// _clusters_ the cluster counters of the walk besides (by the run record's names).
+const std::vector<std::pair<std::string, uint64_t Counters::*>> &
+ComparedCounters(bool clusters = false);
 
 // The value of counter _name_ that the record gives, if it gives one.
 std::optional<uint64_t> FromRecord(const LinkCheck &check, const std::string &name);

@@ -1,5 +1,6 @@
 // check-links: the counters it compares, and its output: the line of a passing check,
 // the summary and the JSON.
+#include <algorithm>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -12,14 +13,23 @@
 namespace hrbench {
 
 // The counters that a dump and a check compare, by the counters line's names.
-const std::vector<std::pair<std::string, uint64_t Counters::*>> &ComparedCounters() {
+const std::vector<std::pair<std::string, uint64_t Counters::*>> &ComparedCounters(bool clusters) {
     static const std::vector<std::pair<std::string, uint64_t Counters::*>> counters = {
         {"links", &Counters::links},
         {"oracle_calls", &Counters::oracleCalls},
         {"nodes", &Counters::nodes},
         {"forced_links", &Counters::forcedLinks},
         {"max_depth", &Counters::maxDepth}};
-    return counters;
+    static const std::vector<std::pair<std::string, uint64_t Counters::*>> withClusters = [] {
+        auto all = counters;
+        all.insert(all.end(), {{"cluster_links", &Counters::clusterLinks},
+                               {"element_links", &Counters::elementLinks},
+                               {"cluster_oracle_calls", &Counters::clusterOracleCalls},
+                               {"opened_clusters", &Counters::openedClusters},
+                               {"root_pairs", &Counters::rootPairs}});
+        return all;
+    }();
+    return clusters ? withClusters : counters;
 }
 
 // The value of counter _name_ that the record gives, if it gives one.
@@ -33,13 +43,16 @@ std::optional<uint64_t> FromRecord(const LinkCheck &check, const std::string &na
         return check.passes;
     if (name == "links")
         return check.fromLinks.links;
+    if (check.clusters && (name == "cluster_links" || name == "element_links"))
+        return name == "cluster_links" ? check.fromLinks.clusterLinks
+                                       : check.fromLinks.elementLinks;
     // The rest come from ProjectKernel's recursion down to the links, once it went through.
     if (name == "oracle_calls" && check.oracleCallsKnown && check.oracleCallsFromRecord)
         return check.fromLinks.oracleCalls;
     if (!check.treeComplete || (name == "oracle_calls" && !check.oracleCallsKnown) ||
         (name == "forced_links" && !check.forcedKnown))
         return std::nullopt;
-    for (const auto &[key, field] : ComparedCounters())
+    for (const auto &[key, field] : ComparedCounters(check.clusters))
         if (key == name)
             return check.fromLinks.*field;
     return std::nullopt;
@@ -49,9 +62,16 @@ void PrintLinkCheck(const LinkCheck &check, const LinkDump &dump, const RefineOp
                     std::ostream &out) {
     const Counters &c = check.fromLinks;
     uint64_t refined = check.rootPairs - check.culledPairs;
-    out << dump.name << ": ok: " << c.links << " links tile the " << refined << " refined root pair"
-        << (refined == 1 ? "" : "s") << (check.conventions.directed ? ", each direction," : "")
-        << " exactly (" << check.culledPairs << " culled); ";
+    if (check.clusters)
+        out << dump.name << ": ok: " << c.links << " links (" << c.clusterLinks << " cluster link"
+            << (c.clusterLinks == 1 ? "" : "s") << ") cover every root pair once, the " << refined
+            << " refined root pair" << (refined == 1 ? "" : "s")
+            << " the hierarchy reaches tiled exactly (" << check.culledPairs << " culled); ";
+    else
+        out << dump.name << ": ok: " << c.links << " links tile the " << refined
+            << " refined root pair" << (refined == 1 ? "" : "s")
+            << (check.conventions.directed ? ", each direction," : "") << " exactly ("
+            << check.culledPairs << " culled); ";
     if (check.oracle == "own")
         out << "every decision is consistent with the links (the kernel's own oracle)";
     else
@@ -66,12 +86,13 @@ void PrintLinkCheck(const LinkCheck &check, const LinkDump &dump, const RefineOp
     }
     bool kernel = dump.countersLine != 0;
     char row[96];
-    const int width = dump.version >= 2 ? 18 : 14;  // total_oracle_calls
+    // total_oracle_calls, cluster_oracle_calls
+    const int width = check.clusters ? 20 : dump.version >= 2 ? 18 : 14;
     std::snprintf(row, sizeof row, "%-*s %14s %14s%s\n", width, "", "dump", "hrbench",
                   kernel ? "         kernel" : "");
     out << row;
     std::vector<std::string> names;
-    for (const auto &[name, field] : ComparedCounters())
+    for (const auto &[name, field] : ComparedCounters(check.clusters))
         names.push_back(name);
     if (dump.version >= 2)
         names.insert(names.end(), {"total_oracle_calls", "passes"});
@@ -82,7 +103,7 @@ void PrintLinkCheck(const LinkCheck &check, const LinkDump &dump, const RefineOp
                 reported = std::to_string(value);
         if (auto v = FromRecord(check, name))
             record = std::to_string(*v);
-        for (const auto &[key, field] : ComparedCounters())
+        for (const auto &[key, field] : ComparedCounters(check.clusters))
             if (key == name && check.engineCompared)
                 engine = std::to_string(check.engine.*field);
         std::snprintf(row, sizeof row, "%-*s %14s %14s", width, name.c_str(), record.c_str(),
@@ -167,14 +188,18 @@ std::string LinkCheckJson(const LinkDump &dump, const LinkSummary *summary,
         nlohmann::ordered_json record = nlohmann::ordered_json::object(),
                                kernel = nlohmann::ordered_json::object(),
                                engine = nlohmann::ordered_json::object();
-        for (const std::string &name : DumpCounterNames(2)) {
+        std::vector<std::string> names = DumpCounterNames(2);
+        for (const auto &[name, field] : ComparedCounters(check->clusters))
+            if (std::find(names.begin(), names.end(), name) == names.end())
+                names.push_back(name);
+        for (const std::string &name : names) {
             auto v = FromRecord(*check, name);
             record[name] = v ? nlohmann::ordered_json(*v) : nullptr;
         }
         for (const auto &[key, value] : dump.counters)
             kernel[key] = value;
         if (check->engineCompared)
-            for (const auto &[name, field] : ComparedCounters())
+            for (const auto &[name, field] : ComparedCounters(check->clusters))
                 engine[name] = check->engine.*field;
         j["counters"] = {
             {"dump", record},

@@ -32,6 +32,9 @@ inline const std::vector<std::pair<std::string, std::string>> &Categories() {
         {"cull-mismatch", "cull inconsistent"},
         {"missing-decision", "missing decision"},
         {"stray-decision", "stray decision"},
+        {"bad-cluster", "cluster out of range"},
+        {"link-within-cluster", "link within one cluster"},
+        {"cluster-oracle", "unacceptable cluster link"},
         {"counter-mismatch", "counts"},
     };
     return categories;

@@ -191,8 +191,6 @@ int Main(int argc, char **argv) {
         }
     }
     if (o.command == "links") {
-        if (o.refine.clusters && o.linksFormat == "probe")
-            throw InputError("--format probe holds element links only: --clusters writes CSV");
         AnyRefinement refinement = Refine(scene, o.refine);
         display.reset();
         std::ofstream out(o.out, std::ios::binary);

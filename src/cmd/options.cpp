@@ -202,9 +202,10 @@ const std::vector<OptionSpec> &OptionTable() {
          "--clusters",
          "",
          {},
-         kRefining,
+         {"run", "links", "check-links", "solve"},
          "refine through a hierarchy of clusters of the root patches\n"
-         "(docs/conventions.md#clusters; not with --method translation,\n--sweep)",
+         "(docs/conventions.md#clusters; not with --method translation,\n--sweep); "
+         "check-links: a dump with cluster links (docs/probe.md)",
          [](Options &o, S) { o.refine.clusters = true; }},
         {"threads",
          "--threads",
