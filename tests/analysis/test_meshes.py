@@ -149,3 +149,36 @@ def test_the_engine_reads_the_box_without_warnings_and_needs_a_recursion_limit(t
                              text=True)
     assert limited.returncode == 0 and limited.stderr == ""
     assert '"patches":100' in limited.stdout
+
+
+def test_the_bunny_figure_says_where_its_mesh_is_missing(tmp_path, monkeypatch):
+    from hrbench_analysis import solution
+
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(FileNotFoundError, match="make bunny-box"):
+        solution.bunny_figure(str(HRBENCH), tmp_path)
+    warnings = []
+    figures = solution.solution_figures("/nonexistent/hrbench", tmp_path, warn=warnings.append)
+    assert figures == []
+    assert any(w.startswith("warning: no bunny figure:") and "make bunny-box" in w
+               for w in warnings)
+
+
+@needs_engine
+def test_the_bunny_figure_of_a_box_solved_through_clusters(tmp_path, monkeypatch):
+    # The report's figure on the tetrahedron's box: the solve's counts and energy balance
+    # in the title and caption, its leaves in the CSV.
+    from hrbench_analysis import solution
+
+    off = tmp_path / "tetra.off"
+    off.write_text(TETRA)
+    assert main(["bunny-box", "--off", str(off), "--out", str(tmp_path), "--fill", "0.3"]) == 0
+    mesh, *rest = solution.BUNNY
+    monkeypatch.setattr(solution, "BUNNY", (tmp_path / "bunny_box.obj", *rest))
+    figure = solution.bunny_figure(str(HRBENCH), tmp_path)
+    assert figure.name == "bunny"
+    assert (tmp_path / "solution-bunny.csv").stat().st_size > 0
+    title = figure.figure.axes[0].get_title()
+    assert title.startswith("388 patches, ")  # 4 faces, 380 wall quads, 4 light quads
+    assert "cluster links" in title and "of the emitted power" in title
+    assert "Energy balance: absorbed " in figure.caption
