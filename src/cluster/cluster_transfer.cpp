@@ -30,7 +30,7 @@ constexpr uint32_t kTries = 8;
 }  // namespace
 
 template <typename Shape>
-void ClusterTransfer<Shape>::SamplePatches(const Patches<Shape> &patches, uint32_t node,
+void ClusterTransfer<Shape>::SamplePatches(const std::vector<Vec> &normal, uint32_t node,
                                            const Vec &u, int samples,
                                            std::vector<uint32_t> &out) const {
     out.clear();
@@ -46,7 +46,7 @@ void ClusterTransfer<Shape>::SamplePatches(const Patches<Shape> &patches, uint32
         uint32_t chosen = tree_.Patches()[cluster.begin + place];
         for (uint32_t t = 0; t < std::min(kTries, n); ++t) {
             uint32_t p = tree_.Patches()[cluster.begin + (place + t) % n];
-            if (patches[p].shape.Normal().dot(u) > 0) {
+            if (normal[p].dot(u) > 0) {
                 chosen = p;
                 break;
             }
@@ -145,16 +145,15 @@ ClusterTransfer<Shape>::ClusterTransfer(const Patches<Shape> &patches,
             Vec u = d / r;
             double flux = projected(l.a, u) * projected(l.b, -u) / KernelDenominator<kDimension>(r);
             if (occluders && flux > 0) {
-                SamplePatches(patches, l.a, u, samples, scratch.from);
-                SamplePatches(patches, l.b, -u, samples, scratch.to);
+                SamplePatches(normal, l.a, u, samples, scratch.from);
+                SamplePatches(normal, l.b, -u, samples, scratch.to);
                 // Only segments whose ends face each other carry light: the others
                 // (two coplanar cells of a wall, say) are not cast.
                 uint32_t visible = 0, rays = 0;
                 for (uint32_t p : scratch.from)
                     for (uint32_t q : scratch.to) {
-                        Vec a = patches[p].shape.Centroid(), b = patches[q].shape.Centroid();
-                        if (!(patches[p].shape.Normal().dot(b - a) > 0 &&
-                              patches[q].shape.Normal().dot(a - b) > 0))
+                        const Vec &a = center[p], &b = center[q];
+                        if (!(normal[p].dot(b - a) > 0 && normal[q].dot(a - b) > 0))
                             continue;
                         ++rays;
                         visible += !occluders->Blocked(a, b, p, q);

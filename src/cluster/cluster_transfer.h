@@ -58,8 +58,9 @@ class ClusterTransfer {
 
     // The patches of node _node_ that stand for it as a light's end toward _u_: itself
     // for a root patch; for a cluster, up to _samples_ of its patches, spread over its
-    // range, each the first from its place on (up to kTries on) that faces _u_.
-    void SamplePatches(const Patches<Shape> &patches, uint32_t node, const Vec &u, int samples,
+    // range, each the first from its place on (up to kTries on) whose normal (in
+    // _normal_, by patch) faces _u_.
+    void SamplePatches(const std::vector<Vec> &normal, uint32_t node, const Vec &u, int samples,
                        std::vector<uint32_t> &out) const;
 
     const ClusterTree<Shape> &tree_;
