@@ -107,6 +107,13 @@ Scene Sphere(int rings, double rho) {
     return {"file", {}, "", faces};
 }
 
+// The unit square [x, x + 1] x [0, 1] in the plane z, facing +z (_up_) or -z, of
+// reflectance _rho_ and emission _e_.
+Patch<Polygon> Square(double x, double z, bool up, double rho, double e) {
+    Vec3 a{x, 0, z}, b{x + 1, 0, z}, c{x + 1, 1, z}, d{x, 1, z};
+    return {up ? Polygon::Quad(a, b, c, d) : Polygon::Quad(a, d, c, b), {rho, e}};
+}
+
 double Imbalance(const SolveResult &r) {
     return std::abs(r.absorbedPower - r.emittedPower) / r.emittedPower;
 }
@@ -283,10 +290,6 @@ TEST_CASE("One cluster link between two clusters of two segments, by hand", "[so
 TEST_CASE("A 3D cluster link: B A / (16 pi r^2) between isotropic ends, exact between "
           "projected ones, nothing within a plane",
           "[solve][clusters][3d]") {
-    auto square = [](double x, double z, bool up, double rho, double e) {
-        Vec3 a{x, 0, z}, b{x + 1, 0, z}, c{x + 1, 1, z}, d{x, 1, z};
-        return Patch<Polygon>{up ? Polygon::Quad(a, b, c, d) : Polygon::Quad(a, d, c, b), {rho, e}};
-    };
     SolveOptions options = Solving(1e-14);
     options.plainGather = true;
     RefineOptions refine = Refining(1, 0);
@@ -305,8 +308,8 @@ TEST_CASE("A 3D cluster link: B A / (16 pi r^2) between isotropic ends, exact be
     };
     // Two clusters of two unit squares each, facing each other 10 apart along z: the
     // projected areas are 2 at each end, the isotropic 2/4.
-    Patches<Polygon> facing = {square(0, 0, true, 0, 1), square(1, 0, true, 0, 2),
-                               square(0, 10, false, 0.5, 0), square(1, 10, false, 0.5, 0)};
+    Patches<Polygon> facing = {Square(0, 0, true, 0, 1), Square(1, 0, true, 0, 2),
+                               Square(0, 10, false, 0.5, 0), Square(1, 10, false, 0.5, 0)};
     for (auto [kind, projected] : {std::pair{kIsotropic, 0.5}, {kProjected, 2.0}}) {
         SolveResult s = solve(facing, kind);
         double hY = 1.5 * projected * projected / (M_PI * 100) / 2;  // B_X f f / (pi r^2) / A_Y
@@ -315,8 +318,8 @@ TEST_CASE("A 3D cluster link: B A / (16 pi r^2) between isotropic ends, exact be
     }
     // The same four squares side by side on z = 0, all facing +z: two clusters of one
     // floor exchange nothing, but as isotropic clusters they do.
-    Patches<Polygon> flat = {square(0, 0, true, 0, 1), square(1, 0, true, 0, 1),
-                             square(10, 0, true, 0.5, 0), square(11, 0, true, 0.5, 0)};
+    Patches<Polygon> flat = {Square(0, 0, true, 0, 1), Square(1, 0, true, 0, 1),
+                             Square(10, 0, true, 0.5, 0), Square(11, 0, true, 0.5, 0)};
     CHECK(solve(flat, kProjected).leaves[2].radiosity == 0);
     CHECK(solve(flat, kIsotropic).leaves[2].radiosity > 0);
 }
@@ -590,18 +593,14 @@ TEST_CASE("The direction table holds a projected measure exactly at its directio
 TEST_CASE("A cluster link is weighed by the share of unblocked segments between its ends' "
           "sample patches",
           "[solve][clusters][3d]") {
-    auto square = [](double x, double z, bool up, double rho, double e) {
-        Vec3 a{x, 0, z}, b{x + 1, 0, z}, c{x + 1, 1, z}, d{x, 1, z};
-        return Patch<Polygon>{up ? Polygon::Quad(a, b, c, d) : Polygon::Quad(a, d, c, b), {rho, e}};
-    };
     // X = {p0, p1} at z = 0 facing +z, Y = {p2, p3} at z = 10 facing -z, and a blocker
     // p4 in the plane z = 5 over x in [x0, x1], y in [-1, 2].
     auto solve = [&](double x0, double x1) {
         Patches<Polygon> patches = {
-            square(0, 0, true, 0, 1),
-            square(1, 0, true, 0, 2),
-            square(0, 10, false, 0.5, 0),
-            square(1, 10, false, 0.5, 0),
+            Square(0, 0, true, 0, 1),
+            Square(1, 0, true, 0, 2),
+            Square(0, 10, false, 0.5, 0),
+            Square(1, 10, false, 0.5, 0),
             {Polygon::Quad({x0, -1, 5}, {x1, -1, 5}, {x1, 2, 5}, {x0, 2, 5}), {0, 0}}};
         RefineOptions refine = Refining(1, 0);
         refine.visibility = VisibilityMode::Fraction;
