@@ -76,14 +76,13 @@ LinkFormFactors MeasureOf(const Refinement<Shape> &refinement, const RefineOptio
 
 template <typename Shape>
 std::vector<LinkCoefficients>
-ComputeCoefficients(const Patches<Shape> &patches, const Forest<Shape> &forest,
-                    const LinkBuffer &links, const RefineOptions &options,
+ComputeCoefficients(const Forest<Shape> &forest, const LinkBuffer &links,
+                    const RefineOptions &options, const Occluders *occluders,
                     LinkFormFactors *formFactors) {
     std::vector<LinkCoefficients> coefficients(links.size());
-    std::unique_ptr<Occluders> occluders = OccludersFor(patches, options);
     std::vector<Shape> shapes = forest.AllShapes();
     LinkFormFactors measured = ForEachLink(
-        shapes, occluders.get(), links, options, [&](PairCoefficients<Shape> &pair, size_t k) {
+        shapes, occluders, links, options, [&](PairCoefficients<Shape> &pair, size_t k) {
             uint32_t i = links[k].i, j = links[k].j;
             double ij = pair.FormFactorOf(i, j);
             coefficients[k] = pair.Weighted(forest, i, j, ij, pair.Visible(forest, i, j));
@@ -144,11 +143,13 @@ template std::vector<double> ConsistencyScales(const Patches<Polygon> &, const F
                                                const std::vector<LinkCoefficients> &,
                                                const RefineOptions &, const std::vector<double> *);
 
-template std::vector<LinkCoefficients>
-ComputeCoefficients(const Patches<Segment> &, const Forest<Segment> &, const LinkBuffer &,
-                    const RefineOptions &, LinkFormFactors *);
-template std::vector<LinkCoefficients>
-ComputeCoefficients(const Patches<Polygon> &, const Forest<Polygon> &, const LinkBuffer &,
-                    const RefineOptions &, LinkFormFactors *);
+template std::vector<LinkCoefficients> ComputeCoefficients(const Forest<Segment> &,
+                                                           const LinkBuffer &,
+                                                           const RefineOptions &, const Occluders *,
+                                                           LinkFormFactors *);
+template std::vector<LinkCoefficients> ComputeCoefficients(const Forest<Polygon> &,
+                                                           const LinkBuffer &,
+                                                           const RefineOptions &, const Occluders *,
+                                                           LinkFormFactors *);
 
 }  // namespace hrbench

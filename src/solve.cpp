@@ -224,12 +224,13 @@ void SolveLinks(const Patches<Shape> &patches, const Refinement<Shape> &refineme
                 const std::vector<Material> &unitMaterials, SolveResult &result,
                 std::vector<double> *radiosity) {
     Stopwatch coefficientWatch;
+    // One set of occluders weighs the element links and the cluster links alike.
+    std::unique_ptr<Occluders> occluders = OccludersFor(patches, refine);
     std::vector<LinkCoefficients> coefficients = ComputeCoefficients(
-        patches, refinement.forest, refinement.links, refine, &result.linkFormFactors);
+        refinement.forest, refinement.links, refine, occluders.get(), &result.linkFormFactors);
     std::optional<ClusterTransfer<Shape>> clusters;
     std::vector<double> clusterCoefficients;
     if (refinement.clusters.NumClusters() > 0) {
-        std::unique_ptr<Occluders> occluders = OccludersFor(patches, refine);
         clusters.emplace(patches, refinement.clusters, refinement.clusterLinks,
                          options.clusterTransfer, occluders.get(), refine.raysPerSide,
                          refine.threads);
@@ -395,10 +396,7 @@ SolveMethod ParseSolveMethod(const std::string &name) {
 }
 
 std::string SolveMethodName(SolveMethod method) {
-    for (const SolveMethodInfo &m : SolveMethods())
-        if (m.method == method)
-            return m.name;
-    return "unknown";
+    return NameOf(SolveMethods(), &SolveMethodInfo::method, method);
 }
 
 const std::vector<ClusterTransferInfo> &ClusterTransfers() {
@@ -416,10 +414,7 @@ ClusterTransferKind ParseClusterTransfer(const std::string &name) {
 }
 
 std::string ClusterTransferName(ClusterTransferKind kind) {
-    for (const ClusterTransferInfo &t : ClusterTransfers())
-        if (t.kind == kind)
-            return t.name;
-    return "unknown";
+    return NameOf(ClusterTransfers(), &ClusterTransferInfo::kind, kind);
 }
 
 void ValidateSolveOptions(const SolveOptions &o) {

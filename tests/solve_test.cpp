@@ -218,8 +218,7 @@ TEST_CASE("The consistency scale is 1 where the links are exact, and never with 
     Scene plates = MakeScene("parallel", {{"l", 1}, {"d", 1}});
     RefineOptions whole = Refining(100, 0);
     Refinement<Segment> r = Refine<Segment>(plates, whole);
-    std::vector<LinkCoefficients> c =
-        ComputeCoefficients(plates.Get<Segment>(), r.forest, r.links, whole);
+    std::vector<LinkCoefficients> c = ComputeCoefficients(r.forest, r.links, whole);
     std::vector<double> s = ConsistencyScales(plates.Get<Segment>(), r.forest, r.links, c, whole);
     REQUIRE(s.size() == 2);
     CHECK(s[0] == Approx(1).epsilon(1e-14));
@@ -227,7 +226,7 @@ TEST_CASE("The consistency scale is 1 where the links are exact, and never with 
     // Refined: a leaf's scale is its exact form factor over its chain's coefficients.
     RefineOptions split = Refining(0.3, 0);
     r = Refine<Segment>(plates, split);
-    c = ComputeCoefficients(plates.Get<Segment>(), r.forest, r.links, split);
+    c = ComputeCoefficients(r.forest, r.links, split);
     s = ConsistencyScales(plates.Get<Segment>(), r.forest, r.links, c, split);
     for (uint32_t e = 0; e < r.forest.Size(); ++e) {
         if (r.forest[e].firstChild != kNoChildren) {
@@ -345,7 +344,7 @@ TEST_CASE("Form-factor row sums in the closed room", "[solve]") {
         INFO("eps " << eps);
         Refinement<Segment> r = Refine<Segment>(room, Refining(eps, 0.01));
         std::vector<LinkCoefficients> c =
-            ComputeCoefficients(room.Get<Segment>(), r.forest, r.links, Refining(eps, 0.01));
+            ComputeCoefficients(r.forest, r.links, Refining(eps, 0.01));
         std::vector<double> own(r.forest.Size(), 0);
         for (size_t k = 0; k < r.links.size(); ++k) {
             own[r.links[k].i] += c[k].ij;

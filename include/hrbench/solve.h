@@ -24,6 +24,8 @@
 
 namespace hrbench {
 
+class Occluders;  // visibility.h
+
 // How the linear system is iterated (`solve --solver`).
 enum class SolveMethod {
     Jacobi,       // every root patch gathers from the previous sweep's radiosity
@@ -112,22 +114,24 @@ struct LinkFormFactors {
 void AddLinkFormFactors(const LinkFormFactors &formFactors, nlohmann::json &record);
 
 // The coefficients of every link, in link order: F_ij = FormFactor(i, j), F_ji by
-// reciprocity A_i F_ij / A_j. Computed on options.threads threads; each value depends
-// on its link only, so the result is the same for every thread count. With
-// _formFactors_, also the links' LinkFormFactors against options.eps, from the same
-// form factors (before the visible fraction weighs them).
+// reciprocity A_i F_ij / A_j, each weighed by the pair's visible fraction when
+// _occluders_ (the scene's, under options.visibility) are given. Computed on
+// options.threads threads; each value depends on its link only, so the result is the
+// same for every thread count. With _formFactors_, also the links' LinkFormFactors
+// against options.eps, from the same form factors (before the visible fraction weighs
+// them).
 template <typename Shape>
 std::vector<LinkCoefficients>
-ComputeCoefficients(const Patches<Shape> &patches, const Forest<Shape> &forest,
-                    const LinkBuffer &links, const RefineOptions &options,
+ComputeCoefficients(const Forest<Shape> &forest, const LinkBuffer &links,
+                    const RefineOptions &options, const Occluders *occluders = nullptr,
                     LinkFormFactors *formFactors = nullptr);
 
 extern template std::vector<LinkCoefficients>
-ComputeCoefficients(const Patches<Segment> &, const Forest<Segment> &, const LinkBuffer &,
-                    const RefineOptions &, LinkFormFactors *);
+ComputeCoefficients(const Forest<Segment> &, const LinkBuffer &, const RefineOptions &,
+                    const Occluders *, LinkFormFactors *);
 extern template std::vector<LinkCoefficients>
-ComputeCoefficients(const Patches<Polygon> &, const Forest<Polygon> &, const LinkBuffer &,
-                    const RefineOptions &, LinkFormFactors *);
+ComputeCoefficients(const Forest<Polygon> &, const LinkBuffer &, const RefineOptions &,
+                    const Occluders *, LinkFormFactors *);
 
 // The LinkFormFactors of a stored refinement's links against options.eps, on
 // options.threads threads (`run --link-form-factors`). LimitError when the elements'

@@ -20,4 +20,14 @@ const auto &FindNamed(const Table &table, const std::string &name, const std::st
     throw InputError("unknown " + what + " '" + name + "' (choose one of: " + names + ")");
 }
 
+// The name of the entry of _table_ whose member _field_ equals _value_: the reverse of
+// FindNamed, for enums listed in a table; "unknown" where none does.
+template <typename Table, typename Field, typename Value>
+std::string NameOf(const Table &table, Field field, const Value &value) {
+    for (const auto &entry : table)
+        if (entry.*field == value)
+            return entry.name;
+    return "unknown";
+}
+
 }  // namespace hrbench
