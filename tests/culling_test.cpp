@@ -143,7 +143,7 @@ TEST_CASE("A mesh whose faces mostly have every other face behind them draws a h
     CHECK(FacingAwayHint(Segments({{S(1, 0, 0, 0), {}}, {S(0, 1, 1, 1), {}}})).empty());
 }
 
-// Every corner of every other face, tested one by one: what the hull's corners stand for.
+// Every corner of every other face, tested one by one, in scene order: the scan alone.
 // Returns whether a face has corners strictly on both sides of its plane, the number of
 // faces with every other corner behind or in their plane (some behind), and their area.
 static std::tuple<bool, size_t, double> EveryCorner(const Patches<Polygon> &patches) {
@@ -169,7 +169,7 @@ static std::tuple<bool, size_t, double> EveryCorner(const Patches<Polygon> &patc
     return {separates, out, outArea};
 }
 
-TEST_CASE("The scene-wide side tests through the corners' hull agree with every corner tested",
+TEST_CASE("The scene-wide side tests, far corners first, agree with every corner tested",
           "[culling][mesh]") {
     auto asMesh = [](const Patches<Polygon> &patches, bool flip) {
         std::string obj;
@@ -192,14 +192,14 @@ TEST_CASE("The scene-wide side tests through the corners' hull agree with every 
         return ParseMesh(obj, MeshFormat::Obj, "scene.obj", {});
     };
     std::vector<Scene> scenes;
-    // Soups: their hull corners are each one face's alone, so those faces test everything.
+    // Soups: the far corners often belong to the face tested, which then leaves them out.
     for (int seed = 1; seed <= 4; ++seed)
         scenes.push_back(asMesh(
             MakeScene("random3d", {{"n", 40}, {"seed", seed}, {"size", 3}}).Get<Polygon>(), false));
     // A closed sphere seen from inside, and from outside (each face hinted).
     for (bool flip : {false, true})
         scenes.push_back(asMesh(MakeScene("sphere", {{"n", 3}}).Get<Polygon>(), flip));
-    // The outward sphere beside a lone triangle: a hull corner shared, and three alone.
+    // The outward sphere beside a lone triangle, whose corners are the far ones toward +x.
     Patches<Polygon> lone = MakeScene("sphere", {{"n", 2}}).Get<Polygon>();
     lone.push_back({Polygon::Triangle(Vec3(3, 0, 0), Vec3(3, 1, 0), Vec3(3, 0, 1)), {}});
     scenes.push_back(asMesh(lone, true));
