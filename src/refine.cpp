@@ -5,12 +5,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <functional>
 #include <numeric>
 #include <optional>
 #include <string>
-#include <thread>
 
 #include "cluster/traversal.h"
 #include "hrbench/culling.h"
@@ -46,6 +44,16 @@ Budget SplitBudget(size_t bytes, const RefineOptions &options) {
             bytes / 4 * 3 / sizeof(Link)};
 }
 
+// What a task left in its worker (RunTasks): its worker, the run of sibling groups it
+// made there (the elements [begin, end) of the worker's forest), where its links end in
+// the worker's buffer, and how many links and oracle calls it made.
+struct TaskResult {
+    size_t worker;
+    uint32_t begin, end;
+    size_t linksEnd;
+    uint64_t links, oracleCalls;
+};
+
 // Grows the canonical forest, the union of the workers' forests, and maps each worker's
 // element ids to canonical ones. Every worker's forest began as a copy of the sequential
 // pass's forest, which the canonical one starts as too, so the ids of its elements are
@@ -57,16 +65,11 @@ Budget SplitBudget(size_t bytes, const RefineOptions &options) {
 template <typename Forest>
 class ForestUnion {
   public:
-    // A task's run of sibling groups in its worker's forest.
-    struct Run {
-        size_t worker;
-        uint32_t begin, end;  // the run's elements: [begin, end)
-    };
-
-    // _splits_: each worker's Forest::SplitElements(); _runs_: the tasks' runs, in task
-    // order. _canonical_ holds the sequential pass's forest and grows to the union.
-    ForestUnion(const std::vector<std::vector<uint32_t>> &splits, const std::vector<Run> &runs,
-                Forest &canonical)
+    // _splits_: each worker's Forest::SplitElements(); _tasks_: the tasks' results, with
+    // their runs, in task order. _canonical_ holds the sequential pass's forest and grows
+    // to the union.
+    ForestUnion(const std::vector<std::vector<uint32_t>> &splits,
+                const std::vector<TaskResult> &tasks, Forest &canonical)
         : maps_(splits.size()) {
         const size_t topSize = canonical.Size();
         const uint32_t numRoots = uint32_t(canonical.NumRoots()), arity = canonical.Arity();
@@ -79,7 +82,7 @@ class ForestUnion {
             bound += maps_[w].size() - topSize;
         }
         canonical.Reserve(bound);
-        for (const Run &run : runs) {
+        for (const TaskResult &run : tasks) {
             std::vector<uint32_t> &map = maps_[run.worker];
             for (uint32_t first = run.begin; first < run.end; first += arity) {
                 uint32_t parent = splits[run.worker][(first - numRoots) / arity];
@@ -182,35 +185,40 @@ void CountUnion(const Forest &top, const std::vector<Forest> &forests, int threa
     }
 }
 
-// Bytes of _tasks_ at their array's capacity, and of what the second pass keeps for
-// each (RefineAllPairs: its links' end, links and calls, and its run of elements).
+// What the sequential pass leaves (RefineToTaskDepth): the trees and links down to the
+// task depth, their counts, the tasks below it, and (with progress) each refined pair's
+// ordinal among all root pairs, from 1.
 template <typename F>
-size_t RecordBytes(const std::vector<Task> &tasks) {
-    constexpr size_t kPerTask =
-        sizeof(size_t) + 2 * sizeof(uint64_t) + sizeof(typename ForestUnion<F>::Run);
-    return tasks.capacity() * sizeof(Task) + tasks.size() * kPerTask;
-}
+struct TaskDepthPass {
+    F forest;
+    LinkBuffer links;
+    Tally tally;
+    std::vector<Task> tasks;
+    std::vector<uint64_t> pairOrdinal;
 
-// Runs the kernel over the root pairs that _traverse_ gives (every one in scene order,
-// or those the cluster traversal reaches, in its order): a sequential pass down to the
-// task depth, then the tasks on worker threads, each with its own copy of the trees.
-template <typename Shape, int kArity, typename Oracle, bool kStoreLinks, typename Visibility>
-void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
-                    const RefineOptions &options, const Budget &budget,
-                    const Visibility &visibility, const RootPairTraversal &traverse,
-                    Refinement<Shape> &result) {
+    // Bytes of the records per refined root pair (_pairs_) and per task, at capacity.
+    size_t RecordBytes(const std::vector<PairTally> &pairs) const {
+        return pairs.capacity() * sizeof(PairTally) + pairOrdinal.capacity() * sizeof(uint64_t) +
+               tasks.capacity() * sizeof(Task) + tasks.size() * sizeof(TaskResult);
+    }
+};
+
+// The sequential pass: classifies the root pairs that _traverse_ gives (every one in
+// scene order, or those the cluster traversal reaches, in its order), refines those that
+// need it down to the task depth, recording them in _result_.pairs and the pairs at that
+// depth as tasks, and throws LimitError when this exceeds _budget_.
+template <int kArity, bool kStoreLinks, typename Shape, typename Oracle, typename Visibility>
+TaskDepthPass<Forest<Shape>>
+RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const RefineOptions &options,
+                  const Budget &budget, const Visibility &visibility,
+                  const RootPairTraversal &traverse, Refinement<Shape> &result) {
     using F = Forest<Shape>;
     Counters &counters = result.record.counters;
-    F top(patches, budget.maxElements, options.subdivision);
-    ProjectKernel<F, kArity, Oracle, kStoreLinks, true, Visibility> topKernel(
-        top, oracle, options, budget.maxLinks, visibility);
-    LinkBuffer topLinks;
-    std::vector<Task> tasks;
-
-    // Classify every root pair and refine it down to the task depth.
+    TaskDepthPass<F> pass{F(patches, budget.maxElements, options.subdivision), {}, {}, {}, {}};
+    ProjectKernel<F, kArity, Oracle, kStoreLinks, true, Visibility> kernel(
+        pass.forest, oracle, options, budget.maxLinks, visibility);
     const uint32_t numPatches = uint32_t(patches.size());
     RefineProgress *progress = options.progress;
-    std::vector<uint64_t> pairOrdinal;  // of each refined pair among all root pairs, from 1
     if (progress) {
         // With clusters, how many root pairs the traversal reaches is not known ahead.
         progress->rootPairs = options.clusters ? 0 : uint64_t(numPatches) * (numPatches - 1) / 2;
@@ -222,16 +230,12 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     // before they are taken. A scene of many patches can hold more in them than in its
     // trees (24 bytes per refined pair).
     const size_t pairBytes = sizeof(PairTally) + (progress ? sizeof(uint64_t) : 0);
-    auto recordBytes = [&] {
-        return result.pairs.capacity() * sizeof(PairTally) +
-               pairOrdinal.capacity() * sizeof(uint64_t) + RecordBytes<F>(tasks);
-    };
     auto check = [&](size_t growing) {
-        if (recordBytes() + growing + top.Size() * F::kBytesPerElement +
-                topLinks.size() * sizeof(Link) >
+        if (pass.RecordBytes(result.pairs) + growing + pass.forest.Size() * F::kBytesPerElement +
+                pass.links.size() * sizeof(Link) >
             budget.bytes)
             throw LimitError("the records of " + std::to_string(result.pairs.size()) +
-                             " refined root pairs and " + std::to_string(tasks.size()) +
+                             " refined root pairs and " + std::to_string(pass.tasks.size()) +
                              " tasks would exceed the memory budget; raise --max-memory or eps");
     };
     // Clustered count-only runs keep the record of a refined pair only while a task
@@ -251,93 +255,107 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
             check(grown * pairBytes);
             result.pairs.reserve(grown);
             if (progress)
-                pairOrdinal.reserve(grown);
+                pass.pairOrdinal.reserve(grown);
         }
-        Tally before = topKernel.tally;
-        size_t tasksBefore = tasks.size();
-        topKernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), topLinks, &tasks);
-        if (pairsForTasksOnly && tasks.size() == tasksBefore)
+        Tally before = kernel.tally;
+        size_t tasksBefore = pass.tasks.size();
+        kernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), pass.links, &pass.tasks);
+        if (pairsForTasksOnly && pass.tasks.size() == tasksBefore)
             return;
-        result.pairs.push_back({p, q, topKernel.tally.Links() - before.Links(),
-                                topKernel.tally.oracleCalls - before.oracleCalls});
+        result.pairs.push_back({p, q, kernel.tally.Links() - before.Links(),
+                                kernel.tally.oracleCalls - before.oracleCalls});
         if (progress)
-            pairOrdinal.push_back(counters.rootPairs);
+            pass.pairOrdinal.push_back(counters.rootPairs);
         check(0);
     });
+    pass.tally = kernel.tally;
+    return pass;
+}
 
-    // Run the tasks: each worker takes the next task in order and refines it fully, its
-    // trees and links within what the records leave of the budget.
-    size_t numWorkers = std::max<size_t>(1, std::min<size_t>(options.threads, tasks.size()));
-    const Budget left = SplitBudget<Shape>(budget.bytes - recordBytes(), options);
-    // One worker takes the first pass's forest over, with nothing left to read it;
-    // several start from copies of it.
+// What RunTasks leaves: per worker its forest, links (store mode) and counts; per task its result.
+template <typename F>
+struct WorkerResults {
     std::vector<F> forests;
+    std::vector<LinkBuffer> links;
+    std::vector<Tally> tallies;
+    std::vector<TaskResult> tasks;
+};
+
+// Runs the tasks of _pass_ on max(1, min(threads, tasks)) workers, each taking the next
+// task in order and refining it fully in its own forest, within _budget_; rethrows the
+// error of the earliest failed task. One worker takes the pass's forest over, with
+// nothing left to read it; several start from copies of it.
+template <int kArity, bool kStoreLinks, typename F, typename Oracle, typename Visibility>
+WorkerResults<F> RunTasks(TaskDepthPass<F> &pass, const Oracle &oracle,
+                          const RefineOptions &options, const Budget &budget,
+                          const Visibility &visibility) {
+    using Kernel = ProjectKernel<F, kArity, Oracle, kStoreLinks, false, Visibility>;
+    const std::vector<Task> &tasks = pass.tasks;
+    const size_t numWorkers = std::max<size_t>(1, std::min<size_t>(options.threads, tasks.size()));
+    WorkerResults<F> out;
     if (numWorkers == 1)
-        forests.push_back(std::move(top));
+        out.forests.push_back(std::move(pass.forest));
     else
-        forests.assign(numWorkers, top);
-    for (F &forest : forests)
-        forest.LimitBudget(left.maxElements);
+        out.forests.assign(numWorkers, pass.forest);
+    for (F &forest : out.forests)
+        forest.LimitBudget(budget.maxElements);
     // Each worker appends its links to one buffer; a task's links are a range of it.
     // The first worker's buffer starts with the sequential pass's links, whose ids are
     // the same in every worker's forest.
-    std::vector<LinkBuffer> workerLinks(kStoreLinks ? numWorkers : 0);
+    out.links.resize(kStoreLinks ? numWorkers : 0);
     if constexpr (kStoreLinks)
-        workerLinks[0] = std::move(topLinks);
-    std::vector<size_t> taskLinksEnd(tasks.size());
-    std::vector<uint64_t> taskLinkCount(tasks.size()), taskCallCount(tasks.size());
-    // Per task: its worker and the elements it made there, for the merge.
-    std::vector<typename ForestUnion<F>::Run> taskRuns(tasks.size());
-    std::vector<Tally> workerTally(numWorkers);
-    std::atomic<size_t> next{0};
-    std::atomic<bool> failed{false};
-    std::vector<std::pair<size_t, std::exception_ptr>> errors(numWorkers, {SIZE_MAX, nullptr});
+        out.links[0] = std::move(pass.links);
+    out.tallies.resize(numWorkers);
+    out.tasks.resize(tasks.size());
+
+    // Worker _index_'s kernel, on forest _index_. Its counts go to out.tallies when its
+    // work ends, also after a failure, where they are not read.
+    struct Worker {
+        size_t index;
+        Kernel kernel;
+        Tally &tally;
+        LinkBuffer countOnly = {};  // the links of a count-only run, which keeps none
+        ~Worker() { tally = kernel.tally; }
+    };
+    RefineProgress *progress = options.progress;
     if (progress)
         progress->StartPass(2);
-    auto work = [&](size_t w) {
-        ProjectKernel<F, kArity, Oracle, kStoreLinks, false, Visibility> kernel(
-            forests[w], oracle, options, left.maxLinks / numWorkers, visibility);
-        LinkBuffer unused;
-        LinkBuffer &links = kStoreLinks ? workerLinks[w] : unused;
-        for (size_t t; !failed && (t = next++) < tasks.size();) {
+    ParallelFor(  // with numWorkers workers, one task a chunk
+        tasks.size(), 1, int(numWorkers),
+        [&](size_t w) {
+            size_t maxLinks = budget.maxLinks / numWorkers;
+            return Worker{w, Kernel(out.forests[w], oracle, options, maxLinks, visibility),
+                          out.tallies[w]};
+        },
+        [&](Worker &worker, size_t t) {
             if (progress)
-                progress->At(pairOrdinal[tasks[t].pair]);
-            try {
-                uint64_t linksBefore = kernel.tally.Links(), calls = kernel.tally.oracleCalls;
-                uint32_t elementsBefore = uint32_t(forests[w].Size());
-                kernel.Project(tasks[t].call, tasks[t].pair, links, nullptr);
-                taskRuns[t] = {w, elementsBefore, uint32_t(forests[w].Size())};
-                taskLinkCount[t] = kernel.tally.Links() - linksBefore;
-                taskCallCount[t] = kernel.tally.oracleCalls - calls;
-                taskLinksEnd[t] = links.size();
-            } catch (...) {
-                errors[w] = {t, std::current_exception()};
-                failed = true;
-            }
-        }
-        workerTally[w] = kernel.tally;
-    };
-    std::vector<std::thread> threads;
-    for (size_t w = 1; w < numWorkers; ++w)
-        threads.emplace_back(work, w);
-    work(0);
-    for (std::thread &t : threads)
-        t.join();
+                progress->At(pass.pairOrdinal[tasks[t].pair]);
+            const size_t w = worker.index;
+            LinkBuffer &links = kStoreLinks ? out.links[w] : worker.countOnly;
+            const Tally &tally = worker.kernel.tally;
+            uint64_t linksBefore = tally.Links(), callsBefore = tally.oracleCalls;
+            uint32_t begin = uint32_t(out.forests[w].Size());
+            worker.kernel.Project(tasks[t].call, tasks[t].pair, links, nullptr);
+            uint32_t end = uint32_t(out.forests[w].Size());
+            uint64_t made = tally.Links() - linksBefore, calls = tally.oracleCalls - callsBefore;
+            out.tasks[t] = {w, begin, end, links.size(), made, calls};
+        });
+    return out;
+}
 
-    // Report the error of the earliest failed task: every task before it has run,
-    // so which error surfaces does not depend on timing.
-    auto first = std::min_element(errors.begin(), errors.end(),
-                                  [](const auto &a, const auto &b) { return a.first < b.first; });
-    if (first->second)
-        std::rethrow_exception(first->second);
-
-    // Sum the counts: the sequential pass, then the workers.
-    Tally total = topKernel.tally;
-    for (const Tally &t : workerTally)
+// Sums the counts of the sequential pass and the workers into _result_: the run's
+// counters, and each refined pair's links and oracle calls.
+template <typename F, typename Shape>
+void SumCounts(const TaskDepthPass<F> &pass, const WorkerResults<F> &workers,
+               const RefineOptions &options, Refinement<Shape> &result) {
+    Counters &counters = result.record.counters;
+    Tally total = pass.tally;
+    for (const Tally &t : workers.tallies)
         total.Add(t);
-    for (size_t t = 0; t < tasks.size(); ++t) {
-        result.pairs[tasks[t].pair].links += taskLinkCount[t];
-        result.pairs[tasks[t].pair].oracleCalls += taskCallCount[t];
+    for (size_t t = 0; t < pass.tasks.size(); ++t) {
+        PairTally &pair = result.pairs[pass.tasks[t].pair];
+        pair.links += workers.tasks[t].links;
+        pair.oracleCalls += workers.tasks[t].oracleCalls;
     }
     // With --clusters, links and oracle calls count the cluster ones too.
     counters.oracleCalls = total.oracleCalls + counters.clusterOracleCalls;
@@ -351,14 +369,22 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     counters.linksPerDepth.assign(total.linksPerDepth.begin(), total.linksPerDepth.end());
     while (!counters.linksPerDepth.empty() && counters.linksPerDepth.back() == 0)
         counters.linksPerDepth.pop_back();
+}
 
+// The workers' trees as one, counted, and (store mode) the result's forest and links in
+// the ids that one worker running every task in order would have made.
+template <bool kStoreLinks, typename F, typename Shape>
+void MergeWorkers(TaskDepthPass<F> &pass, WorkerResults<F> &workers, const RefineOptions &options,
+                  Refinement<Shape> &result) {
+    Counters &counters = result.record.counters;
+    const std::vector<TaskResult> &tasks = workers.tasks;
     // One worker ran every task in order: its ids are canonical, as made.
-    if (numWorkers == 1) {
+    if (workers.forests.size() == 1) {
         if constexpr (kStoreLinks) {
-            result.links = std::move(workerLinks[0]);
+            result.links = std::move(workers.links[0]);
             result.links.ShrinkToFit();
         }
-        result.forest = std::move(forests[0]);
+        result.forest = std::move(workers.forests[0]);
         result.forest.LiftBudget();
         return CountTrees(result.forest, counters);
     }
@@ -366,29 +392,29 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     // Several workers, without links: no element id is seen, so their trees are
     // counted as one instead of merged, and the result keeps only the roots.
     if constexpr (!kStoreLinks) {
-        CountUnion(top, forests, options.threads, counters);
+        CountUnion(pass.forest, workers.forests, options.threads, counters);
     } else {
         // Merge the trees into canonical ids and translate the links to them.
         std::vector<std::vector<uint32_t>> splits;
-        for (const F &forest : forests)
+        for (const F &forest : workers.forests)
             splits.push_back(forest.SplitElements());
-        std::vector<F>().swap(forests);
-        result.forest = std::move(top);
+        std::vector<F>().swap(workers.forests);
+        result.forest = std::move(pass.forest);
         result.forest.LiftBudget();
-        ForestUnion<F> merged(splits, taskRuns, result.forest);
+        ForestUnion<F> merged(splits, tasks, result.forest);
         CountTrees(result.forest, counters);
 
         // Concatenate the tasks' ranges in task order, translating each worker's ids:
         // every task's range has its place known in advance, so the tasks are copied
         // on the run's threads, each giving its source range back to the system.
-        size_t topCount = workerLinks[0].size();
-        for (size_t t = 0; t < tasks.size(); ++t)
-            if (taskRuns[t].worker == 0)
-                topCount -= taskLinkCount[t];
+        size_t topCount = workers.links[0].size();
+        for (const TaskResult &task : tasks)
+            if (task.worker == 0)
+                topCount -= task.links;
         std::vector<size_t> taskStart(tasks.size());
         size_t total = topCount;
         for (size_t t = 0; t < tasks.size(); ++t)
-            taskStart[t] = total, total += taskLinkCount[t];
+            taskStart[t] = total, total += tasks[t].links;
         result.links.Reserve(total);
         result.links.Resize(total);
         auto copy = [&](size_t w, size_t begin, size_t end, size_t to) {
@@ -401,20 +427,37 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
                 size_t blockEnd = std::min(end, block + kBlock);
                 result.links.Populate(to, to + (blockEnd - block));  // one call, not a fault a page
                 for (size_t k = block; k < blockEnd; ++k, ++to) {
-                    const Link &link = workerLinks[w][k];
+                    const Link &link = workers.links[w][k];
                     result.links[to] = {merged.Canonical(w, link.i), merged.Canonical(w, link.j)};
                 }
-                workerLinks[w].Discard(block - std::min(block - begin, kBlock / 2), blockEnd);
+                workers.links[w].Discard(block - std::min(block - begin, kBlock / 2), blockEnd);
             }
         };
         copy(0, 0, topCount, 0);
         ParallelFor(
             tasks.size(), 16, options.threads, [] { return 0; },
             [&](int, size_t t) {
-                size_t end = taskLinksEnd[t];
-                copy(taskRuns[t].worker, end - taskLinkCount[t], end, taskStart[t]);
+                const TaskResult &task = tasks[t];
+                copy(task.worker, task.linksEnd - task.links, task.linksEnd, taskStart[t]);
             });
     }
+}
+
+// Runs the kernel over the root pairs that _traverse_ gives: a sequential pass down to
+// the task depth, then the tasks on worker threads, each with its own copy of the trees,
+// within what the pass's records leave of the budget.
+template <typename Shape, int kArity, typename Oracle, bool kStoreLinks, typename Visibility>
+void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
+                    const RefineOptions &options, const Budget &budget,
+                    const Visibility &visibility, const RootPairTraversal &traverse,
+                    Refinement<Shape> &result) {
+    TaskDepthPass<Forest<Shape>> pass = RefineToTaskDepth<kArity, kStoreLinks>(
+        patches, oracle, options, budget, visibility, traverse, result);
+    const Budget left = SplitBudget<Shape>(budget.bytes - pass.RecordBytes(result.pairs), options);
+    WorkerResults<Forest<Shape>> workers =
+        RunTasks<kArity, kStoreLinks>(pass, oracle, options, left, visibility);
+    SumCounts(pass, workers, options, result);
+    MergeWorkers<kStoreLinks>(pass, workers, options, result);
 }
 
 // Every root pair (p, q), p < q, in order.

@@ -619,6 +619,22 @@ TEST_CASE("ParallelFor visits every index once and rethrows the earliest failure
     CHECK_FALSE(ran);
 }
 
+TEST_CASE("ParallelFor makes each worker's state with its index, once", "[solve]") {
+    // 3 chunks of 7 indices: at most 3 workers, whatever the thread count.
+    for (int threads : {1, 2, 4}) {
+        std::vector<std::atomic<int>> made(4);
+        ParallelFor(
+            21, 7, threads,
+            [&](size_t w) {
+                ++made[w];
+                return w;
+            },
+            [](size_t, size_t) {});
+        for (size_t w = 0; w < made.size(); ++w)
+            CHECK(made[w] == (w < size_t(std::min(threads, 3)) ? 1 : 0));
+    }
+}
+
 // ---------------------------------------------------------------------------------------
 // BF refinement in passes
 
