@@ -15,16 +15,16 @@ How a sweep uses them (:mod:`hrbench_analysis.sweep`): a claim whose ``x`` or ``
 statistic (:func:`claim_statistics`) runs each point as usual (``hrbench run ...
 --count-only --json``) and then :func:`measure`: the scene's patches
 (``hrbench save``), the link list into a temporary file (``hrbench links``, deleted
-afterwards), the statistics, added to the run's record under :data:`RECORD_FIELD`. The
-record is cached under its own key (:data:`STATISTICS_MODE`), so records without
-statistics are never reused for it, and a rerun reads the statistics from the cache
-without dumping the links again.
+afterwards), the statistics, which the results cache keeps beside the run's record
+(:func:`stored_statistics`; the record stays what the engine printed). The run is
+cached under its own key (:data:`STATISTICS_MODE`), so runs without statistics are
+never reused for it, and a rerun reads the statistics from the cache without dumping
+the links again.
 
 The statistics are defined for 2D scenes (segments): an element's geometry is its
 interval ``[t0, t1]`` of arc length along its root segment.
 """
 
-import json
 import math
 import os
 import tempfile
@@ -42,7 +42,6 @@ __all__ = [
     "STATISTICS",
     "STATISTICS_VERSION",
     "STATISTICS_MODE",
-    "RECORD_FIELD",
     "RELATIVE_SLACK",
     "LinkDumpError",
     "GroupStatistics",
@@ -54,8 +53,8 @@ __all__ = [
     "element_statistics",
     "hierarchy_statistics",
     "measure",
-    "add_to_record",
-    "record_statistics",
+    "stored_statistics",
+    "statistics_env",
     "claim_statistics",
     "is_lemma",
 ]
@@ -99,8 +98,6 @@ _COUNTS = ("span_violations", "both_sides_violations", "extent_violations", "ele
 STATISTICS_VERSION = 2
 #: The ``mode`` of the cache key of a run with statistics (``"count-only"`` without).
 STATISTICS_MODE = f"count-only+hierarchy-statistics-v{STATISTICS_VERSION}"
-#: Field of the run record (JSON) that holds the statistics.
-RECORD_FIELD = "hierarchy_statistics"
 #: Relative slack of the inequality checks, for rounding: a group breaks the bounds
 #: only when ``D`` lies outside them by more than this times ``r_max + r_min``.
 RELATIVE_SLACK = 1e-9
@@ -379,6 +376,14 @@ class StatisticsJob:
     save_argv: tuple
     links_argv: tuple
 
+    @classmethod
+    def of(cls, run, hrbench):
+        """The commands that measure the statistics of `run` (a
+        :class:`~hrbench_analysis.engine.RunSpec`): its scene, and its link list with the
+        same oracle, limits and options, less ``method`` (``links`` enumerates)."""
+        return cls(tuple(run.save_argv(hrbench)),
+                   tuple(run.without_options("method").links_argv(hrbench)))
+
 
 @dataclass
 class Measurement:
@@ -449,40 +454,38 @@ def measure(job, links=None, timeout=None, tag=None):
     return Measurement(hierarchy_statistics(stats), 0, "", time.perf_counter() - start)
 
 
-def add_to_record(text, statistics):
-    """A run record (JSON text) with the statistics added under :data:`RECORD_FIELD`.
+def stored_statistics(statistics):
+    """The statistics as the results cache keeps them, beside the run's record
+    (:attr:`hrbench_analysis.store_points.StoredPoint.statistics`).
 
     Parameters
     ----------
-    text : str
-        The record printed by ``hrbench run --json``.
     statistics : dict
+        As from :func:`hierarchy_statistics`.
 
     Returns
     -------
-    text : str
-        The same object with one field more.
+    stored : dict
+        The same values, with the ``version`` of their definitions
+        (:data:`STATISTICS_VERSION`) first.
     """
-    obj = json.loads(text)
-    obj[RECORD_FIELD] = {"version": STATISTICS_VERSION, **statistics}
-    return json.dumps(obj)
+    return {"version": STATISTICS_VERSION, **statistics}
 
 
-def record_statistics(result):
-    """The statistics a run record holds, for a formula, or ``None``.
+def statistics_env(stored):
+    """The statistics a stored point holds, for a formula, or ``None``.
 
     Parameters
     ----------
-    result : RunResult
-        As from :func:`hrbench_analysis.loader.parse_run_json` (the statistics are in ``extra``).
+    stored : dict or None
+        :attr:`hrbench_analysis.store_points.StoredPoint.statistics`.
 
     Returns
     -------
     env : dict of str to float or None
         Every name of :data:`STATISTICS` (``nan`` where undefined); ``None`` when the
-        record has no statistics of this :data:`STATISTICS_VERSION`.
+        point has no statistics of this :data:`STATISTICS_VERSION`.
     """
-    stored = result.extra.get(RECORD_FIELD)
     if not isinstance(stored, dict) or stored.get("version") != STATISTICS_VERSION:
         return None
     env = {}

@@ -61,12 +61,13 @@ from .engine import (
     INPUT_ERROR,
     NOT_STARTED,
     EngineError,
+    RunSpec,
     engine_text,
     engine_version,
     format_number,
     get_capabilities,
     interrupt_exit_code,
-    run_links,
+    write_links,
 )
 from .errors import OUTPUT_ERROR, AnalysisError, OutputError, one_line, run_main
 from .explorer import write_explorer
@@ -457,7 +458,7 @@ def _main(argv):
         try:
             _tiling_iv(capabilities)
             with staged(csv_path) as written:  # whole for another run reading it
-                run_links(setup.engine, scene, params, eps, written, oracle)
+                write_links(setup.engine, RunSpec.of(scene, params, eps, oracle), written)
                 links = read_links_csv(written)
             links_title = (f"{scene} " + " ".join(f"{k}={v:g}" for k, v in params.items())
                            + f", eps={eps:g}, oracle {oracle}: {len(links)} links")

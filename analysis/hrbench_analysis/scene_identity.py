@@ -10,21 +10,14 @@ under the current directory, or ``hrbench`` on the ``PATH``) the check is skippe
 a warning.
 """
 
-import json
 import os
 import shutil
 from pathlib import Path
 
-from .engine import (
-    MESH_SCENE,
-    engine_argv,
-    engine_text,
-    format_number,
-    option_argv,
-    run_engine,
-    save_argv,
-)
+from .engine import MESH_SCENE, engine_argv, engine_text, format_number, run_engine
+from .engine.spelling import scene_argv
 from .errors import one_line
+from .loader import ResultFormatError, parse_run_json, read_scene_digest
 
 __all__ = ["reference_engine", "scene_mismatch", "SCENE_OPTIONS"]
 
@@ -64,8 +57,8 @@ def _reported(points, store):
         if stored is None or not stored.ok:
             continue
         try:
-            digest = json.loads(stored.output).get("scene_sha256")
-        except (ValueError, AttributeError):
+            digest = parse_run_json(stored.output).extra.get("scene_sha256")
+        except ResultFormatError:
             continue
         if isinstance(digest, str):
             digests, _ = seen.setdefault(point.key.params, (set(), point))
@@ -77,7 +70,7 @@ def _scene_text(claim, params):
     # "parallel d=1 l=8", or "mesh F.obj".
     if claim.scene == MESH_SCENE:
         return f"mesh {claim.mesh}"
-    return " ".join(save_argv("hrbench", claim.scene, dict(params))[2:])  # after "hrbench save"
+    return " ".join(scene_argv(claim.scene, dict(params)))
 
 
 def scene_mismatch(claim, mode, points, store, reference, digests=None):
@@ -88,8 +81,11 @@ def scene_mismatch(claim, mode, points, store, reference, digests=None):
     ----------
     claim : Claim
     mode : {"quick", "full"}
+        The mode the points were expanded for (their runs carry its options).
     points : sequence of SweepPoint
-        The claim's points, run (:func:`hrbench_analysis.sweep_plan.expand_claim`).
+        The claim's points, run (:func:`hrbench_analysis.sweep_plan.expand_claim`);
+        hrbench saves the scene of each one's run with the options that change its
+        patches (:data:`SCENE_OPTIONS`).
     store : ResultStore
     reference : str or None
         hrbench (:func:`reference_engine`); ``None``: nothing to compare with.
@@ -112,21 +108,13 @@ def scene_mismatch(claim, mode, points, store, reference, digests=None):
                       "(build/hrbench, or hrbench on the PATH) is at hand to compare it "
                       "with; the scene is not checked"]
     digests = {} if digests is None else digests
-    options = {name: value for name, value in claim.options_for(mode).items()
-               if name in SCENE_OPTIONS}
-    if claim.mesh is not None:
-        options["mesh"] = claim.mesh
     warnings = []
     for params, (found, point) in reported.items():
-        argv = (*save_argv(reference, claim.scene, dict(params)), *option_argv(options))
+        # The point's scene, with the options that change its patches (a mesh among them).
+        argv = tuple(point.run.save_argv(reference, SCENE_OPTIONS))
         if argv not in digests:
             run = run_engine(argv, timeout=SAVE_TIMEOUT)
-            digest = None
-            if run.exit_code == 0:
-                try:
-                    digest = json.loads(run.stdout).get("scene_sha256")
-                except (ValueError, AttributeError):
-                    pass
+            digest = read_scene_digest(run.stdout) if run.exit_code == 0 else None
             digests[argv] = digest if isinstance(digest, str) else (
                 f"exit code {run.exit_code}: {run.message or 'no scene_sha256'}")
         expected = digests[argv]

@@ -6,14 +6,13 @@ solution, with the element mesh at a toggle; and the Stanford bunny in a lit box
 patches), solved through clusters (docs/meshes.md).
 """
 
-import json
 from pathlib import Path
 
 from matplotlib.figure import Figure
 
 from .drawing import plot_radiosity_profile, render_figure
-from .engine import MESH_SCENE, EngineError, run_engine, solve_argv
-from .loader import ResultFormatError, read_solution
+from .engine import MESH_SCENE, EngineError, RunSpec, run_engine
+from .loader import ResultFormatError, read_record, read_solution
 from .output import staged
 from .raster import Camera
 from .report import ReportFigure
@@ -35,25 +34,27 @@ def solve_to_csv(engine, scene, params, eps, oracle, options, csv_path, min_area
                  max_depth=None):
     """Run one solve that writes its leaves to `csv_path`; return its JSON record (a dict).
 
-    The arguments are those of :func:`hrbench_analysis.engine.solve_argv`. The engine
+    The arguments are those of :func:`hrbench_analysis.engine.solve_argv` (the solve's
+    :class:`~hrbench_analysis.engine.RunSpec`). The engine
     writes a temporary file beside `csv_path`, which becomes `csv_path` once the solve
     succeeded (:func:`hrbench_analysis.output.staged`): a run sharing the folder never
     reads a part of it. Raises EngineError if the solve fails (its exit code and
     message), ResultFormatError if it prints no JSON, OutputError if the file cannot be
     written.
     """
+    solve = RunSpec.of(scene, params, eps, oracle, min_area=min_area, max_depth=max_depth,
+                       options=options, command="solve")
     with staged(csv_path) as written:
-        argv = solve_argv(engine, scene, params, eps, oracle, min_area=min_area,
-                          max_depth=max_depth, options=options) + ["--out", str(written)]
+        argv = solve.argv(engine) + ["--out", str(written)]
         run = run_engine(argv)
         command = " ".join(run.argv[1:]).replace(str(written), str(csv_path))
         if run.exit_code != 0:
             raise EngineError(f"{command} failed with exit code {run.exit_code}: "
                               f"{run.message or 'no message'}")
         try:
-            return json.loads(run.stdout)
-        except json.JSONDecodeError as exc:
-            raise ResultFormatError(f"{command}: output is not JSON: {exc}") from None
+            return read_record(run.stdout)
+        except ResultFormatError as exc:
+            raise ResultFormatError(f"{command}: {exc}") from None
 
 
 def profile_figure(engine, results):

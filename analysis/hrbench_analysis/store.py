@@ -22,6 +22,10 @@ owner has not renewed it for :data:`LEASE_TIMEOUT` seconds (owners renew every
 :data:`LEASE_RENEW` seconds ahead of this host's clock; then another sweep takes the
 point over. So no lease outlives its process by more than :data:`LEASE_TIMEOUT`.
 
+A point's hierarchy statistics (:mod:`hrbench_analysis.lemmas`), where measured, are kept
+beside its record (table ``statistics``), never inside it: the record stays what the
+engine printed.
+
 A point's key and record are :mod:`hrbench_analysis.store_points`'s, a lease and its
 timing :mod:`hrbench_analysis.store_leases`'s, the database's tables and columns
 :mod:`hrbench_analysis.store_schema`'s.
@@ -45,10 +49,15 @@ from .store_schema import (
     _LEASES,
     _SCHEMA,
     _SQLITE_MAGIC,
+    _STATISTICS,
+    _STATISTICS_COLUMNS,
     _TABLES,
     APPLICATION_ID,
+    LEGACY_STATISTICS_FIELD,
     STORE_SCHEMA_VERSION,
     _options_of,
+    _split_record,
+    _statistics_of,
 )
 
 __all__ = [
@@ -203,14 +212,32 @@ class ResultStore:
                 raise self._fail("is not a results cache: it has no table 'points'")
             self._columns_iv("points", _COLUMNS, optional=("options",))
             self._columns_iv("leases", _LEASE_COLUMNS)
+            self._columns_iv("statistics", _STATISTICS_COLUMNS)
             db.execute(_SCHEMA)
             columns = {row[1] for row in db.execute("PRAGMA table_info(points)")}
             if "options" not in columns:
                 # A cache written before engine options existed: add the column, keep the rows.
                 db.execute("ALTER TABLE points ADD COLUMN options TEXT NOT NULL DEFAULT '{}'")
             db.execute(_LEASES)
+            db.execute(_STATISTICS)
+            if version < 3:
+                self._move_statistics()
             db.execute(f"PRAGMA application_id = {APPLICATION_ID}")
             db.execute(f"PRAGMA user_version = {STORE_SCHEMA_VERSION}")
+
+    def _move_statistics(self):
+        # A cache of a layout before 3 kept a point's hierarchy statistics inside its
+        # record: move them beside it, leaving the record as the engine printed it.
+        rows = self._db.execute("SELECT key, output FROM points WHERE output LIKE ?",
+                                (f'%"{LEGACY_STATISTICS_FIELD}"%',)).fetchall()
+        for key, output in rows:
+            split = _split_record(output)
+            if split is None:
+                continue
+            record, statistics = split
+            self._db.execute("UPDATE points SET output = ? WHERE key = ?", (record, key))
+            self._db.execute("INSERT OR REPLACE INTO statistics (key, statistics) "
+                             "VALUES (?, ?)", (key, statistics))
 
     def _columns_iv(self, table, expected, optional=()):
         # A table of ours, if present, must have our columns (extra ones are a foreign
@@ -298,13 +325,15 @@ class ResultStore:
         """
         with self._guard():
             row = self._db.execute(
-                "SELECT ok, exit_code, stderr, output, wall_seconds, finished_at FROM points "
-                "WHERE key = ?", (key.text(),)).fetchone()
+                "SELECT p.ok, p.exit_code, p.stderr, p.output, p.wall_seconds, "
+                "p.finished_at, s.statistics FROM points AS p LEFT JOIN statistics AS s "
+                "ON s.key = p.key WHERE p.key = ?", (key.text(),)).fetchone()
         if row is None:
             return None
         row = self._cells_iv(key.text(), row, ("ok", "exit_code", "stderr", "output",
-                                                "wall_seconds", "finished_at"))
-        return StoredPoint(key, bool(row[0]), row[1], row[2], row[3], row[4], row[5])
+                                                "wall_seconds", "finished_at", "statistics"))
+        return StoredPoint(key, bool(row[0]), row[1], row[2], row[3], row[4], row[5],
+                           _statistics_of(row[6]))
 
     def is_final(self, key):
         """Whether `key` needs no new run: it succeeded, or failed deterministically."""
@@ -314,7 +343,8 @@ class ResultStore:
     def put(self, point):
         """Store a run and commit at once (a rerun of the same key replaces it).
 
-        This store's lease on the point, if any, is released in the same transaction.
+        Its statistics, if any, go to the table ``statistics`` beside the record, in the
+        same transaction. This store's lease on the point, if any, is released there too.
 
         Parameters
         ----------
@@ -330,6 +360,11 @@ class ResultStore:
                  float(k.eps), k.oracle, k.min_area, k.max_depth, k.mode, int(point.ok),
                  int(point.exit_code), point.stderr, point.output, float(point.wall_seconds),
                  time.time(), json.dumps(dict(k.options), sort_keys=True)))
+            if point.statistics is None:
+                self._db.execute("DELETE FROM statistics WHERE key = ?", (text,))
+            else:
+                self._db.execute("INSERT OR REPLACE INTO statistics (key, statistics) "
+                                 "VALUES (?, ?)", (text, json.dumps(point.statistics)))
             self._db.execute("DELETE FROM leases WHERE key = ? AND token = ?",
                              (text, self.token))
 

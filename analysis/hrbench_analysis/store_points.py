@@ -87,9 +87,9 @@ class PointKey:
         ``--max-depth`` (levels), if given.
     mode : str
         ``"count-only"`` or ``"store"``; ``"count-only+hierarchy-statistics-v2"``
-        (:data:`hrbench_analysis.lemmas.STATISTICS_MODE`) for a run whose record also holds the
+        (:data:`hrbench_analysis.lemmas.STATISTICS_MODE`) for a run stored with the
         hierarchy statistics of its link list, so that it never shares a key with a
-        record without them.
+        run without them.
     options : tuple of (str, str)
         Further engine options as passed on the command line, sorted by name, e.g.
         ``(("method", "translation"),)`` for ``--method translation``.
@@ -146,11 +146,15 @@ class StoredPoint:
     stderr : str
         Last non-empty line of standard error ("" when ok).
     output : str
-        Standard output (the JSON record when ok).
+        Standard output (the JSON record when ok), as the engine printed it.
     wall_seconds : float
         Wall time of the whole process (s).
     finished_at : float or None
         When it was stored (seconds since the epoch); ``None`` before it is stored.
+    statistics : dict or None
+        The hierarchy statistics measured after the run
+        (:func:`hrbench_analysis.lemmas.stored_statistics`), kept beside `output`;
+        ``None`` for a run without them.
     """
 
     key: PointKey
@@ -160,6 +164,7 @@ class StoredPoint:
     output: str
     wall_seconds: float
     finished_at: object = None
+    statistics: object = None
 
     @property
     def final(self):

@@ -5,15 +5,20 @@ cell read back must hold, and the id and layout number the file is marked with.
 import json
 import math
 
-__all__ = ["APPLICATION_ID", "STORE_SCHEMA_VERSION"]
+__all__ = ["APPLICATION_ID", "STORE_SCHEMA_VERSION", "LEGACY_STATISTICS_FIELD"]
 
 #: SQLite ``application_id`` of a results cache ("hrbc"). A cache written before the id
 #: existed has 0 and is recognised by its tables.
 APPLICATION_ID = 0x68726263
-#: SQLite ``user_version`` of the current layout: 2 = table ``points`` with ``options``
-#: and table ``leases``. 0 is a cache written before the layout had a number (``points``
-#: with or without ``options``), migrated when opened.
-STORE_SCHEMA_VERSION = 2
+#: SQLite ``user_version`` of the current layout: 3 = table ``points`` with ``options``,
+#: table ``leases`` and table ``statistics`` (the hierarchy statistics of a point, beside
+#: its record). 2 kept the statistics inside the record (:data:`LEGACY_STATISTICS_FIELD`);
+#: 0 is a cache written before the layout had a number (``points`` with or without
+#: ``options``). Both are migrated when opened.
+STORE_SCHEMA_VERSION = 3
+#: The field of a run record in which layouts before 3 kept a point's hierarchy
+#: statistics; moved to the table ``statistics`` when such a cache is opened.
+LEGACY_STATISTICS_FIELD = "hierarchy_statistics"
 
 _SQLITE_MAGIC = b"SQLite format 3\x00"
 
@@ -47,12 +52,19 @@ CREATE TABLE IF NOT EXISTS leases (
     renewed_at REAL NOT NULL
 )
 """
+_STATISTICS = """
+CREATE TABLE IF NOT EXISTS statistics (
+    key TEXT PRIMARY KEY,
+    statistics TEXT NOT NULL
+)
+"""
 _COLUMNS = ("key", "version", "scene", "params", "eps", "oracle", "min_area", "max_depth",
             "mode", "ok", "exit_code", "stderr", "output", "wall_seconds", "finished_at",
             "options")
 _LEASE_COLUMNS = ("key", "host", "pid", "token", "started_at", "renewed_at")
+_STATISTICS_COLUMNS = ("key", "statistics")
 #: Tables of a results cache; any other table makes a database foreign.
-_TABLES = ("points", "leases")
+_TABLES = ("points", "leases", "statistics")
 
 
 def _is_real(value):
@@ -68,6 +80,7 @@ _CELL_TYPES = {
     "stderr": lambda v: isinstance(v, str),
     "output": lambda v: isinstance(v, str),
     "options": lambda v: v is None or isinstance(v, str),
+    "statistics": lambda v: v is None or isinstance(v, str),
     "wall_seconds": lambda v: _is_real(v) and v >= 0,
     "finished_at": _is_real,
 }
@@ -80,3 +93,26 @@ def _options_of(text):
     except (TypeError, ValueError):
         return ()
     return tuple(options.items()) if isinstance(options, dict) else ()
+
+
+def _statistics_of(text):
+    # The statistics cell as a dict; a missing cell, or one that is not a JSON object, as
+    # None (the point then has no statistics).
+    try:
+        statistics = json.loads(text)
+    except (TypeError, ValueError):
+        return None
+    return statistics if isinstance(statistics, dict) else None
+
+
+def _split_record(text):
+    # A record of a layout before 3: (the record without its statistics, the statistics
+    # as JSON text), or None when it holds none.
+    try:
+        record = json.loads(text)
+    except (TypeError, ValueError):
+        return None
+    if not isinstance(record, dict) or LEGACY_STATISTICS_FIELD not in record:
+        return None
+    statistics = record.pop(LEGACY_STATISTICS_FIELD)
+    return json.dumps(record), json.dumps(statistics)

@@ -22,7 +22,7 @@ import numpy as np
 
 from .claimfile import ClaimsFileError
 from .engine import OUTPUT_EXCEEDED, format_number, run_engine
-from .lemmas import add_to_record, measure, record_statistics
+from .lemmas import measure, statistics_env, stored_statistics
 from .loader import ResultFormatError, parse_run_json, run_environment
 from .schedulers import LOCAL, open_scheduler
 from .slopes import plateau_ends
@@ -77,16 +77,17 @@ def _execute(point, timeout=None, tag=None):
             ok = not last
     elif not last:
         last = f"exited with code {run.exit_code} and no message"
-    output, code, seconds = run.stdout, run.exit_code, run.wall_seconds
+    code, seconds, statistics = run.exit_code, run.wall_seconds, None
     if ok and point.statistics is not None:
-        # Dump the links, measure the hierarchy statistics, add them to the record.
+        # Dump the links, measure the hierarchy statistics, store them beside the record.
         found = measure(point.statistics, result.counters.get("links"), timeout, tag)
         seconds += found.wall_seconds
         if found.statistics is None:
             ok, last, code = False, found.message, found.exit_code
         else:
-            output = add_to_record(run.stdout, found.statistics)
-    return StoredPoint(point.key, ok, code, "" if ok else last, output, seconds)
+            statistics = stored_statistics(found.statistics)
+    return StoredPoint(point.key, ok, code, "" if ok else last, run.stdout, seconds,
+                       statistics=statistics)
 
 
 def _execute_shared(points, timeout=None, tag=None):
@@ -422,8 +423,8 @@ def get_claim_data(claim, points, store, counters=None):
     data : ClaimData
         Points whose x or y is ``nan`` (undefined arithmetic, such as ``log(0)``) or not
         positive are dropped (they cannot enter a log-log fit) and reported as failures.
-        Formulas read the hierarchy statistics a record holds (:mod:`hrbench_analysis.lemmas`)
-        like counters.
+        Formulas read the hierarchy statistics stored beside a record
+        (:mod:`hrbench_analysis.lemmas`) like counters.
 
     Raises
     ------
@@ -457,7 +458,7 @@ def get_claim_data(claim, points, store, counters=None):
                              "afresh") from None
         env = run_environment(result)
         if claim.statistics:
-            statistics = record_statistics(result)
+            statistics = statistics_env(stored.statistics)
             if statistics is None:
                 raise StoreError(f"results cache {store.path} holds a record without "
                                  f"hierarchy statistics for '{command}'; remove it (rm "

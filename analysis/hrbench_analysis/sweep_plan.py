@@ -1,25 +1,18 @@
 """The points of a sweep: a claim expanded into the engine runs it needs.
 
 One :class:`SweepPoint` per value of the swept parameter and combination of the values
-of ``sweep.grid``, with its cache key, its command line, the commands that measure the
-hierarchy statistics of a claim that reads them, and the run it shares with the other
-points of its series when the engine counts several values at once (``--sweep``).
+of ``sweep.grid``: its run (:class:`~hrbench_analysis.engine.RunSpec`) and what derives
+from it, its cache key, its command line, the commands that measure the hierarchy
+statistics of a claim that reads them, and the run it shares with the other points of
+its series when the engine counts several values at once (``--sweep``).
 :mod:`hrbench_analysis.sweep` runs them.
 """
 
 import itertools
 from dataclasses import dataclass, replace
 
-from .engine import (
-    SharedRun,
-    engine_argv,
-    format_number,
-    links_argv,
-    option_text,
-    run_argv,
-    save_argv,
-    solve_argv,
-)
+from .engine import RunSpec, format_number
+from .engine.run_spec import SWEPT
 from .lemmas import STATISTICS_MODE, StatisticsJob
 from .store_points import PointKey
 
@@ -33,11 +26,11 @@ class SweepPoint:
     Attributes
     ----------
     key : PointKey
-        Cache key of the run.
+        Cache key of the run (:meth:`RunSpec.key`).
     value : float
         Value of the swept parameter.
     argv : tuple of str
-        Command line (the engine's words first).
+        Command line (the engine's words first; :meth:`RunSpec.argv`).
     statistics : StatisticsJob or None
         For a claim whose formulas read hierarchy statistics (:mod:`hrbench_analysis.lemmas`):
         the commands that measure them after the run; ``None`` otherwise.
@@ -48,6 +41,9 @@ class SweepPoint:
         For a point of an ``eps`` or ``min_area`` sweep that one engine run can count
         together with the others of its series (``--sweep``): that run, the same for all
         of them; ``None`` otherwise.
+    run : RunSpec or None
+        What identifies the run, from which `key`, `argv`, `statistics` and `shared` are
+        derived.
     """
 
     key: PointKey
@@ -56,13 +52,12 @@ class SweepPoint:
     statistics: object = None
     series: str = ""
     shared: object = None
+    run: RunSpec = None
 
 
 #: Options with which ``--sweep`` cannot count (it runs count-only, on one thread, by
 #: enumeration).
 _NOT_SHARED = ("threads", "method")
-#: The parameters ``--sweep`` varies.
-_SHARED_PARAMS = ("eps", "min_area")
 
 
 def expand_claim(claim, mode, hrbench, version, shared_runs=False):
@@ -93,18 +88,14 @@ def expand_claim(claim, mode, hrbench, version, shared_runs=False):
     """
     points = []
     options = claim.options_for(mode)
-    key_options = dict((name, option_text(v)) for name, v in options.items())
-    if claim.mesh is not None:
-        # The file by its path on the command line, by its bytes in the cache key.
-        options = options | {"mesh": claim.mesh}
-        key_options["mesh"] = f"sha256:{claim.mesh_sha256}"
-    key_options = tuple(sorted(key_options.items()))
+    # A mesh: the file by its path on the command line, by its bytes in the cache key.
+    mesh = {} if claim.mesh is None else {"mesh": claim.mesh}
+    mesh_sha256 = None if claim.mesh is None else claim.mesh_sha256
     grid = [dict(zip(claim.grid, combo, strict=True))
             for combo in itertools.product(*claim.grid.values())]
     # A solve is its own record (the counters and the solve's measures), never a count's.
-    solve = getattr(claim, "command", "run") == "solve"
-    make_argv, mode_key = (solve_argv, "solve") if solve else (run_argv, "count-only")
-    share = (shared_runs and claim.sweep_param in _SHARED_PARAMS and not solve
+    command = getattr(claim, "command", "run")
+    share = (shared_runs and claim.sweep_param in SWEPT and command == "run"
              and not claim.statistics and not set(options) & set(_NOT_SHARED))
     for fixed in grid:
         for value in claim.range_for(mode).values():
@@ -116,42 +107,24 @@ def expand_claim(claim, mode, hrbench, version, shared_runs=False):
                 min_area = value
             else:
                 params[claim.sweep_param] = value
-            key = PointKey(version=version, scene=claim.scene,
-                           params=tuple(sorted(params.items())), eps=float(eps),
-                           oracle=claim.oracle, min_area=min_area,
-                           max_depth=claim.max_depth, mode=mode_key, options=key_options)
-            argv = make_argv(hrbench, claim.scene, params, eps, claim.oracle,
-                             min_area=min_area, max_depth=claim.max_depth, options=options)
+            run = RunSpec.of(claim.scene, params, eps, claim.oracle, min_area=min_area,
+                             max_depth=claim.max_depth, options=options | mesh,
+                             command=command, mesh_sha256=mesh_sha256)
             series = ", ".join(f"{k}={format_number(v)}" for k, v in fixed.items())
-            shared = None
-            if share:
-                # The run of the series: without the value swept.
-                swept = claim.sweep_param
-                shared = SharedRun(tuple(engine_argv(hrbench)), claim.scene,
-                                   tuple(sorted(params.items())),
-                                   None if swept == "eps" else eps, claim.oracle, swept,
-                                   None if swept == "min_area" else min_area,
-                                   claim.max_depth, tuple(sorted(options.items())))
-            points.append(SweepPoint(key=key, value=value, argv=tuple(argv), series=series,
-                                     shared=shared))
-    return _with_statistics(claim, points, hrbench)
+            # The run of the series, without the value swept.
+            shared = run.shared(hrbench, claim.sweep_param) if share else None
+            points.append(SweepPoint(key=run.key(version), value=value,
+                                     argv=tuple(run.argv(hrbench)), series=series,
+                                     shared=shared, run=run))
+    return _with_statistics(claim, points, hrbench, version)
 
 
-def _with_statistics(claim, points, hrbench):
+def _with_statistics(claim, points, hrbench, version):
     # A claim whose formulas read hierarchy statistics (lemmas.py) measures them
     # at every point: under its own cache key (mode STATISTICS_MODE, so that a record
     # without them is never reused), with the commands that dump and measure the links.
     if not claim.statistics:
         return points
-    out = []
-    for point in points:
-        k = point.key
-        params = dict(k.params)
-        options = {name: text for name, text in k.options if name != "method"}
-        job = StatisticsJob(
-            save_argv=tuple(save_argv(hrbench, k.scene, params)),
-            links_argv=tuple(links_argv(hrbench, k.scene, params, k.eps, None, k.oracle,
-                                        min_area=k.min_area, max_depth=k.max_depth,
-                                        options=options)))
-        out.append(replace(point, key=replace(k, mode=STATISTICS_MODE), statistics=job))
-    return out
+    return [replace(point, key=point.run.key(version, STATISTICS_MODE),
+                    statistics=StatisticsJob.of(point.run, hrbench))
+            for point in points]

@@ -34,7 +34,7 @@ from .cli import (
     save_figure,
     scene_params,
 )
-from .engine import EngineError, format_number, run_argv, run_engine, run_links
+from .engine import EngineError, RunSpec, format_number, run_engine, write_links
 from .errors import AnalysisError, run_main
 from .loader import parse_run_json, read_links_csv
 from .plots import plot_link_tiling
@@ -83,7 +83,7 @@ def count_run(engine, scene, params, eps, oracle="garmann"):
     ResultFormatError
         If it prints no readable run record.
     """
-    run = run_engine(run_argv(engine, scene, params, eps, oracle))
+    run = run_engine(RunSpec.of(scene, params, eps, oracle).argv(engine))
     if run.exit_code != 0:
         raise EngineError(f"{' '.join(run.argv[1:])} failed with exit code {run.exit_code}: "
                           f"{run.message or 'no message'}")
@@ -127,7 +127,7 @@ def refine_links(engine, scene, params, eps, folder, oracle="garmann", max_links
         raise EngineError(f"eps={format_number(eps)} gives {count} links, more than "
                           f"{max_links} (--max-links) to draw; take a larger eps")
     path = folder / f"links-eps{format_number(eps)}.csv"
-    run_links(engine, scene, params, eps, path, oracle)
+    write_links(engine, RunSpec.of(scene, params, eps, oracle), path)
     links = read_links_csv(path)
     if len(links) != count:
         raise EngineError(f"the engine counted {count} links at eps={format_number(eps)} "

@@ -6,6 +6,7 @@ when it is not built.
 
 import json
 import math
+import sqlite3
 import subprocess
 from pathlib import Path
 
@@ -16,7 +17,6 @@ import hrbench_analysis.sweep as sweep
 from hrbench_analysis.claimfile import check_names, load_claims, missing_capability, param_errors
 from hrbench_analysis.engine import engine_version, get_capabilities, save_argv
 from hrbench_analysis.lemmas import (
-    RECORD_FIELD,
     STATISTICS,
     STATISTICS_MODE,
     STATISTICS_VERSION,
@@ -28,11 +28,13 @@ from hrbench_analysis.lemmas import (
     measure,
     read_link_dump,
     read_scene_segments,
+    stored_statistics,
 )
-from hrbench_analysis.loader import read_links_csv
+from hrbench_analysis.loader import parse_run_json, read_links_csv
 from hrbench_analysis.reproduce_options import CLAIMS_DIR
 from hrbench_analysis.store import ResultStore, StoreError
 from hrbench_analysis.store_points import StoredPoint
+from hrbench_analysis.store_schema import STORE_SCHEMA_VERSION
 from hrbench_analysis.sweep import get_claim_data, run_points
 from hrbench_analysis.sweep_plan import expand_claim
 
@@ -265,9 +267,14 @@ def test_sweep_caches_the_statistics_and_reuses_them(tmp_path, monkeypatch):
         assert run_points(plain, store, jobs=2, progress=None)["ran"] == 5
         assert run_points(points, store, jobs=2, progress=None) == {
             "total": 5, "cached": 0, "ran": 5, "failed": 0}
-        stored = json.loads(store.get(points[-1].key).output)
-        assert stored[RECORD_FIELD]["version"] == STATISTICS_VERSION
-        assert set(STATISTICS) <= set(stored[RECORD_FIELD])
+        # The statistics lie beside the record, which stays what the engine printed.
+        point = store.get(points[-1].key)
+        stored = point.statistics
+        assert "hierarchy_statistics" not in json.loads(point.output)
+        assert parse_run_json(point.output).counters["links"] == pytest.approx(
+            stored["elements"] * stored["partners_mean"] / 2)
+        assert stored["version"] == STATISTICS_VERSION
+        assert set(STATISTICS) <= set(stored)
         data = get_claim_data(claim, points, store)
         # A rerun measures nothing: the statistics come from the cache.
         monkeypatch.setattr(sweep, "measure", lambda *a, **k: pytest.fail("measured again"))
@@ -276,7 +283,7 @@ def test_sweep_caches_the_statistics_and_reuses_them(tmp_path, monkeypatch):
         again = get_claim_data(claim, points, store)
     assert data.x.size == 5 and not data.failures
     assert np.array_equal(data.y, again.y)
-    assert data.y[-1] == stored[RECORD_FIELD]["partners_max"]  # eps = 0.1, the largest x
+    assert data.y[-1] == stored["partners_max"]  # eps = 0.1, the largest x
 
 
 def test_a_record_without_statistics_is_a_store_error(tmp_path, data_dir, fake_hrbench):
@@ -287,6 +294,61 @@ def test_a_record_without_statistics_is_a_store_error(tmp_path, data_dir, fake_h
         store.put(StoredPoint(points[0].key, True, 0, "", record, 0.1))
         with pytest.raises(StoreError, match="without hierarchy statistics"):
             get_claim_data(claim, points[:1], store)
+
+
+def _legacy_store(path, rows):
+    # A cache of layout 2, as the analysis wrote it when the statistics lay inside the
+    # record: (key text, record text) rows of successful points.
+    with ResultStore(path) as store:
+        pass
+    with sqlite3.connect(path) as con:
+        con.execute("DROP TABLE statistics")
+        con.execute("PRAGMA user_version = 2")
+        for text, record in rows:
+            con.execute("INSERT INTO points (key, version, scene, params, eps, oracle, mode, ok, "
+                        "exit_code, stderr, output, wall_seconds, finished_at) VALUES "
+                        "(?, 'v', 'parallel', '{}', 1, 'garmann', 'm', 1, 0, '', ?, 0.1, 1)",
+                        (text, record))
+    return store
+
+
+def test_statistics_are_stored_beside_the_record_and_read_back(tmp_path, data_dir,
+                                                              fake_hrbench):
+    claim = lemma_claim(tmp_path)
+    points = expand_claim(claim, "quick", fake_hrbench, "v")
+    record = (data_dir / "run_parallel_l64_d1_eps0.25.json").read_text()
+    values = {name: 1.0 + i for i, name in enumerate(STATISTICS)}
+    with ResultStore(tmp_path / "cache.sqlite") as store:
+        store.put(StoredPoint(points[0].key, True, 0, "", record, 0.1,
+                              statistics=stored_statistics(values)))
+        got = store.get(points[0].key)
+        data = get_claim_data(claim, points[:1], store)
+        # A rerun stored without statistics leaves none behind.
+        store.put(StoredPoint(points[0].key, False, 1, "boom", "", 0.1))
+        assert store.get(points[0].key).statistics is None
+    assert got.output == record
+    assert got.statistics == {"version": STATISTICS_VERSION, **values}
+    assert data.y.tolist() == [values["partners_max"]]
+
+
+def test_an_old_cache_with_statistics_inside_records_is_read(tmp_path, data_dir, fake_hrbench):
+    claim = lemma_claim(tmp_path)
+    points = expand_claim(claim, "quick", fake_hrbench, "v")
+    record = json.loads((data_dir / "run_parallel_l64_d1_eps0.25.json").read_text())
+    values = {name: 2.0 + i for i, name in enumerate(STATISTICS)}
+    inside = json.dumps({**record, "hierarchy_statistics": stored_statistics(values)})
+    path = tmp_path / "old.sqlite"
+    _legacy_store(path, [(points[0].key.text(), inside),
+                         (points[1].key.text(), json.dumps(record))])
+    with ResultStore(path) as store:
+        moved, plain = store.get(points[0].key), store.get(points[1].key)
+        data = get_claim_data(claim, points[:1], store)
+    assert json.loads(moved.output) == record
+    assert moved.statistics == {"version": STATISTICS_VERSION, **values}
+    assert plain.statistics is None and json.loads(plain.output) == record
+    assert data.y.tolist() == [values["partners_max"]]
+    with sqlite3.connect(path) as con:
+        assert con.execute("PRAGMA user_version").fetchone()[0] == STORE_SCHEMA_VERSION
 
 
 def test_names_are_checked_where_the_statistics_exist(tmp_path, fake_hrbench):

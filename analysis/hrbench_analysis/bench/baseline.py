@@ -17,7 +17,8 @@ entry.
 from dataclasses import dataclass, field
 
 from ..engine import EngineError, run_engine
-from ..errors import AnalysisError, parse_json, read_json
+from ..errors import AnalysisError, read_json
+from ..loader.record import ResultFormatError, read_record
 
 __all__ = ["BASELINE_SCHEMA_VERSION", "MAX_BASELINE_BYTES", "DEFAULT_RUNS", "BaselineError",
            "RunError", "CounterChange", "RunDiff",
@@ -283,9 +284,10 @@ def run_counts(hrbench, args, counters, timeout=120):
         raise RunError(str(e)) from None
     if run.exit_code != 0:
         raise RunError(f"exit code {run.exit_code}: {run.message or 'no message'}")
-    record = parse_json(run.stdout, "the run's output", RunError)
-    if not isinstance(record, dict):
-        raise RunError("unexpected output: not a JSON object")
+    try:
+        record = read_record(run.stdout)
+    except ResultFormatError as e:
+        raise RunError(str(e)) from None
     missing = [name for name in counters if name not in record]
     if missing:
         raise RunError(f"the record lacks counter(s) {', '.join(missing)} that the engine "

@@ -13,7 +13,9 @@ Modules
 process       running an engine process (:func:`run_engine`), exit codes, interrupts
 capabilities  what an engine offers (:class:`Capabilities`), read from its JSON
 locate        finding the engine: its command words, version and capabilities
-commands      the command lines of ``run``, ``solve``, ``links`` and ``save``
+run_spec      what identifies a run (:class:`RunSpec`): its command lines and cache key
+spelling      numbers, options and scenes as the command line spells them
+commands      the command lines from loose values (thin wrappers of :class:`RunSpec`)
 
 It uses the standard library only, so that ``tools/`` can use it too.
 """
@@ -34,17 +36,13 @@ from .capabilities import (
     parse_capabilities,
 )
 from .commands import (
-    SharedRun,
-    format_number,
     links_argv,
-    option_argv,
-    option_flag,
-    option_text,
     run_argv,
     run_links,
     save_argv,
     solve_argv,
     sweep_argv,
+    write_links,
 )
 from .locate import (
     engine_argv,
@@ -70,6 +68,8 @@ from .process import (
     run_engine,
     stop_engine_runs,
 )
+from .run_spec import RunSpec, SharedRun
+from .spelling import format_number, option_argv, option_flag, option_text
 
 __all__ = [
     "CAPABILITIES_SCHEMA_VERSION",
@@ -99,6 +99,7 @@ __all__ = [
     "option_flag",
     "option_text",
     "option_argv",
+    "RunSpec",
     "run_argv",
     "solve_argv",
     "sweep_argv",
@@ -107,6 +108,7 @@ __all__ = [
     "save_argv",
     "run_engine",
     "run_links",
+    "write_links",
     "kill_engine_runs",
     "stop_engine_runs",
     "ending_engine_runs",

@@ -12,13 +12,15 @@ the counters are the engine's own (``hrbench capabilities --json``, read by
 
 Modules
 -------
-record    run records (``run --json``, ``solve --json``): :func:`parse_run_json`
+record    run records (``run --json``, ``solve --json``): :func:`parse_run_json`,
+          :func:`read_record`
 links     link lists (``links --out``): :func:`read_links_csv`
 solution  solutions (``solve --out``): :func:`read_solution`
-scene     scenes (``save``): :func:`read_scene_segments`
+scene     scenes (``save``): :func:`read_scene_segments`, :func:`read_scene_digest`
 """
 
-from .links import MAX_LINKS_BYTES, LinkTable, read_links_csv
+import importlib
+
 from .record import (
     ALIASES,
     COUNTERS,
@@ -31,10 +33,28 @@ from .record import (
     RunResult,
     environment_names,
     parse_run_json,
+    read_record,
     run_environment,
 )
-from .scene import read_scene_segments
-from .solution import COLUMNS_2D, COLUMNS_3D, Solution, read_solution
+
+#: The readers that need numpy, by module: imported when first named, so that the
+#: record reader serves the tools that run on the standard library alone
+#: (``tools/check_baseline.py``).
+_NUMPY_READERS = {
+    "links": ("MAX_LINKS_BYTES", "LinkTable", "read_links_csv"),
+    "scene": ("read_scene_digest", "read_scene_segments"),
+    "solution": ("COLUMNS_2D", "COLUMNS_3D", "Solution", "read_solution"),
+}
+_MODULE_OF = {name: module for module, names in _NUMPY_READERS.items() for name in names}
+
+
+def __getattr__(name):
+    module = _MODULE_OF.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
 
 __all__ = [
     "COUNTERS",
@@ -49,6 +69,7 @@ __all__ = [
     "ResultFormatError",
     "LinkTable",
     "parse_run_json",
+    "read_record",
     "read_links_csv",
     "run_environment",
     "environment_names",
@@ -57,4 +78,5 @@ __all__ = [
     "Solution",
     "read_solution",
     "read_scene_segments",
+    "read_scene_digest",
 ]

@@ -230,6 +230,26 @@ def _is_number(value):
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
+def read_record(text):
+    """The JSON object of one run record (``run --json``, ``solve --json``), its fields
+    unchecked: the one place a record's text is parsed (:func:`parse_run_json` checks
+    the fields the analysis reads; a solve's figures read its fields by name).
+
+    Raises
+    ------
+    ResultFormatError
+        If the text is longer than :data:`MAX_RECORD_BYTES`, is not strict JSON or not a
+        JSON object.
+    """
+    if len(text) > MAX_RECORD_BYTES:
+        raise ResultFormatError(f"run output has {len(text)} characters; a run record has "
+                                f"at most {MAX_RECORD_BYTES}")
+    obj = parse_json(text, "run output", ResultFormatError)
+    if not isinstance(obj, dict):
+        raise ResultFormatError("run output is not a JSON object")
+    return obj
+
+
 def parse_run_json(text, counters=None):
     """Parse the JSON object printed by ``hrbench run ... --json``.
 
@@ -270,12 +290,7 @@ def parse_run_json(text, counters=None):
         the wrong type, a counter is not an integer, or a number does not fit in float64.
         The message names the field. No other exception comes out of arbitrary text.
     """
-    if len(text) > MAX_RECORD_BYTES:
-        raise ResultFormatError(f"run output has {len(text)} characters; a run record has "
-                                f"at most {MAX_RECORD_BYTES}")
-    obj = parse_json(text, "run output", ResultFormatError)
-    if not isinstance(obj, dict):
-        raise ResultFormatError("run output is not a JSON object")
+    obj = read_record(text)
     if "schema_version" not in obj:
         raise ResultFormatError("run output: required field 'schema_version' is missing")
     schema = obj["schema_version"]

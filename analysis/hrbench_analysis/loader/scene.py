@@ -1,4 +1,4 @@
-"""Scenes: the JSON ``hrbench save`` prints, the root patches of a scene."""
+"""Scenes: the JSON ``hrbench save`` prints: the root patches of a scene, its digest."""
 
 import json
 
@@ -29,7 +29,7 @@ def read_scene_segments(text, error=None):
     """
     error = error or ResultFormatError
     try:
-        obj = json.loads(text)
+        obj = _scene_object(text)
         if obj.get("dimension") != 2:
             raise error(f"hierarchy statistics need a 2D scene; this one has "
                         f"dimension {obj.get('dimension')!r}")
@@ -41,3 +41,19 @@ def read_scene_segments(text, error=None):
         raise error(f"unreadable scene from 'hrbench save' ({type(exc).__name__}: "
                     f"{exc})") from None
     return a, b
+
+
+def read_scene_digest(text):
+    """The digest a scene JSON of ``hrbench save`` reports (``scene_sha256``), or ``None``
+    when it reports none or the text is not a JSON object."""
+    try:
+        digest = _scene_object(text).get("scene_sha256")
+    except (ValueError, AttributeError):
+        return None
+    return digest if isinstance(digest, str) else None
+
+
+def _scene_object(text):
+    # The scene JSON as Python objects: the one place it is parsed (ValueError if it is
+    # not JSON; the caller checks it is an object).
+    return json.loads(text)

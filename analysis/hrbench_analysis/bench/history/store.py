@@ -20,6 +20,7 @@ from ...errors import (
     one_line,
     read_json,
 )
+from ...loader import ResultFormatError, read_record
 from ..builds import (
     commits_between,
 )
@@ -107,8 +108,8 @@ def _engine_info(path):
     info = {"path": str(path), "version": call(["--version"]).strip()}
     out = call(["run", "parallel", "l=16", "d=1", "--eps", "0.5", "--json", "--count-only"])
     try:
-        context = json.loads(out).get("context", {})
-    except (json.JSONDecodeError, AttributeError):
+        context = read_record(out).get("context", {})
+    except ResultFormatError:
         raise HistoryError(f"{path} run ... --json did not print a JSON record") from None
     for key in ("build_type", "build_flags", "compiler", "git_commit", "cpu_model"):
         if key in context:
