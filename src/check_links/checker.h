@@ -13,12 +13,12 @@
 
 #include "cluster_coverage.h"
 #include "hrbench/check_links.h"
-#include "hrbench/culling.h"
 #include "hrbench/forest.h"
 #include "hrbench/oracles/registry.h"
 #include "hrbench/refine.h"
-#include "hrbench/util/format.h"
+#include "util/format.h"
 #include "violations.h"
+#include "visibility/culling.h"
 
 namespace hrbench {
 

@@ -13,12 +13,12 @@
 #include <thread>
 
 #include "cluster/traversal.h"
-#include "hrbench/culling.h"
+#include "count/translation_count.h"
 #include "hrbench/oracles/registry.h"
-#include "hrbench/translation_count.h"
 #include "hrbench/util/error.h"
-#include "hrbench/util/parallel_for.h"
 #include "refine/kernel.h"
+#include "util/parallel_for.h"
+#include "visibility/culling.h"
 
 namespace hrbench {
 
