@@ -3,6 +3,7 @@
 #pragma once
 
 #include "hrbench/check_links.h"
+#include "hrbench/count.h"
 #include "hrbench/forest.h"
 #include "hrbench/geometry/polygon.h"
 #include "hrbench/geometry/segment.h"

@@ -8,6 +8,7 @@
 
 #include "cmd/options.h"
 #include "generators.h"
+#include "hrbench/count.h"
 #include "hrbench/oracles/registry.h"
 #include "hrbench/record.h"
 #include "hrbench/refine.h"

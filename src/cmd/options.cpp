@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "generators.h"
+#include "hrbench/count.h"
 #include "hrbench/oracles/registry.h"
 #include "hrbench/refine.h"
 #include "hrbench/util/error.h"
