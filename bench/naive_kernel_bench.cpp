@@ -21,7 +21,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 
 namespace {

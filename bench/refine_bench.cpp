@@ -17,9 +17,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include "hrbench/generators/generators.h"
+#include "count/sweep_count.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 #include "record_counters.h"
+#include "visibility/visibility.h"
 
 namespace hrbench {
 namespace {

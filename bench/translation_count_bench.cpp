@@ -1,4 +1,4 @@
-// Google Benchmark suite of the translation method (src/translation_count.h): exact
+// Google Benchmark suite of the translation method (src/count/translation_count.h): exact
 // counts of the parallel-plate families (2D and 3D) with the garmann oracle, far past
 // enumeration.
 // Its cost is the number of distinct pair states, about 4 / eps per level over
@@ -10,9 +10,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include "hrbench/generators/generators.h"
+#include "count/translation_count.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
-#include "hrbench/translation_count.h"
 #include "record_counters.h"
 
 namespace hrbench {

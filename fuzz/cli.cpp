@@ -9,6 +9,7 @@
 
 #include "cmd/options.h"
 #include "fuzz_common.h"
+#include "util/args.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     std::vector<std::string> words(1);

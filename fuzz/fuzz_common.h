@@ -16,6 +16,7 @@
 
 #include "../tests/refinement_helpers.h"
 #include "hrbench/hrbench.h"
+#include "util/format.h"
 
 namespace hrbench_fuzz {
 

@@ -12,7 +12,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 
 namespace hrbench {
 

@@ -1,11 +1,11 @@
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 
 #include <cmath>
 
 #include "flatland.h"
 #include "hrbench/util/error.h"
-#include "hrbench/util/format.h"
 #include "space.h"
+#include "util/format.h"
 
 namespace hrbench {
 

@@ -9,7 +9,7 @@
 
 #include "family_helpers.h"
 #include "hrbench/util/error.h"
-#include "hrbench/util/format.h"
+#include "util/format.h"
 
 namespace hrbench {
 

@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 
 namespace hrbench {
 

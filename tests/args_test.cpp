@@ -2,6 +2,8 @@
 #include <catch2/catch.hpp>
 
 #include "hrbench/hrbench.h"
+#include "util/args.h"
+#include "util/format.h"
 
 using namespace hrbench;
 

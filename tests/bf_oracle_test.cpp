@@ -12,7 +12,7 @@
 #include <tuple>
 
 #include "cli_helpers.h"
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 #include "hrbench/oracles/registry.h"
 #include "hrbench/radiosity_estimate.h"

@@ -15,10 +15,11 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_helpers.h"
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 #include "hrbench/probe.h"
 #include "hrbench/scene_io.h"
+#include "visibility/culling.h"
 
 using namespace hrbench_test;
 

@@ -8,8 +8,9 @@
 #include <sstream>
 
 #include "cli_helpers.h"
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
+#include "util/format.h"
 
 #include <nlohmann/json.hpp>
 

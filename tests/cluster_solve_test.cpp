@@ -18,7 +18,7 @@
 
 #include "cli_helpers.h"
 #include "cluster/direction_table.h"
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 
 using namespace hrbench;

@@ -11,11 +11,11 @@
 #include <tuple>
 
 #include "cluster/cluster_oracles.h"
-#include "hrbench/culling.h"
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 #include "hrbench/oracles/registry.h"
 #include "refinement_helpers.h"
+#include "visibility/culling.h"
 
 using namespace hrbench;
 using hrbench_test::CounterDifferences;

@@ -7,8 +7,9 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <catch2/catch.hpp>
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
+#include "visibility/culling.h"
 
 using namespace hrbench;
 

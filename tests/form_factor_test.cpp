@@ -10,7 +10,7 @@
 
 #include <Eigen/Geometry>
 
-#include "hrbench/form_factor.h"
+#include "solve/form_factor.h"
 
 using namespace hrbench;
 using Catch::Matchers::WithinAbs;

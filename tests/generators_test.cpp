@@ -8,8 +8,9 @@
 #include <set>
 #include <variant>
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
+#include "visibility/culling.h"
 
 using namespace hrbench;
 

@@ -13,7 +13,7 @@
 
 #include <unistd.h>
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 #include "hrbench/mesh_io.h"
 

@@ -7,7 +7,7 @@
 #include <random>
 #include <set>
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 
 using namespace hrbench;

@@ -6,9 +6,9 @@
 #include <string>
 #include <thread>
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
-#include "hrbench/progress.h"
+#include "refine/progress.h"
 
 using namespace hrbench;
 

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 #include "refinement_helpers.h"
 

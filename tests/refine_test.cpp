@@ -15,7 +15,7 @@
 #include <unistd.h>
 #endif
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 #include "refine/kernel.h"
 #include "refinement_helpers.h"

@@ -3,9 +3,9 @@
 
 #include <cmath>
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
-#include "hrbench/util/sha256.h"
+#include "util/sha256.h"
 
 using namespace hrbench;
 

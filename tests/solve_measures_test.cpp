@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_helpers.h"
-#include "hrbench/form_factor.h"
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
+#include "solve/form_factor.h"
 
 using namespace hrbench;
 using namespace hrbench_test;

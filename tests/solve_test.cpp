@@ -14,10 +14,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_helpers.h"
-#include "hrbench/form_factor.h"
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
-#include "hrbench/util/parallel_for.h"
+#include "solve/form_factor.h"
+#include "util/parallel_for.h"
 
 using namespace hrbench;
 using namespace hrbench_test;

@@ -6,9 +6,11 @@
 #include <vector>
 
 #include "cli_helpers.h"
-#include "hrbench/generators/generators.h"
+#include "count/sweep_count.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 #include "refinement_helpers.h"
+#include "util/format.h"
 
 using namespace hrbench;
 using hrbench_test::CheckError;

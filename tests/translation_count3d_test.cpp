@@ -6,7 +6,8 @@
 #include <cmath>
 #include <cstdint>
 
-#include "hrbench/generators/generators.h"
+#include "count/translation_count.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 #include "refinement_helpers.h"
 

@@ -11,7 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_helpers.h"
-#include "hrbench/generators/generators.h"
+#include "count/translation_count.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
 #include "refinement_helpers.h"
 

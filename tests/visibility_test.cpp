@@ -4,9 +4,9 @@
 
 #include <set>
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
-#include "hrbench/visibility.h"
+#include "visibility/visibility.h"
 
 using namespace hrbench;
 

@@ -2,7 +2,7 @@
 // counters, as the CLI's `hrbench run parallel l=64 d=1 --eps 0.25` would.
 #include <cstdio>
 
-#include <hrbench/generators/generators.h>
+#include <generators.h>
 #include <hrbench/hrbench.h>
 
 int main() {

@@ -1,9 +1,9 @@
-// The public surface of the hrbench engine: one include for the CLI, tests and benchmarks.
+// The public surface of the hrbench engine, what the package installs: one include for a
+// project that uses it. The headers only the engine uses are beside its sources in src/.
 #pragma once
 
 #include "hrbench/check_links.h"
-#include "hrbench/culling.h"
-#include "hrbench/dump_paths.h"
+#include "hrbench/count.h"
 #include "hrbench/forest.h"
 #include "hrbench/geometry/polygon.h"
 #include "hrbench/geometry/segment.h"
@@ -17,9 +17,4 @@
 #include "hrbench/scene.h"
 #include "hrbench/scene_io.h"
 #include "hrbench/solve.h"
-#include "hrbench/sweep_count.h"
-#include "hrbench/translation_count.h"
-#include "hrbench/util/args.h"
 #include "hrbench/util/error.h"
-#include "hrbench/util/format.h"
-#include "hrbench/visibility.h"

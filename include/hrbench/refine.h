@@ -81,18 +81,4 @@ Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options);
 extern template Refinement<Segment> Refine(const Scene &, const RefineOptions &);
 extern template Refinement<Polygon> Refine(const Scene &, const RefineOptions &);
 
-// A way to count a refinement, as `--method` names it.
-struct MethodInfo {
-    const char *name;                                          // "enumerate" or "translation"
-    const char *doc;                                           // one line
-    RunRecord (*count)(const Scene &, const RefineOptions &);  // counts a scene this way
-};
-
-// Every counting method, the default first.
-const std::vector<MethodInfo> &Methods();
-
-// The run record of _scene_ by the method the caller names: "enumerate" (Refine) or
-// "translation" (CountByTranslation). Throws InputError for an unknown method.
-RunRecord Count(const Scene &scene, const RefineOptions &options, const std::string &method);
-
 }  // namespace hrbench

@@ -2,8 +2,8 @@
 // factors on the stored links, gathering over links, push-pull through the element
 // trees, iterated by Jacobi or Gauss-Seidel; and a dense reference on a uniform mesh.
 // docs/solve.md states every definition used here.
-// Defined in src/solve.cpp, src/link_coefficients.cpp (ComputeCoefficients) and
-// src/reference_solve.cpp (SolveUniform).
+// Defined in src/solve/: solve.cpp, link_coefficients.cpp (ComputeCoefficients) and
+// reference_solve.cpp (SolveUniform).
 #pragma once
 
 #include <array>

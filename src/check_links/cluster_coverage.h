@@ -18,7 +18,7 @@
 #include "../cluster/cluster_oracles.h"
 #include "hrbench/check_links.h"
 #include "hrbench/clusters.h"
-#include "hrbench/util/format.h"
+#include "util/format.h"
 #include "violations.h"
 
 namespace hrbench {

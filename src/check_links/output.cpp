@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hrbench/util/format.h"
 #include "internal.h"
+#include "util/format.h"
 
 namespace hrbench {
 

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "hrbench/oracles/registry.h"
-#include "hrbench/util/format.h"
 #include "internal.h"
+#include "util/format.h"
 
 namespace hrbench {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "direction_table.h"
-#include "hrbench/util/parallel_for.h"
+#include "util/parallel_for.h"
 
 namespace hrbench {
 

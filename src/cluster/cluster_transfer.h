@@ -1,6 +1,6 @@
 // The light that crosses the cluster links of a refinement (`--clusters`), each cluster
 // end facing the other by its projected area or as Sillion's isotropic cluster, gathered
-// once per sweep by the hierarchical solve (solve.cpp). docs/solve.md (Clusters) derives
+// once per sweep by the hierarchical solve (solve/solve.cpp). docs/solve.md (Clusters) derives
 // both transfers and states the order of the sweep.
 #pragma once
 
@@ -10,7 +10,7 @@
 #include "hrbench/clusters.h"
 #include "hrbench/scene.h"
 #include "hrbench/solve.h"
-#include "hrbench/visibility.h"
+#include "visibility/visibility.h"
 
 namespace hrbench {
 

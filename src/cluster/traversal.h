@@ -2,7 +2,7 @@
 // under --clusters (docs/conventions.md#clusters): Self(root), each cluster's own
 // pair of children, and Pair(X, Y), which links a node pair its cluster oracle
 // accepts, hands a pair of root patches to the refinement, and otherwise opens the
-// cluster of the larger measure. Internal to refine.cpp. Nothing is kept per root pair.
+// cluster of the larger measure. Internal to refine/refine.cpp. Nothing is kept per root pair.
 #pragma once
 
 #include <cstdint>

@@ -7,7 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cmd/options.h"
-#include "hrbench/generators/generators.h"
+#include "generators.h"
+#include "hrbench/count.h"
 #include "hrbench/oracles/registry.h"
 #include "hrbench/record.h"
 #include "hrbench/refine.h"

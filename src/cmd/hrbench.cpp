@@ -19,11 +19,16 @@
 
 #include "cmd/capabilities.h"
 #include "cmd/options.h"
-#include "hrbench/generators/generators.h"
+#include "count/sweep_count.h"
+#include "generators.h"
 #include "hrbench/hrbench.h"
-#include "hrbench/progress.h"
 #include "hrbench/util/input_file.h"
+#include "io/dump_paths.h"
+#include "refine/progress.h"
+#include "util/args.h"
+#include "util/format.h"
 #include "util/output.h"
+#include "visibility/culling.h"
 
 namespace hrbench {
 namespace {

@@ -4,12 +4,13 @@
 #include <set>
 #include <sstream>
 
-#include "hrbench/generators/generators.h"
+#include "generators.h"
+#include "hrbench/count.h"
 #include "hrbench/oracles/registry.h"
 #include "hrbench/refine.h"
-#include "hrbench/util/args.h"
 #include "hrbench/util/error.h"
-#include "hrbench/util/format.h"
+#include "util/args.h"
+#include "util/format.h"
 
 namespace hrbench {
 

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "count/sweep_count.h"
 #include "hrbench/refine_options.h"
 #include "hrbench/solve.h"
-#include "hrbench/sweep_count.h"
 #include "hrbench/util/input_file.h"
 
 namespace hrbench {

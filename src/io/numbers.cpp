@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "hrbench/util/format.h"
+#include "util/format.h"
 
 namespace hrbench::meshio {
 

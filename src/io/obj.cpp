@@ -10,10 +10,10 @@
 
 #include "../util/output.h"
 #include "formats.h"
-#include "hrbench/util/format.h"
 #include "mtl.h"
 #include "numbers.h"
 #include "text_reader.h"
+#include "util/format.h"
 
 namespace hrbench::meshio {
 

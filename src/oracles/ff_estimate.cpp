@@ -3,7 +3,7 @@
 #include <stdexcept>
 
 #include "hrbench/util/error.h"
-#include "hrbench/util/named.h"
+#include "util/named.h"
 
 namespace hrbench {
 

@@ -1,7 +1,7 @@
 #include "hrbench/oracles/registry.h"
 
 #include "hrbench/util/error.h"
-#include "hrbench/util/named.h"
+#include "util/named.h"
 
 namespace hrbench {
 

@@ -1,5 +1,5 @@
 // The rules of the refinement (docs/conventions.md), written once for the kernels that
-// apply them: ProjectKernel (kernel.h) and the sweep's (sweep_count.cpp). Each is inlined
+// apply them: ProjectKernel (kernel.h) and the sweep's (count/sweep_count.cpp). Each is inlined
 // into the hot path, where a call would cost more than the rule.
 #pragma once
 
@@ -7,7 +7,7 @@
 
 #include "hrbench/forest.h"
 #include "hrbench/refine_options.h"
-#include "hrbench/visibility.h"
+#include "visibility/visibility.h"
 
 namespace hrbench {
 

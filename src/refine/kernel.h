@@ -14,7 +14,7 @@
 #include "hrbench/link_buffer.h"
 #include "hrbench/refine_options.h"
 #include "hrbench/util/error.h"
-#include "hrbench/visibility.h"
+#include "visibility/visibility.h"
 
 namespace hrbench {
 

@@ -1,4 +1,4 @@
-#include "hrbench/util/args.h"
+#include "util/args.h"
 
 #include <cerrno>
 #include <cmath>

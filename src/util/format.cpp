@@ -1,4 +1,4 @@
-#include "hrbench/util/format.h"
+#include "util/format.h"
 
 #include <charconv>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "hrbench/util/sha256.h"
+#include "util/sha256.h"
 
 #include <stdexcept>
 

@@ -1,4 +1,4 @@
-#include "hrbench/visibility.h"
+#include "visibility/visibility.h"
 
 #include <CGAL/AABB_segment_primitive.h>
 #include <CGAL/AABB_traits.h>

@@ -12,11 +12,11 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/LU>
 
-#include "hrbench/culling.h"
 #include "hrbench/util/error.h"
-#include "hrbench/util/parallel_for.h"
 #include "link_coefficients.h"
 #include "solve_internal.h"
+#include "util/parallel_for.h"
+#include "visibility/culling.h"
 
 namespace hrbench {
 

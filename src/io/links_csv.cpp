@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "hrbench/util/format.h"
+#include "util/format.h"
 
 namespace hrbench {
 

@@ -1,4 +1,4 @@
-#include "hrbench/progress.h"
+#include "refine/progress.h"
 
 namespace hrbench {
 

@@ -10,10 +10,10 @@
 #include <utility>
 #include <vector>
 
+#include "count/translation_count.h"
 #include "hrbench/record.h"
 #include "hrbench/refine_options.h"
 #include "hrbench/scene.h"
-#include "hrbench/translation_count.h"
 #include "hrbench/util/error.h"
 
 namespace hrbench::translation {

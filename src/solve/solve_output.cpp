@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "hrbench/solve.h"
-#include "hrbench/util/format.h"
 #include "solve_internal.h"
+#include "util/format.h"
 
 namespace hrbench {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "hrbench/util/error.h"
-#include "hrbench/util/sha256.h"
+#include "util/sha256.h"
 
 namespace hrbench {
 

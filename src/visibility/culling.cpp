@@ -1,4 +1,4 @@
-#include "hrbench/culling.h"
+#include "visibility/culling.h"
 
 #include <cstdio>
 #include <limits>

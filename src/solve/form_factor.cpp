@@ -1,7 +1,7 @@
 // Form factors without occlusion (form_factor.h; the rules are stated in docs/solve.md):
 // flatland by crossed strings, exactly; 3D by Lambert's contour formula at a point,
 // integrated over the emitting polygon by an adaptive tensor Gauss-Legendre rule.
-#include "hrbench/form_factor.h"
+#include "solve/form_factor.h"
 
 #include <algorithm>
 #include <array>

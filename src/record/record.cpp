@@ -10,7 +10,7 @@
 
 #include "build_info.h"
 #include "hrbench/oracles/registry.h"
-#include "hrbench/util/format.h"
+#include "util/format.h"
 
 namespace hrbench {
 

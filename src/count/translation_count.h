@@ -25,7 +25,7 @@
 // the offsets (cx, cy) of the centroids in a dense grid, one rejected run per row, and
 // every element of the plate halved at a level is halved (the pair above or below it
 // is its nearest and is visited), so the trees need no states; quadtree subdivision
-// halves both sides at once (src/translation_count3d.cpp).
+// halves both sides at once (translation_count3d.cpp).
 #pragma once
 
 #include <cstdint>

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "hrbench/util/error.h"
-#include "hrbench/util/parallel_for.h"
+#include "util/parallel_for.h"
 
 namespace hrbench {
 

@@ -24,8 +24,8 @@
 
 #include "hrbench/geometry/polygon.h"
 #include "hrbench/oracles/garmann.h"
-#include "hrbench/util/format.h"
 #include "translation_internal.h"
+#include "util/format.h"
 
 namespace hrbench::translation {
 

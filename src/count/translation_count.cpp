@@ -1,4 +1,4 @@
-#include "hrbench/translation_count.h"
+#include "count/translation_count.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,8 +10,8 @@
 
 #include "hrbench/oracles/garmann.h"
 #include "hrbench/util/error.h"
-#include "hrbench/util/format.h"
 #include "translation_internal.h"
+#include "util/format.h"
 
 namespace hrbench::translation {
 

@@ -8,10 +8,10 @@
 #include <optional>
 
 #include "hrbench/forest.h"
-#include "hrbench/form_factor.h"
 #include "hrbench/refine_options.h"
 #include "hrbench/solve.h"
-#include "hrbench/visibility.h"
+#include "solve/form_factor.h"
+#include "visibility/visibility.h"
 
 namespace hrbench {
 

@@ -1,4 +1,4 @@
-#include "hrbench/dump_paths.h"
+#include "io/dump_paths.h"
 
 #include <algorithm>
 #include <array>
@@ -8,9 +8,9 @@
 
 #include "hrbench/geometry/polygon.h"
 #include "hrbench/geometry/segment.h"
-#include "hrbench/util/args.h"
 #include "hrbench/util/error.h"
-#include "hrbench/util/format.h"
+#include "util/args.h"
+#include "util/format.h"
 
 namespace hrbench {
 

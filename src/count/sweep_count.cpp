@@ -1,17 +1,17 @@
-#include "hrbench/sweep_count.h"
+#include "count/sweep_count.h"
 
 #include <algorithm>
 #include <chrono>
 #include <numeric>
 #include <variant>
 
-#include "hrbench/culling.h"
 #include "hrbench/forest.h"
 #include "hrbench/oracles/registry.h"
 #include "hrbench/util/error.h"
-#include "hrbench/util/format.h"
-#include "hrbench/visibility.h"
 #include "refine/decisions.h"
+#include "util/format.h"
+#include "visibility/culling.h"
+#include "visibility/visibility.h"
 
 namespace hrbench {
 

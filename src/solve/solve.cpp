@@ -9,15 +9,15 @@
 #include <cstdio>
 
 #include "cluster/cluster_transfer.h"
-#include "hrbench/culling.h"
 #include "hrbench/radiosity_estimate.h"
 #include "hrbench/refine.h"
 #include "hrbench/util/error.h"
-#include "hrbench/util/format.h"
-#include "hrbench/util/named.h"
 #include "link_coefficients.h"
 #include "reference_solve.h"
 #include "solve_internal.h"
+#include "util/format.h"
+#include "util/named.h"
+#include "visibility/culling.h"
 
 namespace hrbench {
 

@@ -11,12 +11,11 @@
 #include <string>
 
 #include "cluster/traversal.h"
-#include "hrbench/culling.h"
 #include "hrbench/oracles/registry.h"
-#include "hrbench/translation_count.h"
 #include "hrbench/util/error.h"
-#include "hrbench/util/parallel_for.h"
 #include "refine/kernel.h"
+#include "util/parallel_for.h"
+#include "visibility/culling.h"
 
 namespace hrbench {
 
@@ -568,31 +567,6 @@ AnyRefinement Refine(const Scene &scene, const RefineOptions &options) {
             return Refine<Shape>(scene, options);
         },
         scene.patches);
-}
-
-const std::vector<MethodInfo> &Methods() {
-    static const std::vector<MethodInfo> methods = {
-        {"enumerate", "run ProjectKernel pair by pair (any scene, oracle and option)",
-         [](const Scene &scene, const RefineOptions &options) {
-             return std::visit([](auto &&r) { return std::move(r.record); },
-                               Refine(scene, options));
-         }},
-        {"translation",
-         "exact counts of `parallel` with l2 = l and `parallel3d` with ox = oy = 0, garmann, "
-         "--count-only, no recursion limit, from translation invariance (any number of links "
-         "in milliseconds)",
-         [](const Scene &scene, const RefineOptions &options) {
-             return CountByTranslation(scene, options).record;
-         }},
-    };
-    return methods;
-}
-
-RunRecord Count(const Scene &scene, const RefineOptions &options, const std::string &method) {
-    for (const MethodInfo &m : Methods())
-        if (m.name == method)
-            return m.count(scene, options);
-    throw InputError("unknown method '" + method + "'");
 }
 
 }  // namespace hrbench
