@@ -43,6 +43,10 @@ struct Counters {
     std::vector<uint64_t> linksPerDepth;  // links per link depth depth_i + depth_j
 };
 
+// Drops a histogram's trailing zero bins: every counted histogram ends at its last
+// nonzero one, whichever method counted it.
+void DropTrailingZeros(std::vector<uint64_t> &histogram);
+
 // One counter as output names it. Exactly one of _scalar_ and _histogram_ is set.
 struct CounterInfo {
     const char *name;      // JSON key, benchmark counter and table row, e.g. "oracle_calls"

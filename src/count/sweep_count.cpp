@@ -153,13 +153,6 @@ class SweepKernel {
     const int values_;
 };
 
-// Drops the trailing zeros of a histogram, as the kernel's counters do.
-std::vector<uint64_t> Trimmed(std::vector<uint64_t> histogram) {
-    while (!histogram.empty() && histogram.back() == 0)
-        histogram.pop_back();
-    return histogram;
-}
-
 // The records of each value in ascending order (_options_ per value).
 template <typename Shape>
 std::vector<RunRecord> Sweep(const Patches<Shape> &patches,
@@ -233,11 +226,11 @@ std::vector<RunRecord> Sweep(const Patches<Shape> &patches,
         c.nodesPerDepth = {forest.NumRoots()};
         for (size_t d = 1; d < childrenAt.size(); ++d)
             c.nodesPerDepth.push_back(childrenAt[d][k]);
-        c.nodesPerDepth = Trimmed(c.nodesPerDepth);
+        DropTrailingZeros(c.nodesPerDepth);
         c.maxDepth = c.nodesPerDepth.size() - 1;
         for (const auto &d : linksAt)
             c.linksPerDepth.push_back(d[k]);
-        c.linksPerDepth = Trimmed(c.linksPerDepth);
+        DropTrailingZeros(c.linksPerDepth);
     }
     return records;
 }

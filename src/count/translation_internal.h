@@ -106,8 +106,7 @@ inline void SummariseTrees(std::vector<uint64_t> splitP, std::vector<uint64_t> s
         counters.nodes = CheckedAdd(counters.nodes, n);
     counters.leaves = counters.nodes - halvedTotal;
     counters.maxDepth = counters.nodesPerDepth.size() - 1;
-    while (!counters.linksPerDepth.empty() && counters.linksPerDepth.back() == 0)
-        counters.linksPerDepth.pop_back();
+    DropTrailingZeros(counters.linksPerDepth);
 }
 
 // The two halves of the method, for the `parallel` and the `parallel3d` plates; the

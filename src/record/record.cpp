@@ -14,6 +14,11 @@
 
 namespace hrbench {
 
+void DropTrailingZeros(std::vector<uint64_t> &histogram) {
+    while (!histogram.empty() && histogram.back() == 0)
+        histogram.pop_back();
+}
+
 using nlohmann::json;
 
 const std::vector<CounterInfo> &CounterTable() {

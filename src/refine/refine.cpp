@@ -366,8 +366,7 @@ void SumCounts(const TaskDepthPass<F> &pass, const WorkerResults<F> &workers,
     counters.visibilityQueries = total.visibility.queries;
     counters.occludedPairs = total.visibility.occludedPairs;
     counters.linksPerDepth.assign(total.linksPerDepth.begin(), total.linksPerDepth.end());
-    while (!counters.linksPerDepth.empty() && counters.linksPerDepth.back() == 0)
-        counters.linksPerDepth.pop_back();
+    DropTrailingZeros(counters.linksPerDepth);
 }
 
 // The workers' trees as one, counted, and (store mode) the result's forest and links in
