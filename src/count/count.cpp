@@ -6,7 +6,7 @@
 
 #include "count/translation_count.h"
 #include "hrbench/refine.h"
-#include "hrbench/util/error.h"
+#include "util/named.h"
 
 namespace hrbench {
 
@@ -29,10 +29,7 @@ const std::vector<MethodInfo> &Methods() {
 }
 
 RunRecord Count(const Scene &scene, const RefineOptions &options, const std::string &method) {
-    for (const MethodInfo &m : Methods())
-        if (m.name == method)
-            return m.count(scene, options);
-    throw InputError("unknown method '" + method + "'");
+    return FindNamed(Methods(), method, "method").count(scene, options);
 }
 
 }  // namespace hrbench
