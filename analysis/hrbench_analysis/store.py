@@ -194,7 +194,7 @@ class ResultStore:
         if app not in (0, APPLICATION_ID):
             raise self._fail(f"belongs to another program (SQLite application_id {app:#x}, "
                              f"a results cache has {APPLICATION_ID:#x})")
-        db.execute("PRAGMA journal_mode=WAL")
+        self._use_wal()
         db.execute("PRAGMA synchronous=NORMAL")
         with self._write():
             version = db.execute("PRAGMA user_version").fetchone()[0]
@@ -224,6 +224,20 @@ class ResultStore:
                 self._move_statistics()
             db.execute(f"PRAGMA application_id = {APPLICATION_ID}")
             db.execute(f"PRAGMA user_version = {STORE_SCHEMA_VERSION}")
+
+    def _use_wal(self):
+        # Switching to WAL needs the file to itself, and SQLite answers "locked" at once,
+        # without waiting through the busy timeout, while another process opens the same
+        # new cache: retry for as long as any other write may wait.
+        deadline = time.monotonic() + BUSY_TIMEOUT
+        while True:
+            try:
+                self._db.execute("PRAGMA journal_mode=WAL")
+                return
+            except sqlite3.OperationalError as exc:
+                if "locked" not in str(exc).lower() or time.monotonic() > deadline:
+                    raise
+                time.sleep(0.01)
 
     def _move_statistics(self):
         # A cache of a layout before 3 kept a point's hierarchy statistics inside its
