@@ -126,7 +126,7 @@ def cornell_figures(engine, results, jobs=1):
              f"{options['visibility']}\n{record['leaves']} leaves, {record['links']} links")
     plain = render_figure(solution, title=facts)
     meshed = render_figure(solution, mesh=True, title=facts)
-    seconds = sum(record[f"cpu_seconds_{s}"] for s in ("refine", "coefficients", "solve"))
+    seconds = sum(_cpu_seconds(record).values())
     caption = ("The Cornell box (measured geometry and reflectances of the Cornell "
                "University Program of Computer Graphics), solved on the hierarchy and seen "
                "from its published camera: every leaf drawn flat in its material's colour "
@@ -141,6 +141,11 @@ def cornell_figures(engine, results, jobs=1):
     mesh_figure = ReportFigure("cornell-mesh", "Show the element mesh", caption, meshed)
     return ReportFigure("cornell", "The Cornell box rendered from its radiosity solution",
                         caption, plain, alternate=mesh_figure)
+
+
+def _cpu_seconds(record):
+    # A solve record's CPU seconds by stage, in the order the solve runs them.
+    return {s: record[f"cpu_seconds_{s}"] for s in ("refine", "coefficients", "solve")}
 
 
 #: The bunny in its box (`make bunny-box`; docs/meshes.md): the mesh, relative to the
@@ -181,7 +186,7 @@ def bunny_figure(engine, results, jobs=1):
     record = solve_to_csv(engine, MESH_SCENE, {}, eps, oracle,
                           options | {"mesh": str(mesh), "threads": jobs}, path,
                           min_area=min_area)
-    seconds = {s: record[f"cpu_seconds_{s}"] for s in ("refine", "coefficients", "solve")}
+    seconds = _cpu_seconds(record)
     balance = record["absorbed_power"] / record["emitted_power"] - 1
     facts = (f"{record['patches']:,} patches, {record['links']:,} links "
              f"({record['cluster_links']:,} cluster links)\nabsorbed {balance:+.1%} of the "

@@ -250,8 +250,12 @@ class ResultStore:
                 continue
             record, statistics = split
             self._db.execute("UPDATE points SET output = ? WHERE key = ?", (record, key))
-            self._db.execute("INSERT OR REPLACE INTO statistics (key, statistics) "
-                             "VALUES (?, ?)", (key, statistics))
+            self._put_statistics(key, statistics)
+
+    def _put_statistics(self, key, statistics):
+        # A point's hierarchy statistics (JSON text), beside its record.
+        self._db.execute("INSERT OR REPLACE INTO statistics (key, statistics) VALUES (?, ?)",
+                         (key, statistics))
 
     def _columns_iv(self, table, expected, optional=()):
         # A table of ours, if present, must have our columns (extra ones are a foreign
@@ -377,8 +381,7 @@ class ResultStore:
             if point.statistics is None:
                 self._db.execute("DELETE FROM statistics WHERE key = ?", (text,))
             else:
-                self._db.execute("INSERT OR REPLACE INTO statistics (key, statistics) "
-                                 "VALUES (?, ?)", (text, json.dumps(point.statistics)))
+                self._put_statistics(text, json.dumps(point.statistics))
             self._db.execute("DELETE FROM leases WHERE key = ? AND token = ?",
                              (text, self.token))
 
