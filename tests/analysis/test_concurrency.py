@@ -6,7 +6,6 @@ import re
 import sqlite3
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -51,26 +50,3 @@ def test_two_sweeps_on_one_cache_run_every_point_exactly_once(tmp_path, data_dir
         rows = con.execute("SELECT key, ok FROM points").fetchall()
         assert con.execute("SELECT COUNT(*) FROM leases").fetchone()[0] == 0
     assert len(rows) == 11 and all(ok for _, ok in rows)
-
-
-_OPEN_AT_ONCE = """
-import sys, time
-from hrbench_analysis.store import ResultStore
-while time.time() < float(sys.argv[2]):
-    pass
-ResultStore(sys.argv[1]).close()
-"""
-
-
-def test_processes_creating_one_cache_at_once_all_open_it(tmp_path):
-    # The switch of a new cache to WAL is refused at once, not after the busy timeout,
-    # while another process opens the same file: each opener must wait its turn.
-    env = dict(os.environ, PYTHONPATH=str(ROOT / "analysis"))
-    for attempt in range(12):
-        cache = tmp_path / f"new{attempt}.sqlite"
-        start = f"{time.time() + 0.5:.3f}"
-        procs = [subprocess.Popen([sys.executable, "-c", _OPEN_AT_ONCE, str(cache), start],
-                                  env=env, stderr=subprocess.PIPE, text=True)
-                 for _ in range(3)]
-        errors = [proc.communicate(timeout=120)[1] for proc in procs]
-        assert [proc.returncode for proc in procs] == [0, 0, 0], errors

@@ -4,6 +4,7 @@ import json
 import sqlite3
 import subprocess
 import sys
+import threading
 import time
 
 import pytest
@@ -98,6 +99,23 @@ def test_cache_of_a_newer_layout_is_refused(tmp_path):
     with sqlite3.connect(path) as con:
         con.execute(f"PRAGMA user_version = {STORE_SCHEMA_VERSION + 1}")
     expect_refused(path, "written by a newer analysis")
+
+
+def test_a_new_cache_opens_once_another_writer_is_done(tmp_path):
+    # Another process may hold a new file's write lock as this one switches it to WAL;
+    # SQLite refuses that switch at once, outside the busy timeout, so the store waits.
+    path = tmp_path / "c.sqlite"
+    other = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
+    other.execute("BEGIN IMMEDIATE")
+    done = threading.Timer(0.3, other.execute, ("COMMIT",))
+    done.start()
+    try:
+        start = time.monotonic()
+        ResultStore(path).close()
+        assert time.monotonic() - start >= 0.25
+    finally:
+        done.join()
+        other.close()
 
 
 def test_not_a_file_or_not_writable(tmp_path):
