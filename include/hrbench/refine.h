@@ -23,7 +23,8 @@ namespace hrbench {
 struct RefineProgress {
     std::atomic<uint64_t> rootPairs{0};  // of the scene, set when the run starts; 0: unknown
     std::atomic<uint64_t> pair{0};       // the root pair being refined, from 1; 0: none yet
-    std::atomic<int> pass{0};            // 1: the first pass, 2: the tasks
+    std::atomic<int> pass{0};            // 1: the first pass, 2: the tasks (or the only
+                                         // pass, of a count-only run on one thread)
 
     // Starts pass _number_ (single-threaded).
     void StartPass(int number) {
@@ -58,9 +59,9 @@ template <typename Shape>
 struct Refinement {
     Forest<Shape> forest;
     LinkBuffer links;  // empty in count-only mode
-    // Refined (non-culled) root pairs in order; with --clusters in count-only mode, only
-    // those that reached the task depth (src/refine/kernel.h), so that nothing is kept
-    // per pair.
+    // Refined (non-culled) root pairs in order; with --clusters in count-only mode none,
+    // so that nothing is kept per pair (on several threads the pairs that reach the task
+    // depth, src/refine/kernel.h, are kept while their tasks run).
     std::vector<PairTally> pairs;
     RunRecord record;                       // method "enumerate", the counters and the time
     ClusterTree<Shape> clusters;            // empty without --clusters

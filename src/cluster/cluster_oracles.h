@@ -34,6 +34,7 @@ class NodeViews {
     using View = ClusterNodeView<Shape::kDimension>;
 
     NodeViews(const Patches<Shape> &patches, const ClusterTree<Shape> &tree) {
+        patches_.reserve(patches.size()), clusters_.reserve(tree.NumClusters());
         for (uint32_t p = 0; p < patches.size(); ++p) {
             Ball<Shape::kDimension> ball = PatchBall(patches, p);
             patches_.push_back({ball.center, ball.radius, patches[p].shape.Measure(), p});

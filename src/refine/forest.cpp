@@ -36,6 +36,7 @@ Forest<Shape>::Forest(const Patches<Shape> &patches, size_t maxElements, Subdivi
         hot_.ReserveUpFront(n), depth_.ReserveUpFront(n);
         splitElement_.ReserveUpFront(n / arity_ + 1);
     }
+    rootShapes_.reserve(numRoots_);
     for (const Patch<Shape> &patch : patches) {
         const Shape &s = patch.shape;
         hot_.push_back({s.Centroid(), s.SquaredMeasure(), kNoChildren, uint32_t(hot_.size())});

@@ -205,8 +205,12 @@ struct TaskDepthPass {
 // The sequential pass: classifies the root pairs that _traverse_ gives (every one in
 // scene order, or those the cluster traversal reaches, in its order), refines those that
 // need it down to the task depth, recording them in _result_.pairs and the pairs at that
-// depth as tasks, and throws LimitError when this exceeds _budget_.
-template <int kArity, bool kStoreLinks, typename Shape, typename Oracle, typename Visibility>
+// depth as tasks, and throws LimitError when this exceeds _budget_. Without _kFrontier_
+// it refines them whole and leaves no task: a count-only run on one thread, where no
+// element id is seen (the elements made are the same, in another order) and no other
+// worker could take a task, so that nothing is kept per task.
+template <int kArity, bool kStoreLinks, bool kFrontier, typename Shape, typename Oracle,
+          typename Visibility>
 TaskDepthPass<Forest<Shape>>
 RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const RefineOptions &options,
                   const Budget &budget, const Visibility &visibility,
@@ -214,21 +218,22 @@ RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const Ref
     using F = Forest<Shape>;
     Counters &counters = result.record.counters;
     TaskDepthPass<F> pass{F(patches, budget.maxElements, options.subdivision), {}, {}, {}, {}};
-    ProjectKernel<F, kArity, Oracle, kStoreLinks, true, Visibility> kernel(
+    ProjectKernel<F, kArity, Oracle, kStoreLinks, kFrontier, Visibility> kernel(
         pass.forest, oracle, options, budget.maxLinks, visibility);
     const uint32_t numPatches = uint32_t(patches.size());
     RefineProgress *progress = options.progress;
     if (progress) {
         // With clusters, how many root pairs the traversal reaches is not known ahead.
         progress->rootPairs = options.clusters ? 0 : uint64_t(numPatches) * (numPatches - 1) / 2;
-        progress->StartPass(1);
+        progress->StartPass(kFrontier ? 1 : 2);  // a pass that leaves no task is the last
     }
     // Besides the trees and links, the budget counts what the run keeps per refined root
     // pair and per task, at its arrays' capacity (RecordBytes); the pair records grow
     // here, so that the old and the new array, held at once while growing, are counted
     // before they are taken. A scene of many patches can hold more in them than in its
     // trees (24 bytes per refined pair).
-    const size_t pairBytes = sizeof(PairTally) + (progress ? sizeof(uint64_t) : 0);
+    const bool ordinals = kFrontier && progress;  // a task's pair's ordinal, for progress
+    const size_t pairBytes = sizeof(PairTally) + (ordinals ? sizeof(uint64_t) : 0);
     auto check = [&](size_t growing) {
         if (pass.RecordBytes(result.pairs) + growing + pass.forest.Size() * F::kBytesPerElement +
                 pass.links.size() * sizeof(Link) >
@@ -253,7 +258,7 @@ RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const Ref
             size_t grown = std::max<size_t>(2 * result.pairs.capacity(), 1024);
             check(grown * pairBytes);
             result.pairs.reserve(grown);
-            if (progress)
+            if (ordinals)
                 pass.pairOrdinal.reserve(grown);
         }
         Tally before = kernel.tally;
@@ -263,7 +268,7 @@ RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const Ref
             return;
         result.pairs.push_back({p, q, kernel.tally.Links() - before.Links(),
                                 kernel.tally.oracleCalls - before.oracleCalls});
-        if (progress)
+        if (ordinals)
             pass.pairOrdinal.push_back(counters.rootPairs);
         check(0);
     });
@@ -317,7 +322,7 @@ WorkerResults<F> RunTasks(TaskDepthPass<F> &pass, const Oracle &oracle,
         ~Worker() { tally = kernel.tally; }
     };
     RefineProgress *progress = options.progress;
-    if (progress)
+    if (progress && !tasks.empty())
         progress->StartPass(2);
     ParallelFor(  // with numWorkers workers, one task a chunk
         tasks.size(), 1, int(numWorkers),
@@ -372,8 +377,8 @@ void SumCounts(const TaskDepthPass<F> &pass, const WorkerResults<F> &workers,
 // The workers' trees as one, counted, and (store mode) the result's forest and links in
 // the ids that one worker running every task in order would have made.
 template <bool kStoreLinks, typename F, typename Shape>
-void MergeWorkers(TaskDepthPass<F> &pass, WorkerResults<F> &workers, const RefineOptions &options,
-                  Refinement<Shape> &result) {
+void MergeWorkers(const Patches<Shape> &patches, TaskDepthPass<F> &pass, WorkerResults<F> &workers,
+                  const RefineOptions &options, Refinement<Shape> &result) {
     Counters &counters = result.record.counters;
     const std::vector<TaskResult> &tasks = workers.tasks;
     // One worker ran every task in order: its ids are canonical, as made.
@@ -391,6 +396,7 @@ void MergeWorkers(TaskDepthPass<F> &pass, WorkerResults<F> &workers, const Refin
     // counted as one instead of merged, and the result keeps only the roots.
     if constexpr (!kStoreLinks) {
         CountUnion(pass.forest, workers.forests, options.threads, counters);
+        result.forest = F(patches, SIZE_MAX, options.subdivision);
     } else {
         // Merge the trees into canonical ids and translate the links to them.
         std::vector<std::vector<uint32_t>> splits;
@@ -443,19 +449,28 @@ void MergeWorkers(TaskDepthPass<F> &pass, WorkerResults<F> &workers, const Refin
 
 // Runs the kernel over the root pairs that _traverse_ gives: a sequential pass down to
 // the task depth, then the tasks on worker threads, each with its own copy of the trees,
-// within what the pass's records leave of the budget.
+// within what the pass's records leave of the budget. A count-only run on one thread
+// refines every pair whole in the sequential pass.
 template <typename Shape, int kArity, typename Oracle, bool kStoreLinks, typename Visibility>
 void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
                     const RefineOptions &options, const Budget &budget,
                     const Visibility &visibility, const RootPairTraversal &traverse,
                     Refinement<Shape> &result) {
-    TaskDepthPass<Forest<Shape>> pass = RefineToTaskDepth<kArity, kStoreLinks>(
-        patches, oracle, options, budget, visibility, traverse, result);
+    TaskDepthPass<Forest<Shape>> pass = [&] {
+        if constexpr (!kStoreLinks)
+            if (options.threads == 1)
+                return RefineToTaskDepth<kArity, kStoreLinks, false>(
+                    patches, oracle, options, budget, visibility, traverse, result);
+        return RefineToTaskDepth<kArity, kStoreLinks, true>(patches, oracle, options, budget,
+                                                            visibility, traverse, result);
+    }();
     const Budget left = SplitBudget<Shape>(budget.bytes - pass.RecordBytes(result.pairs), options);
     WorkerResults<Forest<Shape>> workers =
         RunTasks<kArity, kStoreLinks>(pass, oracle, options, left, visibility);
     SumCounts(pass, workers, options, result);
-    MergeWorkers<kStoreLinks>(pass, workers, options, result);
+    if (options.clusters && !kStoreLinks)  // kept only to count the tasks' pairs
+        std::vector<PairTally>().swap(result.pairs);
+    MergeWorkers<kStoreLinks>(patches, pass, workers, options, result);
 }
 
 // Every root pair (p, q), p < q, in order.
@@ -538,7 +553,7 @@ Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options) {
     ValidateScene(scene);
     const Patches<Shape> &patches = scene.Get<Shape>();
 
-    Refinement<Shape> result{Forest<Shape>(patches, SIZE_MAX, options.subdivision),
+    Refinement<Shape> result{Forest<Shape>({}, SIZE_MAX, options.subdivision),  // set by Dispatch
                              {},
                              {},
                              {"enumerate", {}, 0, {}, {}},
