@@ -340,6 +340,9 @@ TEST_CASE("Clustered counts and links do not depend on the thread count", "[clus
             Refinement<Segment> r = Refine<Segment>(scene, o);
             CHECK(CounterDifferences(one.record.counters, r.record.counters) == "");
             CHECK(hrbench_test::SameLinks(one.links, r.links));
+            // Count-only keeps no record of a root pair, on any number of threads.
+            CHECK(r.pairs.empty() == !store);
+            CHECK(one.pairs.empty() == !store);
             REQUIRE(r.clusterLinks.size() == one.clusterLinks.size());
             for (size_t k = 0; k < r.clusterLinks.size(); ++k)
                 CHECK((r.clusterLinks[k].a == one.clusterLinks[k].a &&
