@@ -33,11 +33,12 @@ struct Budget {
     size_t maxLinks;
 };
 
-// Splits _bytes_ of memory: a quarter for the element trees (one copy per worker and
-// the merged one) when links are stored, the rest for links.
+// Splits _bytes_ of memory: a quarter for the element trees when links are stored, the
+// rest for links. The trees are one forest on one thread (its worker takes the sequential
+// pass's over), else a copy per worker and the pass's, into which they are merged.
 template <typename Shape>
 Budget SplitBudget(size_t bytes, const RefineOptions &options) {
-    size_t forests = size_t(options.threads) + 1;
+    size_t forests = options.threads == 1 ? 1 : size_t(options.threads) + 1;
     size_t elementBytes = Forest<Shape>::kBytesPerElement;
     return {bytes, (options.storeLinks ? bytes / 4 : bytes) / elementBytes / forests,
             bytes / 4 * 3 / sizeof(Link)};
