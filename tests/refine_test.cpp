@@ -826,6 +826,24 @@ TEST_CASE("The memory budget counts the records kept per refined root pair", "[r
     }
 }
 
+TEST_CASE("A count-only run on one thread has the whole budget for its one forest",
+          "[refine][errors]") {
+    // One root pair: no pair records to speak of, the trees are all a run keeps.
+    Scene scene = MakeScene("parallel", {{"l", 256}});
+    RefineOptions o = Options(0.01, "garmann", false);
+    const uint64_t nodes = Refine<Segment>(scene, o).record.counters.nodes;
+    REQUIRE(nodes > 100000);
+    // Room for the trees and the records' first array (1,024 pairs), with a tenth to
+    // spare: more than half of it is trees, which a budget split between two forests
+    // (a worker's and the pass's) would refuse.
+    o.memoryBudget = size_t(1.1 * double(nodes * Forest<Segment>::kBytesPerElement)) +
+                     1024 * sizeof(PairTally);
+    CHECK(Refine<Segment>(scene, o).record.counters.nodes == nodes);
+    // Two threads copy the trees once per worker beside the pass's: that does not fit.
+    o.threads = 2;
+    CHECK_THROWS_AS(Refine<Segment>(scene, o), LimitError);
+}
+
 TEST_CASE("Invalid refinement options are rejected with the option's name", "[refine][errors]") {
     Scene scene = MakeScene("parallel", {});
     double nan = std::numeric_limits<double>::quiet_NaN(),
