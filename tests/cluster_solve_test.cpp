@@ -206,6 +206,7 @@ TEST_CASE("One cluster link between two clusters of two segments, by hand", "[so
                           {},
                           {},
                           ClusterTree<Segment>(patches),
+                          {},
                           {}};
     // The median split along x: cluster 1 = {p0, p1}, cluster 2 = {p2, p3}.
     REQUIRE(r.clusters.NumClusters() == 3);
@@ -277,7 +278,8 @@ TEST_CASE("One cluster link between two clusters of two segments, by hand", "[so
                               {},
                               {},
                               ClusterTree<Segment>(flipped),
-                              r.clusterLinks};
+                              r.clusterLinks,
+                              {}};
         for (ClusterTransferKind kind : {kIsotropic, kProjected}) {
             options.clusterTransfer = kind;
             SolveResult t = SolveRefinement(away, f, refine, options);
@@ -299,6 +301,7 @@ TEST_CASE("A 3D cluster link: B A / (16 pi r^2) between isotropic ends, exact be
                               {},
                               {},
                               ClusterTree<Polygon>(patches),
+                              {},
                               {}};
         REQUIRE(r.clusters.NumClusters() == 3);
         REQUIRE(r.clusters[1].begin == 0);  // {p0, p1}, {p2, p3}
@@ -610,6 +613,7 @@ TEST_CASE("A cluster link is weighed by the share of unblocked segments between 
                               {},
                               {},
                               ClusterTree<Polygon>(patches),
+                              {},
                               {}};
         // Split along z: {p0, p1} is cluster 1; {p4, p2, p3} cluster 2, {p2, p3} cluster 3.
         REQUIRE(r.clusters[1].children[0] == 0);

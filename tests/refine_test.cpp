@@ -836,8 +836,8 @@ TEST_CASE("A count-only run on one thread has the whole budget for its one fores
     // Room for the trees and the records' first array (1,024 pairs), with a tenth to
     // spare: more than half of it is trees, which a budget split between two forests
     // (a worker's and the pass's) would refuse.
-    o.memoryBudget = size_t(1.1 * double(nodes * Forest<Segment>::kBytesPerElement)) +
-                     1024 * sizeof(PairTally);
+    o.memoryBudget =
+        size_t(1.1 * double(nodes * Forest<Segment>::kBytesPerElement)) + 1024 * sizeof(PairTally);
     CHECK(Refine<Segment>(scene, o).record.counters.nodes == nodes);
     // Two threads copy the trees once per worker beside the pass's: that does not fit.
     o.threads = 2;

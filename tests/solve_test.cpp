@@ -18,6 +18,7 @@
 #include "hrbench/hrbench.h"
 #include "solve/form_factor.h"
 #include "util/parallel_for.h"
+#include "visibility/visibility.h"
 
 using namespace hrbench;
 using namespace hrbench_test;
@@ -246,6 +247,41 @@ TEST_CASE("The consistency scale is 1 where the links are exact, and never with 
     split.visibility = VisibilityMode::Fraction;
     for (double v : ConsistencyScales(plates.Get<Segment>(), r.forest, r.links, c, split))
         CHECK(v == 1);
+}
+
+TEST_CASE("The solve weighs links by the visible fractions the refinement sampled",
+          "[solve][visibility]") {
+    // The Cornell box's blocks occlude: many links are partly visible. The refinement keeps
+    // each link's fraction, on any number of threads; weighing by them gives exactly the
+    // coefficients of sampling the links' rays again.
+    Scene cornell = MakeScene("cornell", {});
+    RefineOptions o = Refining(0.05, 5e-3, "hanrahan");
+    o.visibility = VisibilityMode::Fraction;
+    Refinement<Polygon> r = Refine<Polygon>(cornell, o);
+    REQUIRE(r.links.size() > 1000);
+    REQUIRE(r.visible.size() == r.links.size());
+    size_t partial =
+        std::count_if(r.visible.begin(), r.visible.end(), [](double v) { return v > 0 && v < 1; });
+    CHECK(partial > 50);
+    CHECK(std::none_of(r.visible.begin(), r.visible.end(), [](double v) { return v <= 0; }));
+    Occluders occluders(cornell.Get<Polygon>());
+    std::vector<LinkCoefficients> sampled =
+        ComputeCoefficients(r.forest, r.links, o, &occluders, nullptr);
+    std::vector<LinkCoefficients> kept =
+        ComputeCoefficients(r.forest, r.links, o, &occluders, nullptr, &r.visible);
+    REQUIRE(kept.size() == sampled.size());
+    for (size_t k = 0; k < kept.size(); ++k)
+        CHECK((kept[k].ij == sampled[k].ij && kept[k].ji == sampled[k].ji));
+    for (int threads : {2, 3}) {
+        o.threads = threads;
+        CHECK(Refine<Polygon>(cornell, o).visible == r.visible);
+    }
+    // Without visibility, and without stored links, none is kept.
+    o.visibility = VisibilityMode::None;
+    CHECK(Refine<Polygon>(cornell, o).visible.empty());
+    o.visibility = VisibilityMode::Fraction;
+    o.storeLinks = false;
+    CHECK(Refine<Polygon>(cornell, o).visible.empty());
 }
 
 TEST_CASE("The closed 3D box has B = E / (1 - rho)", "[solve][3d]") {

@@ -66,6 +66,9 @@ struct Refinement {
     RunRecord record;                       // method "enumerate", the counters and the time
     ClusterTree<Shape> clusters;            // empty without --clusters
     std::vector<ClusterLink> clusterLinks;  // store mode only, in traversal order
+    // Store mode with visibility (--visibility other than none): each link's visible
+    // fraction as the refinement sampled it, in link order; else empty.
+    std::vector<double> visible;
 };
 
 using AnyRefinement = std::variant<Refinement<Segment>, Refinement<Polygon>>;

@@ -87,6 +87,10 @@ std::string MinAreaWarning(const Scene &scene, const RefineOptions &options);
 // The memory budget of a run in bytes: the option, or 90% of the free memory.
 size_t EffectiveBudget(const RefineOptions &options);
 
+// Bytes a stored link takes: its two element ids, and with visibility (anything but
+// --visibility none) its visible fraction (Refinement::visible).
+size_t StoredLinkBytes(const RefineOptions &options);
+
 // Free memory reported by the operating system (MemAvailable), in bytes.
 size_t AvailableMemoryBytes();
 

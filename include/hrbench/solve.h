@@ -119,19 +119,22 @@ void AddLinkFormFactors(const LinkFormFactors &formFactors, nlohmann::json &reco
 // options.threads threads; each value depends on its link only, so the result is the
 // same for every thread count. With _formFactors_, also the links' LinkFormFactors
 // against options.eps, from the same form factors (before the visible fraction weighs
-// them).
+// them). With _visible_, one fraction per link as the refinement sampled them
+// (Refinement::visible), the links are weighed by those, the same values, without
+// casting their rays again.
 template <typename Shape>
 std::vector<LinkCoefficients>
 ComputeCoefficients(const Forest<Shape> &forest, const LinkBuffer &links,
                     const RefineOptions &options, const Occluders *occluders = nullptr,
-                    LinkFormFactors *formFactors = nullptr);
+                    LinkFormFactors *formFactors = nullptr,
+                    const std::vector<double> *visible = nullptr);
 
 extern template std::vector<LinkCoefficients>
 ComputeCoefficients(const Forest<Segment> &, const LinkBuffer &, const RefineOptions &,
-                    const Occluders *, LinkFormFactors *);
+                    const Occluders *, LinkFormFactors *, const std::vector<double> *);
 extern template std::vector<LinkCoefficients>
 ComputeCoefficients(const Forest<Polygon> &, const LinkBuffer &, const RefineOptions &,
-                    const Occluders *, LinkFormFactors *);
+                    const Occluders *, LinkFormFactors *, const std::vector<double> *);
 
 // The LinkFormFactors of a stored refinement's links against options.eps, on
 // options.threads threads (`run --link-form-factors`). LimitError when the elements'

@@ -71,11 +71,14 @@ class ProjectKernel {
         : forest_(forest), oracle_(oracle), visibility_(visibility),
           minAreaBound_(SquaredSizeBound(options.minArea)), limits_(options), maxLinks_(maxLinks) {}
 
-    // Refines _start_ completely (below the frontier), appending links to _links_
-    // and frontier pairs to _tasks_.
-    void Project(Call start, uint32_t pair, LinkBuffer &links, std::vector<Task> *tasks) {
+    // Refines _start_ completely (below the frontier), appending links to _links_, with
+    // visibility (store mode) each link's visible fraction to _visible_, and frontier
+    // pairs to _tasks_.
+    void Project(Call start, uint32_t pair, LinkBuffer &links, std::vector<double> &visible,
+                 std::vector<Task> *tasks) {
         if (links_ != &links)  // a buffer this kernel has not backed yet (tasks share one)
             links_ = &links, backedEnd_ = links.end();
+        visible_ = &visible;
         next_ = links.end();
         tasks_ = tasks;
         pair_ = pair;
@@ -151,6 +154,7 @@ class ProjectKernel {
         if constexpr (Visibility::kEnabled) {
             // Estimate the visible fraction: drop occluded pairs, weight or refine partial ones.
             double visible = visibility_.Fraction(forest_, i, j, tally.visibility);
+            fraction_ = visible;
             if (visible == 0) {
                 ++tally.visibility.occludedPairs;
                 return;
@@ -204,6 +208,8 @@ class ProjectKernel {
             if (next_ == backedEnd_)
                 GrowLinks();
             *next_++ = {i, j};
+            if constexpr (Visibility::kEnabled)
+                visible_->push_back(fraction_);
         }
     }
 
@@ -222,6 +228,8 @@ class ProjectKernel {
                                  std::to_string(links_->size()) +
                                  " links); use --count-only, a larger eps or --max-memory");
             links_->Reserve(capacity);
+            if constexpr (Visibility::kEnabled)
+                visible_->reserve(capacity);
         }
         size_t backed = std::min(links_->capacity(), links_->size() + kPopulate);
         if (links_->size() >= kPopulate)
@@ -241,6 +249,11 @@ class ProjectKernel {
     LinkBuffer *links_ = nullptr;
     Link *next_ = nullptr;       // where the next link goes
     Link *backedEnd_ = nullptr;  // links_ is backed with memory up to here
+    // With visibility: each stored link's visible fraction, in link order, and the
+    // fraction of the pair that Recurse() is at, which a link made there takes (the
+    // solve weighs the link by it rather than sampling the same rays again).
+    std::vector<double> *visible_ = nullptr;
+    double fraction_ = 1;
     std::vector<Task> *tasks_ = nullptr;
     uint32_t pair_ = 0;
 };

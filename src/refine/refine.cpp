@@ -34,14 +34,15 @@ struct Budget {
 };
 
 // Splits _bytes_ of memory: a quarter for the element trees when links are stored, the
-// rest for links. The trees are one forest on one thread (its worker takes the sequential
-// pass's over), else a copy per worker and the pass's, into which they are merged.
+// rest for links (with visibility, each with its visible fraction). The trees are one
+// forest on one thread (its worker takes the sequential pass's over), else a copy per
+// worker and the pass's, into which they are merged.
 template <typename Shape>
 Budget SplitBudget(size_t bytes, const RefineOptions &options) {
     size_t forests = options.threads == 1 ? 1 : size_t(options.threads) + 1;
     size_t elementBytes = Forest<Shape>::kBytesPerElement;
     return {bytes, (options.storeLinks ? bytes / 4 : bytes) / elementBytes / forests,
-            bytes / 4 * 3 / sizeof(Link)};
+            bytes / 4 * 3 / StoredLinkBytes(options)};
 }
 
 // What a task left in its worker (RunTasks): its worker, the run of sibling groups it
@@ -192,6 +193,7 @@ template <typename F>
 struct TaskDepthPass {
     F forest;
     LinkBuffer links;
+    std::vector<double> visible;  // each link's visible fraction, with visibility
     Tally tally;
     std::vector<Task> tasks;
     std::vector<uint64_t> pairOrdinal;
@@ -218,7 +220,7 @@ RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const Ref
                   const RootPairTraversal &traverse, Refinement<Shape> &result) {
     using F = Forest<Shape>;
     Counters &counters = result.record.counters;
-    TaskDepthPass<F> pass{F(patches, budget.maxElements, options.subdivision), {}, {}, {}, {}};
+    TaskDepthPass<F> pass{F(patches, budget.maxElements, options.subdivision), {}, {}, {}, {}, {}};
     ProjectKernel<F, kArity, Oracle, kStoreLinks, kFrontier, Visibility> kernel(
         pass.forest, oracle, options, budget.maxLinks, visibility);
     const uint32_t numPatches = uint32_t(patches.size());
@@ -237,7 +239,7 @@ RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const Ref
     const size_t pairBytes = sizeof(PairTally) + (ordinals ? sizeof(uint64_t) : 0);
     auto check = [&](size_t growing) {
         if (pass.RecordBytes(result.pairs) + growing + pass.forest.Size() * F::kBytesPerElement +
-                pass.links.size() * sizeof(Link) >
+                pass.links.size() * StoredLinkBytes(options) >
             budget.bytes)
             throw LimitError("the records of " + std::to_string(result.pairs.size()) +
                              " refined root pairs and " + std::to_string(pass.tasks.size()) +
@@ -264,7 +266,8 @@ RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const Ref
         }
         Tally before = kernel.tally;
         size_t tasksBefore = pass.tasks.size();
-        kernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), pass.links, &pass.tasks);
+        kernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), pass.links, pass.visible,
+                       &pass.tasks);
         if (pairsForTasksOnly && pass.tasks.size() == tasksBefore)
             return;
         result.pairs.push_back({p, q, kernel.tally.Links() - before.Links(),
@@ -277,11 +280,13 @@ RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const Ref
     return pass;
 }
 
-// What RunTasks leaves: per worker its forest, links (store mode) and counts; per task its result.
+// What RunTasks leaves: per worker its forest, links and their visible fractions (store
+// mode) and counts; per task its result.
 template <typename F>
 struct WorkerResults {
     std::vector<F> forests;
     std::vector<LinkBuffer> links;
+    std::vector<std::vector<double>> visible;
     std::vector<Tally> tallies;
     std::vector<TaskResult> tasks;
 };
@@ -308,8 +313,9 @@ WorkerResults<F> RunTasks(TaskDepthPass<F> &pass, const Oracle &oracle,
     // The first worker's buffer starts with the sequential pass's links, whose ids are
     // the same in every worker's forest.
     out.links.resize(kStoreLinks ? numWorkers : 0);
+    out.visible.resize(kStoreLinks ? numWorkers : 0);
     if constexpr (kStoreLinks)
-        out.links[0] = std::move(pass.links);
+        out.links[0] = std::move(pass.links), out.visible[0] = std::move(pass.visible);
     out.tallies.resize(numWorkers);
     out.tasks.resize(tasks.size());
 
@@ -320,6 +326,7 @@ WorkerResults<F> RunTasks(TaskDepthPass<F> &pass, const Oracle &oracle,
         Kernel kernel;
         Tally &tally;
         LinkBuffer countOnly = {};  // the links of a count-only run, which keeps none
+        std::vector<double> noVisible = {};
         ~Worker() { tally = kernel.tally; }
     };
     RefineProgress *progress = options.progress;
@@ -337,10 +344,11 @@ WorkerResults<F> RunTasks(TaskDepthPass<F> &pass, const Oracle &oracle,
                 progress->At(pass.pairOrdinal[tasks[t].pair]);
             const size_t w = worker.index;
             LinkBuffer &links = kStoreLinks ? out.links[w] : worker.countOnly;
+            std::vector<double> &visible = kStoreLinks ? out.visible[w] : worker.noVisible;
             const Tally &tally = worker.kernel.tally;
             uint64_t linksBefore = tally.Links(), callsBefore = tally.oracleCalls;
             uint32_t begin = uint32_t(out.forests[w].Size());
-            worker.kernel.Project(tasks[t].call, tasks[t].pair, links, nullptr);
+            worker.kernel.Project(tasks[t].call, tasks[t].pair, links, visible, nullptr);
             uint32_t end = uint32_t(out.forests[w].Size());
             uint64_t made = tally.Links() - linksBefore, calls = tally.oracleCalls - callsBefore;
             out.tasks[t] = {w, begin, end, links.size(), made, calls};
@@ -387,6 +395,7 @@ void MergeWorkers(const Patches<Shape> &patches, TaskDepthPass<F> &pass, WorkerR
         if constexpr (kStoreLinks) {
             result.links = std::move(workers.links[0]);
             result.links.ShrinkToFit();
+            result.visible = std::move(workers.visible[0]);
         }
         result.forest = std::move(workers.forests[0]);
         result.forest.LiftBudget();
@@ -422,7 +431,12 @@ void MergeWorkers(const Patches<Shape> &patches, TaskDepthPass<F> &pass, WorkerR
             taskStart[t] = total, total += tasks[t].links;
         result.links.Reserve(total);
         result.links.Resize(total);
+        const bool visible = options.visibility != VisibilityMode::None;
+        result.visible.resize(visible ? total : 0);
         auto copy = [&](size_t w, size_t begin, size_t end, size_t to) {
+            if (visible)  // the fractions as they are: they name no element
+                std::copy(workers.visible[w].begin() + begin, workers.visible[w].begin() + end,
+                          result.visible.begin() + to);
             // Block by block, each given back once copied, so that the source and the
             // copy together hold little more than one of them (a task's range can be
             // tens of MB). Each give-back reaches half a block back, over the page the
@@ -558,6 +572,7 @@ Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options) {
                              {},
                              {},
                              {"enumerate", {}, 0, {}, {}},
+                             {},
                              {},
                              {}};
     auto start = std::chrono::steady_clock::now();

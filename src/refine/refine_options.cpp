@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "hrbench/link_buffer.h"
 #include "hrbench/oracles/registry.h"
 #include "hrbench/scene.h"
 #include "hrbench/util/error.h"
@@ -95,6 +96,10 @@ std::string MinAreaWarning(const Scene &scene, const RefineOptions &options) {
 
 size_t EffectiveBudget(const RefineOptions &options) {
     return options.memoryBudget > 0 ? options.memoryBudget : AvailableMemoryBytes() / 10 * 9;
+}
+
+size_t StoredLinkBytes(const RefineOptions &options) {
+    return sizeof(Link) + (options.visibility != VisibilityMode::None ? sizeof(double) : 0);
 }
 
 size_t AvailableMemoryBytes() {

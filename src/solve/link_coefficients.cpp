@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <stdexcept>
 #include <string>
 
 #include "hrbench/util/error.h"
@@ -57,7 +58,7 @@ LinkFormFactors MeasureOf(const Refinement<Shape> &refinement, const RefineOptio
     const LinkBuffer &links = refinement.links;
     // The shapes beside the refinement, within the budget it was given (without
     // --max-memory the budget is read from the free memory, which excludes the refinement).
-    size_t used = options.memoryBudget > 0 ? links.size() * sizeof(Link) +
+    size_t used = options.memoryBudget > 0 ? links.size() * StoredLinkBytes(options) +
                                                  forest.Size() * Forest<Shape>::kBytesPerElement
                                            : 0;
     size_t budget = EffectiveBudget(options);
@@ -78,14 +79,17 @@ template <typename Shape>
 std::vector<LinkCoefficients>
 ComputeCoefficients(const Forest<Shape> &forest, const LinkBuffer &links,
                     const RefineOptions &options, const Occluders *occluders,
-                    LinkFormFactors *formFactors) {
+                    LinkFormFactors *formFactors, const std::vector<double> *visible) {
+    if (visible && visible->size() != links.size())
+        throw std::logic_error("ComputeCoefficients: a visible fraction per link, or none");
     std::vector<LinkCoefficients> coefficients(links.size());
     std::vector<Shape> shapes = forest.AllShapes();
     LinkFormFactors measured = ForEachLink(
         shapes, occluders, links, options, [&](PairCoefficients<Shape> &pair, size_t k) {
             uint32_t i = links[k].i, j = links[k].j;
             double ij = pair.FormFactorOf(i, j);
-            coefficients[k] = pair.Weighted(forest, i, j, ij, pair.Visible(forest, i, j));
+            double v = visible ? (*visible)[k] : pair.Visible(forest, i, j);
+            coefficients[k] = pair.Weighted(forest, i, j, ij, v);
             return pair.Weighted(forest, i, j, ij, 1.0);
         });
     if (formFactors)
@@ -143,13 +147,11 @@ template std::vector<double> ConsistencyScales(const Patches<Polygon> &, const F
                                                const std::vector<LinkCoefficients> &,
                                                const RefineOptions &, const std::vector<double> *);
 
-template std::vector<LinkCoefficients> ComputeCoefficients(const Forest<Segment> &,
-                                                           const LinkBuffer &,
-                                                           const RefineOptions &, const Occluders *,
-                                                           LinkFormFactors *);
-template std::vector<LinkCoefficients> ComputeCoefficients(const Forest<Polygon> &,
-                                                           const LinkBuffer &,
-                                                           const RefineOptions &, const Occluders *,
-                                                           LinkFormFactors *);
+template std::vector<LinkCoefficients>
+ComputeCoefficients(const Forest<Segment> &, const LinkBuffer &, const RefineOptions &,
+                    const Occluders *, LinkFormFactors *, const std::vector<double> *);
+template std::vector<LinkCoefficients>
+ComputeCoefficients(const Forest<Polygon> &, const LinkBuffer &, const RefineOptions &,
+                    const Occluders *, LinkFormFactors *, const std::vector<double> *);
 
 }  // namespace hrbench

@@ -226,8 +226,11 @@ void SolveLinks(const Patches<Shape> &patches, const Refinement<Shape> &refineme
     Stopwatch coefficientWatch;
     // One set of occluders weighs the element links and the cluster links alike.
     std::unique_ptr<Occluders> occluders = OccludersFor(patches, refine);
-    std::vector<LinkCoefficients> coefficients = ComputeCoefficients(
-        refinement.forest, refinement.links, refine, occluders.get(), &result.linkFormFactors);
+    // The links' visible fractions as the refinement sampled them, where it kept them.
+    const std::vector<double> *visible = refinement.visible.empty() ? nullptr : &refinement.visible;
+    std::vector<LinkCoefficients> coefficients =
+        ComputeCoefficients(refinement.forest, refinement.links, refine, occluders.get(),
+                            &result.linkFormFactors, visible);
     std::optional<ClusterTransfer<Shape>> clusters;
     std::vector<double> clusterCoefficients;
     if (refinement.clusters.NumClusters() > 0) {
@@ -345,7 +348,8 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
         // The solver's arrays within what the budget leaves after the refinement.
         size_t links = refinement.links.size(), elements = refinement.forest.Size();
         size_t used = passOptions.memoryBudget > 0
-                          ? links * sizeof(Link) + elements * Forest<Shape>::kBytesPerElement +
+                          ? links * StoredLinkBytes(passOptions) +
+                                elements * Forest<Shape>::kBytesPerElement +
                                 refinement.pairs.capacity() * sizeof(PairTally)
                           : 0;
         size_t budget = EffectiveBudget(passOptions);
