@@ -259,6 +259,8 @@ TEST_CASE("The solve weighs links by the visible fractions the refinement sample
     o.visibility = VisibilityMode::Fraction;
     Refinement<Polygon> r = Refine<Polygon>(cornell, o);
     REQUIRE(r.links.size() > 1000);
+    // Links at depth sums of 10 and more (kTaskDepth): on several threads, workers make them.
+    REQUIRE(r.record.counters.linksPerDepth.size() > 10);
     REQUIRE(r.visible.size() == r.links.size());
     size_t partial =
         std::count_if(r.visible.begin(), r.visible.end(), [](double v) { return v > 0 && v < 1; });
