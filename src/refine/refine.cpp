@@ -186,6 +186,13 @@ void CountUnion(const Forest &top, const std::vector<Forest> &forests, int threa
     }
 }
 
+// Clustered count-only runs keep the record of a refined pair only while a task refers
+// to it, and none once counted: the pairs reached can be many more than the links.
+template <bool kStoreLinks>
+bool PairsForTasksOnly(const RefineOptions &options) {
+    return options.clusters && !kStoreLinks;
+}
+
 // What the sequential pass leaves (RefineToTaskDepth): the trees and links down to the
 // task depth, their counts, the tasks below it, and (with progress) each refined pair's
 // ordinal among all root pairs, from 1.
@@ -245,9 +252,7 @@ RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const Ref
                              " refined root pairs and " + std::to_string(pass.tasks.size()) +
                              " tasks would exceed the memory budget; raise --max-memory or eps");
     };
-    // Clustered count-only runs keep the record of a refined pair only while a task
-    // refers to it: the pairs reached can be many more than the links.
-    const bool pairsForTasksOnly = options.clusters && !kStoreLinks;
+    const bool pairsForTasksOnly = PairsForTasksOnly<kStoreLinks>(options);
     traverse([&](uint32_t p, uint32_t q) {
         ++counters.rootPairs;
         if (progress)
@@ -483,7 +488,7 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     WorkerResults<Forest<Shape>> workers =
         RunTasks<kArity, kStoreLinks>(pass, oracle, options, left, visibility);
     SumCounts(pass, workers, options, result);
-    if (options.clusters && !kStoreLinks)  // kept only to count the tasks' pairs
+    if (PairsForTasksOnly<kStoreLinks>(options))  // counted: none is kept
         std::vector<PairTally>().swap(result.pairs);
     MergeWorkers<kStoreLinks>(patches, pass, workers, options, result);
 }
