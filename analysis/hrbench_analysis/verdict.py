@@ -10,6 +10,9 @@ from .slopes import local_slopes, window_slopes
 
 __all__ = [
     "VERDICTS",
+    "UNFALSIFIABLE",
+    "ALTERNATIVE_MARGIN",
+    "Alternative",
     "SKIPPED",
     "Assessment",
     "MEASURED",
@@ -23,8 +26,55 @@ __all__ = [
 #: false``): the fit and its interval are reported, judged against nothing.
 MEASURED = "measured"
 
-#: The verdicts: the three judgements in order of strength, then :data:`MEASURED`.
-VERDICTS = ("reproduced", "refuted", "inconclusive", MEASURED)
+#: The verdict of a claim that could not have failed on its points: they lie exactly on
+#: a power law (an identity of the counting, which no measurement can refute), or the
+#: same test reproduces them tilted to an alternative exponent (:class:`Alternative`).
+#: Not counted as reproduced.
+UNFALSIFIABLE = "unfalsifiable"
+
+#: The verdicts: the three judgements in order of strength, :data:`UNFALSIFIABLE`, then
+#: :data:`MEASURED`.
+VERDICTS = ("reproduced", "refuted", "inconclusive", UNFALSIFIABLE, MEASURED)
+
+#: How far outside a claim's band its alternatives lie (dimensionless): a Theta claim
+#: ``k +/- tolerance`` is set against ``k - tolerance - margin`` and
+#: ``k + tolerance + margin``, an upper bound ``O(x^k)`` against the faster
+#: ``k + tolerance + margin``.
+ALTERNATIVE_MARGIN = 0.05
+
+#: Largest relative spread of ``y / x^e`` over the regime at which the points count as
+#: lying exactly on a power law: rounding of exact counts, not a measurement.
+EXACT_SPREAD = 1e-9
+
+
+@dataclass
+class Alternative:
+    """The nearest law a claim's test must tell from the claimed one, and what the test
+    says of the measured points tilted to it.
+
+    Attributes
+    ----------
+    exponent : float
+        The alternative exponent (dimensionless).
+    verdict : str
+        The verdict of the same test, with the same regime, windows and bootstrap seed, on
+        the points ``y x^(exponent - e)``, ``e`` the fitted exponent: the measured
+        points with their scatter and staircase kept, following the alternative law.
+        Anything but ``"reproduced"`` means the claim could have failed on points that
+        followed the alternative; ``"reproduced"`` that it could not.
+    low, high : float
+        The tilted points' interval of the exponent.
+    """
+
+    exponent: float
+    verdict: str
+    low: float
+    high: float
+
+    @property
+    def text(self):
+        """str: e.g. ``"2.2: refuted [2.181, 2.214]"``."""
+        return f"{self.exponent:g}: {self.verdict} [{self.low:.3f}, {self.high:.3f}]"
 
 #: The mark of a claim that was not measured (the engine cannot run it); not a verdict.
 SKIPPED = "skipped"
@@ -71,6 +121,12 @@ class Assessment:
         The bounded-ratio check of ``y / x^k`` over the regime.
     models : ModelComparison or None
         Competing models (growing and falling) over the regime.
+    alternatives : list of Alternative
+        The alternatives of :data:`ALTERNATIVE_MARGIN` and the test's verdict on the
+        points tilted to each (empty when no exponent was fitted).
+    exact : bool
+        Whether the points of the regime lie exactly on a power law
+        (:data:`EXACT_SPREAD`): an identity, which no measurement could refute.
     """
 
     verdict: str
@@ -90,7 +146,45 @@ class Assessment:
     settle_spread: float = math.nan
     theta: object = None
     models: object = None
+    alternatives: list = field(default_factory=list)
+    exact: bool = False
     notes: list = field(default_factory=list)
+
+    @property
+    def can_fail(self):
+        """bool or None: whether these points could have failed the claim: they do not
+        lie exactly on a power law, and the test reproduces none of the alternatives
+        (tilted to an alternative, the same points would not have reproduced the claim);
+        ``None`` when no exponent was fitted."""
+        if not self.alternatives:
+            return None
+        return not self.exact and all(a.verdict != "reproduced" for a in self.alternatives)
+
+    @property
+    def refutes_text(self):
+        """str: which alternatives the measured interval excludes and what the test says
+        of the points tilted to each, or why the claim could not have failed, in one
+        sentence; ``""`` when no exponent was fitted."""
+        if not self.alternatives:
+            return ""
+        if self.exact:
+            return ("could not have failed on these points: they lie exactly on a power "
+                    "law (y / x^e varies by less than 1e-9), an identity of the counting")
+        i = self.interval
+        out = [a for a in self.alternatives if not i.low <= a.exponent <= i.high]
+        inside = [a for a in self.alternatives if i.low <= a.exponent <= i.high]
+        parts = []
+        if out:
+            parts.append(f"refutes the alternative exponent{'s' if len(out) > 1 else ''} "
+                         + " and ".join(f"{a.exponent:g}" for a in out)
+                         + f" (outside the interval [{i.low:.3f}, {i.high:.3f}])")
+        if inside:
+            parts.append("does not refute " + " and ".join(f"{a.exponent:g}" for a in inside)
+                         + " (inside the interval)")
+        parts.append("the points tilted to " + ", ".join(a.text for a in self.alternatives))
+        if not self.can_fail:
+            parts.append("so the claim could not have failed on these points")
+        return "; ".join(parts)
 
 
 def _verdict_iv(x, y, expected_exponent, tolerance, min_points, min_decades,
@@ -118,7 +212,7 @@ def _verdict_iv(x, y, expected_exponent, tolerance, min_points, min_decades,
 def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
                 min_points=8, min_decades=1.5, window_decades=1.0, theta_band=10.0,
                 step_octaves=1, one_per_step=False, n_boot=2000, seed=None,
-                bound="theta"):
+                bound="theta", alternatives=True):
     """Judge whether measured points follow ``y = Theta(x^k)``, or ``y = O(x^k)``.
 
     Parameters
@@ -156,6 +250,8 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
         Bootstrap resamples of the exponent's interval (default 2000).
     seed : int, optional
         Bootstrap seed (default :data:`hrbench_analysis.powerlaw.DEFAULT_SEED`).
+    alternatives : bool, optional
+        Whether to judge the alternatives too (default True; see below).
 
     Returns
     -------
@@ -185,9 +281,44 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
     With ``bound="upper"`` the band is ``(-inf, k + tolerance]`` in steps 3 to 5 and the
     ratio's band is not checked: an upper bound says nothing of how far below it the
     counts grow (``O(k log k)`` holds for counts that grow like ``k``).
+
+    Once an exponent ``e`` is fitted, the same test judges the points tilted to each
+    alternative exponent ``a`` of :data:`ALTERNATIVE_MARGIN` (``y x^(a - e)``: the same
+    scatter and staircase, another law), so that the report can say which alternatives
+    the claim's test refutes, and whether the claim could have failed. A ``reproduced``
+    verdict becomes :data:`UNFALSIFIABLE` when the test also reproduces the points tilted
+    to an alternative, or when the points lie exactly on a power law.
     """
     if bound not in ("theta", "upper"):
         raise ValueError(f"bound must be 'theta' or 'upper', not {bound!r}")
+    options = dict(x_min=x_min, x_max=x_max, min_points=min_points, min_decades=min_decades,
+                   window_decades=window_decades, theta_band=theta_band,
+                   step_octaves=step_octaves, one_per_step=one_per_step, n_boot=n_boot,
+                   seed=seed, bound=bound)
+    result = _judge(x, y, expected_exponent, tolerance, **options)
+    if not alternatives or result.fit is None:
+        return result
+    k, tol = float(expected_exponent), float(tolerance)
+    shift = tol + ALTERNATIVE_MARGIN
+    targets = (k + shift,) if bound == "upper" else (k - shift, k + shift)
+    e = result.fit.exponent
+    for a in targets:
+        tilted = result.y * result.x ** (a - e)
+        other = _judge(result.x, tilted, k, tol, **options)
+        low, high = ((other.interval.low, other.interval.high) if other.interval
+                     else (math.nan, math.nan))
+        result.alternatives.append(Alternative(round(a, 12), other.verdict, low, high))
+    ratio = result.y[result.in_regime] / result.x[result.in_regime] ** e
+    result.exact = bool(ratio.max() / ratio.min() - 1 <= EXACT_SPREAD)
+    if result.verdict == "reproduced" and not result.can_fail:
+        result.verdict = UNFALSIFIABLE
+        result.reason += f"; but the test {result.refutes_text}"
+    return result
+
+
+def _judge(x, y, expected_exponent, tolerance, *, x_min, x_max, min_points, min_decades,
+           window_decades, theta_band, step_octaves, one_per_step, n_boot, seed, bound):
+    # get_verdict's test alone, without its alternatives.
     x, y = _verdict_iv(x, y, expected_exponent, tolerance, min_points, min_decades,
                        window_decades, theta_band)
     k, tol = float(expected_exponent), float(tolerance)
@@ -336,6 +467,14 @@ def assess_claim(claim, data, n_boot=2000):
             step_octaves=claim.step_octaves,
             one_per_step=getattr(claim, "plateaus", None) is not None, n_boot=n_boot,
             bound=getattr(claim, "bound", "theta"))
+    i, k, tol = result.interval, claim.expected_exponent, claim.tolerance
+    if (i is not None and getattr(claim, "bound", "theta") == "theta"
+            and k - tol <= i.low and i.high <= k + tol and not i.low <= k <= i.high):
+        # Within the tolerance, but not at the claimed exponent itself: say why.
+        why = getattr(claim, "interval_note", "") or "the claims file gives no reason"
+        note = f"the interval excludes {claim.expected_exponent:g} itself: {why}"
+        result.notes.append(note)
+        result.reason += f"; {note}"
     if not getattr(claim, "published", True) and result.interval is not None:
         # Nothing published to judge against: report the fit, and what the hypothesis
         # of the claims file would have been judged.

@@ -1,7 +1,9 @@
+from pathlib import Path
 
 import pytest
 
 from hrbench_analysis.claimfile import (
+    PUBLISHED_KINDS,
     ClaimsFileError,
     SweepRange,
     check_names,
@@ -282,3 +284,45 @@ def test_step_octaves(tmp_path, data_dir, value, ok):
     else:
         with pytest.raises(ClaimsFileError, match="integer from 1 to 4"):
             load_claims(path)
+
+
+def test_every_shipped_claim_carries_its_kind_and_reading():
+    # A published claim quotes its source's words and says where they stand and why its
+    # quantity is the source's; a reading states the quantity hrbench chose.
+    text = {path.name: path.read_text() for path in Path(CLAIMS_DIR).glob("*.toml")}
+    for c in load_claims_dir(CLAIMS_DIR):
+        own = text[Path(c.path).name].split(f'id = "{c.id}"')[1].split("[[claim]]")[0]
+        assert "\nkind = " in own, f"{c.id}: no explicit kind"
+        assert c.published == (c.kind in PUBLISHED_KINDS)
+        if c.published:
+            assert c.words and c.words_at and c.quantity, c.id
+    kinds = {c.id: c.kind for c in load_claims_dir(CLAIMS_DIR)}
+    # The cases of a reading presented as the source's, each with its kind now.
+    assert kinds["HS90-best"] == "reading" and kinds["HS90-best-leaves"] == "stated"
+    assert kinds["C1-cornell"] == kinds["C3-cornell"] == "derived"
+    assert kinds["HSA-precision-centre-cosine"] == "derived"
+    assert all(kinds[f"SAG-{f}-plain"] == "derived"
+               for f in ("array", "soup", "enclosure", "array3d", "soup3d", "sphere"))
+
+
+def test_kind_defaults_and_its_checks(tmp_path, data_dir):
+    (claim,) = load_claims(data_dir / "small_claims.toml")
+    assert claim.kind == "stated" and claim.published and claim.words == ""
+    (old,) = load_claims(variant(tmp_path, data_dir, "min_points = 8",
+                                 "min_points = 8\npublished = false"))
+    assert old.kind == "derived" and not old.published
+    (reading,) = load_claims(variant(tmp_path, data_dir, "min_points = 8",
+                                     'min_points = 8\nkind = "reading"\nquantity = "q"'))
+    assert reading.kind == "reading" and reading.published and reading.quantity == "q"
+    # Words given once in [source] are every claim's, unless a claim quotes its own.
+    (quoted,) = load_claims(variant(tmp_path, data_dir, 'citation = "hrbench test data"',
+                                    'citation = "hrbench test data"\nwords = "w"\n'
+                                    'words_at = "abstract"'))
+    assert (quoted.words, quoted.words_at) == ("w", "abstract")
+    for new, match in (('kind = "law"', "must be one of stated, reading, derived"),
+                       ('kind = "reading"', "needs the key 'quantity'"),
+                       ('kind = "stated"\npublished = false', "disagree")):
+        with pytest.raises(ClaimsFileError, match=match) as info:
+            load_claims(variant(tmp_path, data_dir, "min_points = 8",
+                                f"min_points = 8\n{new}"))
+        assert info.value.line is not None

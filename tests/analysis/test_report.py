@@ -9,6 +9,7 @@ import pytest
 
 from hrbench_analysis.claimfile import load_claims_dir
 from hrbench_analysis.report import (
+    KINDS_NOTE,
     TERMINAL_WIDTH,
     TIMED_NOTE,
     ClaimOutcome,
@@ -85,7 +86,7 @@ def claims(tmp_path):
 @pytest.fixture
 def outcomes(claims):
     # Every kind of verdict: reproduced, refuted against and as expected, inconclusive,
-    # measured, skipped.
+    # unfalsifiable (H-own-words: its points lie exactly on the law), measured, skipped.
     x = np.logspace(0, 3, 31)
     out = []
     for c in claims:
@@ -95,8 +96,10 @@ def outcomes(claims):
             continue
         k = {"C3": 2.0, "C2-not": 3.0}.get(c.id, c.expected_exponent)
         xs = x[:5] if c.id == "H-short" else x
-        out.append(ClaimOutcome(c, ClaimData(xs, xs, 3 * xs ** k),
-                                assess_claim(c, ClaimData(xs, xs, 3 * xs ** k), n_boot=50)))
+        # A scatter of 1% makes the points a measurement; exact points are an identity.
+        scatter = 1 if c.id == "H-own-words" else 1 + 0.01 * np.cos(2.3 * np.arange(xs.size))
+        data = ClaimData(xs, xs, 3 * xs ** k * scatter)
+        out.append(ClaimOutcome(c, data, assess_claim(c, data, n_boot=50)))
     return out
 
 
@@ -125,18 +128,20 @@ def test_source_labels(claims):
 def test_tally_counts_every_verdict_and_names_the_unexpected(outcomes):
     line = verdict_tally(outcomes)
     verdicts = Counter(o.assessment.verdict for o in outcomes)
-    assert verdicts == {"reproduced": 4, "refuted": 2, "inconclusive": 1, "measured": 3,
-                        "skipped": 1}
+    assert verdicts == {"reproduced": 3, "refuted": 2, "inconclusive": 1, "unfalsifiable": 1,
+                        "measured": 3, "skipped": 1}
     head, counts = line.split(";")[0].split(": ")
     assert head == f"{len(outcomes)} claims"
     assert {name: int(n) for name, n in (part.split() for part in counts.split(", "))} == (
         verdicts)
-    assert counts == "reproduced 4, refuted 2, inconclusive 1, measured 3, skipped 1"
+    assert counts == ("reproduced 3, refuted 2, inconclusive 1, unfalsifiable 1, measured 3, "
+                      "skipped 1")
     # C3 (its points grow like x^2) is refuted although expected to hold; C2-not is
     # refuted as its file expects.
     assert line.endswith("; not as expected: C3")
     assert verdict_tally(outcomes[:1]) == ("1 claim: reproduced 0, refuted 0, inconclusive 0, "
-                                           "measured 1; not as expected: none")
+                                           "unfalsifiable 0, measured 1; not as expected: "
+                                           "none")
 
 
 def test_anchors_are_unique_and_plain():
@@ -162,16 +167,16 @@ def test_terminal_table_fits_100_columns_and_marks_timed_claims(outcomes, capsys
     rows = get_claims_table(outcomes)
     lines = format_claims_table(rows)
     assert TERMINAL_WIDTH == 100 and max(len(line) for line in lines) <= 100
-    assert lines[0].split() == ["claim", "source", "k", "verdict", "as", "expected",
+    assert lines[0].split() == ["claim", "source", "kind", "k", "verdict", "as", "expected",
                                 "statement"]
     assert set(lines[1]) <= {"-", " "} and len(lines[1]) == 100
     body = {line.split()[0]: line for line in lines[2:2 + len(rows)]}
-    assert "A-claim-id-far-long…" in body and body["A-claim-id-far-long…"].endswith("…")
+    assert "A-claim-id-far-lo…" in body and body["A-claim-id-far-lo…"].endswith("…")
     acc = body[f"ACC-cpu{TIMED_MARK}"]
     assert "hrbench" in acc and "measured" in acc and "-0.500" in acc
     assert "Garmann 2003" in body["C1"] and "Hanrahan 1991" in body["C3"]
     assert [line.split()[0] for line in lines[2:2 + len(rows)]] == [
-        r["id"][:19] + ("…" if len(r["id"]) > 20 else r["mark"]) for r in rows]
+        r["id"][:17] + ("…" if len(r["id"]) > 18 else r["mark"]) for r in rows]
     assert sum(line.startswith(TIMED_MARK) for line in lines) == 1
     # The reasons below the table are wrapped to the same width.
     print_claims_table(rows)
@@ -220,9 +225,15 @@ def test_report_has_contents_anchors_links_tally_and_groups(tmp_path, outcomes):
     groups = [h.split("</a>")[1] for h in headings if h.startswith("## <a id=\"group-")]
     assert groups == ["The seed paper's claims C1 to C4 (Garmann & Müller 2003)",
                       "Other published claims", "hrbench's own laws and measurements"]
-    assert f"| [ACC-cpu](#claim-acc-cpu){TIMED_MARK} | hrbench |" in md
-    assert md.count(TIMED_NOTE) == 1
-    assert "| [C1](#claim-c1) | Garmann & Müller 2003 |" in md
+    assert f"| [ACC-cpu](#claim-acc-cpu){TIMED_MARK} | hrbench | derived |" in md
+    assert md.count(TIMED_NOTE) == 1 and md.count(KINDS_NOTE) == 1
+    assert "| [C1](#claim-c1) | Garmann & Müller 2003 | stated |" in md
+    # Each section states the kind and, where a fit exists, the alternatives.
+    c1 = md[md.index('<a id="claim-c1">'):md.index('<a id="claim-c3">')]
+    assert "- kind: **stated**" in c1
+    assert "- alternatives: the test refutes the alternative exponents 0.85 and 1.15" in c1
+    own = md[md.index('<a id="claim-h-own-words">'):md.index('<a id="claim-z-skip">')]
+    assert "**unfalsifiable**" in own and "could not have failed" in own
 
     # HTML: the same, every local link lands on a unique id.
     parser = _Anchors()

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from hrbench_analysis.verdict import get_verdict
+from hrbench_analysis.verdict import UNFALSIFIABLE, get_verdict
 
 
 def step_counts(decades=3.0, per_decade=12):
@@ -74,8 +74,49 @@ def test_upper_bound_holds_below_it_and_fails_above():
     # y = k^2 grows faster than k log k: refuted.
     above = get_verdict(x, k ** 2, 1.0, 0.15, bound="upper")
     assert above.verdict == "refuted", above.reason
-    # y = x exactly on the bound: reproduced.
-    assert get_verdict(x, 3 * x, 1.0, 0.15, bound="upper").verdict == "reproduced"
+    # y = x on the bound, with a scatter of 1%: reproduced, and k^1.2 refuted on the
+    # same points tilted to it.
+    on = get_verdict(x, 3 * x * wobble(x.size), 1.0, 0.15, bound="upper")
+    assert on.verdict == "reproduced" and on.can_fail
+    assert [(a.exponent, a.verdict) for a in on.alternatives] == [(1.2, "refuted")]
+    # Exactly on the bound, the points are an identity: unfalsifiable, not reproduced.
+    exact = get_verdict(x, 3 * x, 1.0, 0.15, bound="upper")
+    assert exact.verdict == UNFALSIFIABLE and exact.exact
+    assert "could not have failed" in exact.reason
+
+
+def wobble(n, size=0.01):
+    # A deterministic multiplicative scatter of about `size`, so that synthetic points
+    # are a measurement and not an identity.
+    return 1 + size * np.cos(2.3 * np.arange(n))
+
+
+def test_alternatives_are_the_nearest_laws_outside_the_band():
+    x = np.geomspace(10, 1e5, 30)
+    a = get_verdict(x, x ** 2 * wobble(x.size), 2.0, 0.1)
+    assert a.verdict == "reproduced"
+    assert [alt.exponent for alt in a.alternatives] == [1.85, 2.15]
+    assert all(alt.verdict == "refuted" for alt in a.alternatives) and a.can_fail
+    # Tilting moves the interval by the tilt, nothing else (the same bootstrap samples).
+    shift = 2.15 - a.fit.exponent
+    assert a.alternatives[1].low == pytest.approx(a.interval.low + shift, abs=1e-9)
+    assert "refutes the alternative exponents 1.85 and 2.15" in a.refutes_text
+
+
+def test_alternatives_tilted_from_a_staircase_are_not_reproduced():
+    # A binary staircase over 3 decades: the interval [0.929, 1.084] excludes 0.85 and
+    # 1.15, and the same points tilted to either are not reproduced: the claim could fail.
+    x, y = step_counts()
+    a = get_verdict(x, y, 1.0, 0.1)
+    assert a.verdict == "reproduced" and a.can_fail
+    assert [alt.verdict for alt in a.alternatives] == ["inconclusive", "inconclusive"]
+    assert a.refutes_text.startswith("refutes the alternative exponents 0.85 and 1.15 "
+                                     "(outside the interval [0.929, 1.084])")
+
+
+def test_no_alternatives_without_a_fit():
+    a = get_verdict([1, 2, 3], [1, 2, 3], 1.0, 0.1)
+    assert a.verdict == "inconclusive" and a.alternatives == [] and a.can_fail is None
 
 
 def test_unknown_bound_is_refused():

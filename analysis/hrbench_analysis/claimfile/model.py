@@ -37,6 +37,16 @@ MAX_ABS_EXPONENT = 100
 #: Most scene parameters of one claim.
 MAX_PARAMS = 64
 
+#: What a claim is, by where its law and its quantity come from (key ``kind``):
+#: ``stated``, the source's own law in the source's own quantity; ``reading``, the
+#: source's law in a quantity hrbench chose where the source does not fix it (the choice
+#: is stated in the key ``quantity``); ``derived``, a law of hrbench's own (a derivation,
+#: a carry-over to another dimension or scene, or a measurement without a published
+#: value). Only the first two are published claims with a verdict against their source.
+KINDS = ("stated", "reading", "derived")
+#: The kinds of :data:`KINDS` whose exponent is published.
+PUBLISHED_KINDS = ("stated", "reading")
+
 #: How a claim names its oracle through the engine's capabilities instead of by name
 #: (its key ``oracle``): ``"@default"``, and ``{ kind = "form-factor" }`` kept as
 #: ``"@kind=form-factor"`` until :func:`resolve_oracle` names it.
@@ -258,11 +268,30 @@ class ClaimOrigin:
         (``sweep.quick``, ...), for the messages of the checks against the engine.
     range_keys : dict of str to str
         Mode to the key its range was given by (``"sweep.quick"`` or ``"sweep.range"``).
+    kind : str
+        One of :data:`KINDS`: ``"stated"``, ``"reading"`` or ``"derived"``.
+    words : str
+        The source's own words the claim checks, quoted (key ``words``, or the
+        ``[source]`` table's), or ``""`` when the file quotes none.
+    words_at : str
+        Where the words stand in the source: ``"abstract"``, a section, or ``"the usual
+        statement"`` for a law the source is known by but does not print in these words.
+    quantity : str
+        The quantity hrbench fits and why it is the source's (for a ``reading``, the
+        choice hrbench made), or ``""``.
+    interval_note : str
+        Why the measured interval may exclude the expected exponent itself while lying
+        within the tolerance (a pre-asymptotic regime, a slowly varying factor), or ``""``.
     """
 
     statement: str
     source: str
     source_key: str
+    kind: str = "stated"
+    words: str = ""
+    words_at: str = ""
+    quantity: str = ""
+    interval_note: str = ""
     description: str = ""
     path: str = ""
     line: int = 0
@@ -383,10 +412,6 @@ class ClaimJudgement:
     step_octaves : int
         Period of the counts' staircase in octaves of x: 1 for binary splits, 2 where a
         split quarters an element (quadtree subdivision).
-    published : bool
-        Whether `expected_exponent` is a published value. ``False`` for a measurement
-        without one: the exponent in the file is then this project's hypothesis, and the
-        verdict is ``"measured"`` (the fit and its interval, judged against nothing).
     """
 
     expected_exponent: float
@@ -400,7 +425,6 @@ class ClaimJudgement:
     window_decades: float = 1.0
     theta_band: float = 10.0
     step_octaves: int = 1
-    published: bool = True
 
 
 #: The parts of a claim, by attribute.
@@ -448,6 +472,14 @@ class Claim:
         if mode in self.ranges:
             return self.ranges[mode]
         return next(iter(self.ranges.values()))
+
+    @property
+    def published(self):
+        """bool: whether `expected_exponent` is a published value: the claim's kind is
+        ``stated`` or ``reading`` (:data:`PUBLISHED_KINDS`). A ``derived`` claim's exponent
+        is this project's hypothesis, and its verdict is ``"measured"`` (the fit and its
+        interval, judged against nothing)."""
+        return self.kind in PUBLISHED_KINDS
 
     @property
     def statistics(self):

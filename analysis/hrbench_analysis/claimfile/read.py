@@ -7,6 +7,7 @@ from pathlib import Path
 from ..errors import InputFileError, read_bounded
 from ..expr import Expression, ExpressionError
 from .model import (
+    KINDS,
     MAX_ABS_EXPONENT,
     MAX_DEPTH_LIMIT,
     MAX_FILE_BYTES,
@@ -138,6 +139,7 @@ def load_claims(path):
                                   f"got {source[key]!r}", line=line, key=f"source.{key}")
     source_key = source.get("key", path.stem)
     citation = source.get("citation", source_key)
+    quoted = {key: source.get(key, "") for key in ("words", "words_at")}
     raw_claims = data.get("claim", [])
     if not isinstance(raw_claims, list) or not raw_claims:
         raise ClaimsFileError(path, "no claims: add at least one [[claim]] table")
@@ -147,7 +149,7 @@ def load_claims(path):
         if not isinstance(raw, dict):
             raise ClaimsFileError(path, f"claim #{index + 1} must be a table ([[claim]]), got "
                                   f"{type(raw).__name__}", line=loc.claim_line(index))
-        claim = _parse_claim(raw, index, path, loc, source_key, citation)
+        claim = _parse_claim(raw, index, path, loc, source_key, citation, quoted)
         if claim.id in seen:
             raise ClaimsFileError(path, f"duplicate id (first at line {seen[claim.id]})",
                                   line=claim.line, claim_id=claim.id, key="id")
@@ -175,7 +177,7 @@ def _read_text(path):
                               line=line) from None
 
 
-def _parse_claim(raw, index, path, loc, source_key, citation):
+def _parse_claim(raw, index, path, loc, source_key, citation, quoted):
     claim_id = raw.get("id") if isinstance(raw.get("id"), str) else None
 
     def fail(message, key=None):
@@ -211,11 +213,15 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
     run, sweep, range_keys = _run_iv(raw, path, want, fail)
     judge = _judge_iv(raw, want, fail)
     measure = _measure_iv(raw, judge.step_octaves, want, fail)
-    for key in ("source", "description"):
+    for key in ("source", "description", "words", "words_at", "quantity", "interval_note"):
         if key in raw:
             want(key, "str")
+    kind = _kind_iv(raw, want, fail)
     origin = ClaimOrigin(
         statement=raw["statement"], source=raw.get("source", citation), source_key=source_key,
+        kind=kind, words=raw.get("words", quoted["words"]),
+        words_at=raw.get("words_at", quoted["words_at"]), quantity=raw.get("quantity", ""),
+        interval_note=raw.get("interval_note", ""),
         description=raw.get("description", ""), path=str(path),
         line=loc.claim_line(index) or 0,
         key_lines={key: loc.key_line(index, key)
@@ -224,6 +230,22 @@ def _parse_claim(raw, index, path, loc, source_key, citation):
                                  if mode in sweep))},
         range_keys=range_keys)
     return Claim(id=raw["id"], origin=origin, run=run, measure=measure, judge=judge)
+
+
+def _kind_iv(raw, want, fail):
+    # The claim's kind: the key `kind`, else "derived" for the older `published = false`
+    # and "stated" otherwise. A reading must say which quantity hrbench chose.
+    published = want("published", "bool", raw.get("published", True))
+    kind = want("kind", "str", raw.get("kind", "stated" if published else "derived"))
+    if kind not in KINDS:
+        fail(f"key 'kind' must be one of {', '.join(KINDS)}, got {kind!r}", "kind")
+    if "published" in raw and published != (kind != "derived"):
+        fail(f"keys 'published = {str(published).lower()}' and 'kind = \"{kind}\"' "
+             "disagree: a derived claim is not published; drop 'published'", "published")
+    if kind == "reading" and "quantity" not in raw:
+        fail("a claim of kind 'reading' needs the key 'quantity': the quantity hrbench "
+             "chose for the source's law, and why", "kind")
+    return kind
 
 
 def _run_iv(raw, path, want, fail):
@@ -371,13 +393,12 @@ def _judge_iv(raw, want, fail):
     if options.get("theta_band", defaults["theta_band"].default) < 1:
         fail("key 'theta_band' must be at least 1", "theta_band")
     expected = want("expected_to_hold", "bool", raw.get("expected_to_hold", True))
-    published = want("published", "bool", raw.get("published", True))
     bound = want("bound", "str", raw.get("bound", "theta"))
     if bound not in BOUNDS:
         fail(f"key 'bound' must be one of {', '.join(BOUNDS)}, got {bound!r}", "bound")
     return ClaimJudgement(
         expected_exponent=k, tolerance=tol, bound=bound, x_min=regime.get("x_min"),
-        x_max=regime.get("x_max"), expected_to_hold=expected, published=published, **options)
+        x_max=regime.get("x_max"), expected_to_hold=expected, **options)
 
 
 def _measure_iv(raw, step_octaves, want, fail):

@@ -28,7 +28,8 @@ _CLAIM_KEYS = {
     "x", "y", "x_label", "y_label", "expected_exponent", "tolerance", "regime",
     "expected_to_hold", "min_points", "min_decades", "window_decades", "theta_band",
     "min_area", "max_depth", "eps", "options", "chart", "step_octaves", "mesh", "command",
-    "published", "plateaus", "bound", *MODES,
+    "published", "plateaus", "bound", "kind", "words", "words_at", "quantity",
+    "interval_note", *MODES,
 }
 #: What a claim may state of its power law (key ``bound``): Theta, or an upper bound O.
 BOUNDS = ("theta", "upper")
@@ -44,7 +45,9 @@ MAX_GRID_VALUES = 32
 _RANGE_KEYS = {"from", "to", "per_decade"}
 _RANGE_OPTIONAL = {"binary_digits"}
 _REGIME_KEYS = {"x_min", "x_max"}
-_SOURCE_KEYS = {"key", "citation"}
+#: Keys of the [source] table: its short name, its citation, and the words (with where
+#: they stand) that its claims quote unless a claim quotes its own.
+_SOURCE_KEYS = {"key", "citation", "words", "words_at"}
 _MODE_KEYS = {"options"}
 
 

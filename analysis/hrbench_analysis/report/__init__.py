@@ -18,6 +18,7 @@ from .claims_json import get_claims_json
 from .figure import ReportFigure
 from .outcome import ClaimOutcome
 from .table import (
+    KINDS_NOTE,
     TERMINAL_WIDTH,
     TIMED_NOTE,
     format_claims_table,
@@ -34,6 +35,7 @@ __all__ = [
     "format_claims_table",
     "TERMINAL_WIDTH",
     "TIMED_NOTE",
+    "KINDS_NOTE",
     "get_claims_json",
     "get_figures",
     "write_report",

@@ -61,6 +61,19 @@ def get_claims_json(outcomes, mode="quick"):
             "expected_to_hold": c.expected_to_hold,
             "as_expected": o.agrees,
             "published": c.published,
+            "kind": c.kind,
+            "source_words": c.words or None,
+            "source_words_at": c.words_at or None,
+            "quantity": c.quantity or None,
+            "interval_note": c.interval_note or None,
+            "alternatives": [{"exponent": alt.exponent, "tilted_verdict": alt.verdict,
+                              "tilted_interval": [alt.low, alt.high],
+                              "refuted_by_interval": bool(iv and not iv.low <= alt.exponent
+                                                          <= iv.high)}
+                             for alt in a.alternatives],
+            "exact_power_law": a.exact,
+            "can_fail": a.can_fail,
+            "alternatives_text": a.refutes_text or None,
             "command": c.command,
             "scene": c.scene,
             "mesh": ({"file": os.path.basename(c.mesh), "sha256": c.mesh_sha256}

@@ -2,7 +2,7 @@
 
 from dataclasses import dataclass
 
-from ..verdict import MEASURED, SKIPPED
+from ..verdict import MEASURED, SKIPPED, UNFALSIFIABLE
 
 __all__ = ["ClaimOutcome"]
 
@@ -34,10 +34,11 @@ class ClaimOutcome:
         """Whether the verdict is what the claims file expects.
 
         ``True`` for a reproduced claim expected to hold and a refuted claim expected
-        not to hold, ``False`` for the opposite, ``None`` if inconclusive, skipped or
-        measured (nothing published to agree with).
+        not to hold, ``False`` for the opposite, ``None`` if inconclusive, unfalsifiable
+        (a test that could not have failed decides nothing), skipped or measured (nothing
+        published to agree with).
         """
         verdict = self.assessment.verdict
-        if verdict in ("inconclusive", SKIPPED, MEASURED):
+        if verdict in ("inconclusive", UNFALSIFIABLE, SKIPPED, MEASURED):
             return None
         return (verdict == "reproduced") == self.claim.expected_to_hold

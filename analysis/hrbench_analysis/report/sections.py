@@ -9,8 +9,19 @@ from ..engine import option_argv
 from ..summary import GROUPS
 from ..verdict import SKIPPED
 
+#: What each kind of claim means, for its section (the kinds of
+#: :data:`hrbench_analysis.claimfile.KINDS`).
+KIND_TEXT = {
+    "stated": "the source's own law, in the source's own quantity",
+    "reading": "the source's law in a quantity hrbench chose where the source does not "
+               "fix it (the choice is stated below)",
+    "derived": "hrbench's own law (a derivation, a carry-over, or a measurement without a "
+               "published value), not counted as published",
+}
+
 # The columns of the claims table in the report: (row key, header).
-_COLUMNS = (("id", "claim"), ("source", "source"), ("statement", "statement"),
+_COLUMNS = (("id", "claim"), ("source", "source"), ("kind", "kind"),
+            ("statement", "statement"),
             ("expected", "expected k"), ("measured", "measured k"), ("interval", "interval"),
             ("verdict", "verdict"), ("expected_to_hold", "should hold"),
             ("agrees", "as expected"))
@@ -71,13 +82,23 @@ def _details(o):
     if not c.published:
         statement += (f"; no published value: the exponent {c.expected_exponent:g} is this "
                       "project's hypothesis, reported as a measurement")
+    origin = [statement, f"- kind: **{c.kind}**: {KIND_TEXT[c.kind]}"]
+    if c.words:
+        origin.append(f"- the source's words ({c.words_at or 'where: not given'}): "
+                      f"\"{c.words}\"")
+    elif c.published:
+        origin.append("- the source's words: not quoted in the claims file")
+    if c.quantity:
+        origin.append(f"- quantity: {c.quantity}")
     if a.verdict == SKIPPED:
-        return [statement, measured,
+        return [*origin, measured,
                 f"- **skipped**: {a.reason}; no point was run"]
-    lines = [statement, measured,
+    lines = [*origin, measured,
              f"- regime: {_regime(c)}; {a.n_regime} of {a.x.size} points, "
              f"{a.decades:.2f} decades",
              f"- verdict: **{a.verdict}** ({a.reason})"]
+    if a.alternatives:
+        lines.append(f"- alternatives: the test {a.refutes_text}")
     if a.fit:
         f = a.fit
         lines.append(f"- fit: y = {f.prefactor:.4g} x^{f.exponent:.4f}, RMS {f.rms:.4f} "

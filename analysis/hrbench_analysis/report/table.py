@@ -16,6 +16,7 @@ from ..summary import (
 from ..verdict import expected_text
 
 __all__ = [
+    "KINDS_NOTE",
     "get_claims_table",
     "print_claims_table",
     "format_claims_table",
@@ -45,6 +46,7 @@ def get_claims_table(outcomes):
         a claim that times the CPU, else empty), ``statement``, ``source`` and
         ``source_short`` (who states it, :func:`~hrbench_analysis.summary.source_label`),
         ``citation``, ``group`` (its heading, :data:`~hrbench_analysis.summary.GROUPS`),
+        ``kind`` (``stated``, ``reading`` or ``derived``),
         ``expected``, ``measured``, ``interval``, ``verdict``, ``expected_to_hold``,
         ``agrees``, ``reason`` (strings).
     """
@@ -63,6 +65,7 @@ def get_claims_table(outcomes):
             "source_short": source_label(c, short=True),
             "citation": c.source,
             "group": GROUPS[claim_group(c)][1],
+            "kind": c.kind,
             "expected": expected_text(c),
             "measured": _num(fit.exponent) if fit else "-",
             "interval": f"[{_num(iv.low)}, {_num(iv.high)}]" if iv else "-",
@@ -80,8 +83,13 @@ TERMINAL_WIDTH = 100
 # The terminal's columns: (row key, header, widest); the statement, last, takes the rest
 # of TERMINAL_WIDTH. The claimed exponent is in the statement and the interval in the
 # reasons printed below the table, so neither has a column here.
-_TERMINAL = (("claim", "claim", 20), ("source_short", "source", 13), ("measured", "k", 8),
-             ("verdict", "verdict", 12), ("agrees", "as expected", 11))
+_TERMINAL = (("claim", "claim", 18), ("source_short", "source", 13), ("kind", "kind", 7),
+             ("measured", "k", 6), ("verdict", "verdict", 13), ("agrees", "as expected", 11))
+
+#: The note on the column ``kind``, below every claims table.
+KINDS_NOTE = ("kind: stated, the source's own law in its own quantity; reading, the "
+              "source's law in a quantity hrbench chose (the choice is stated in the "
+              "claim's section); derived, hrbench's own law, not counted as published.")
 
 #: The note on the claims that time the CPU, below every claims table that has one.
 TIMED_NOTE = (f"{TIMED_MARK} times the CPU: its x or y is a time (s), which depends on the "
@@ -126,7 +134,7 @@ def format_claims_table(rows):
     cells = [{**r, "claim": r["id"] + r["mark"]} for r in rows]
     widths = [min(cap, max([len(head), *(len(c[key]) for c in cells)]))
               for key, head, cap in _TERMINAL]
-    # The caps leave the statement 26 columns at least.
+    # The caps leave the statement 18 columns at least.
     rest = TERMINAL_WIDTH - sum(widths) - 2 * len(widths)
     columns = [*(key for key, _, _ in _TERMINAL), "statement"]
     widths.append(rest)
@@ -140,6 +148,7 @@ def format_claims_table(rows):
     lines += [line([c[key] for key in columns]) for c in cells]
     lines += _wrap("k: the measured exponent (the claimed one is in the statement, the "
                    "interval in the reasons below)")
+    lines += _wrap(KINDS_NOTE)
     if any(r["mark"] for r in rows):
         lines += _wrap(TIMED_NOTE)
     return lines

@@ -8,7 +8,7 @@ from .figure import render_pngs
 from .html_page import html_report
 from .markdown_page import markdown_report
 from .sections import _contents, _place_figures
-from .table import TIMED_NOTE, get_claims_table
+from .table import KINDS_NOTE, TIMED_NOTE, get_claims_table
 
 __all__ = ["write_report"]
 
@@ -55,7 +55,7 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
     json_text = claims_json_text(outcomes, context)
     placed = _place_figures(outcomes, figures)
     contents = _contents(rows, placed)
-    note = [TIMED_NOTE, ""] if any(r["mark"] for r in rows) else []
+    note = [KINDS_NOTE, ""] + ([TIMED_NOTE, ""] if any(r["mark"] for r in rows) else [])
     md_path = outdir / "report.md"
     md_text = markdown_report(outcomes, rows, context, placed, contents, note)
     html_path = outdir / "report.html"
