@@ -4,7 +4,7 @@ import hashlib
 import re
 from collections import Counter
 
-from .verdict import SKIPPED, VERDICTS
+from .verdict import SKIPPED, UNFALSIFIABLE, VERDICTS
 
 __all__ = [
     "SEED_CLAIMS",
@@ -165,12 +165,13 @@ def verdict_tally(outcomes):
     -------
     line : str
         E.g. ``"62 claims: reproduced 38, refuted 3, inconclusive 3, measured 18; not as
-        expected: none"``: every verdict of :data:`~hrbench_analysis.verdict.VERDICTS`,
-        then ``skipped`` if any; then the claims whose verdict is not what their file
-        expects (``ClaimOutcome.agrees`` false), five at most by name.
+        expected: none"``: every verdict of :data:`~hrbench_analysis.verdict.VERDICTS`
+        (``unfalsifiable`` only if any), then ``skipped`` if any; then the claims whose
+        verdict is not what their file expects (``ClaimOutcome.agrees`` false), five at
+        most by name.
     """
     counts = Counter(o.assessment.verdict for o in outcomes)
-    parts = [f"{v} {counts[v]}" for v in VERDICTS]
+    parts = [f"{v} {counts[v]}" for v in VERDICTS if v != UNFALSIFIABLE or counts[v]]
     if counts[SKIPPED]:
         parts.append(f"{SKIPPED} {counts[SKIPPED]}")
     against = [o.claim.id for o in report_order(outcomes) if o.agrees is False]

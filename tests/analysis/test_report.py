@@ -140,8 +140,7 @@ def test_tally_counts_every_verdict_and_names_the_unexpected(outcomes):
     # refuted as its file expects.
     assert line.endswith("; not as expected: C3")
     assert verdict_tally(outcomes[:1]) == ("1 claim: reproduced 0, refuted 0, inconclusive 0, "
-                                           "unfalsifiable 0, measured 1; not as expected: "
-                                           "none")
+                                           "measured 1; not as expected: none")
 
 
 def test_anchors_are_unique_and_plain():
