@@ -13,10 +13,13 @@ const std::vector<FfEstimateInfo> &FfEstimates() {
         {FfEstimate::ClampedCosine, "clamped-cosine",
          "f max(|cos_i|, 2f) max(|cos_j|, 2f), f = A_j / sqrt(4 r^2 + A_j^2)",
          "f max(|cos_i|, 2f) max(|cos_j|, 2f), f = A_j / (pi r^2 + A_j)",
-         "RenderPark (Bekaert et al.), formfactor_estimate of its hierarchical refinement, "
-         "'as in Hanrahan SIGGRAPH'91' (also in its C++ port rpkCpp, hierarchy.cpp, "
-         "formFactorEstimate); RenderPark is 3D only: the 2D form is hrbench's analogue "
-         "with the flatland f",
+         "RenderPark (Bekaert et al.) as its C++ port has it (OscarChavarro/rpkCpp, "
+         "src/raycasting/stochasticRaytracing/hierarchyRefine.cpp, formFactorEstimate, "
+         "'Cheap form factor estimate to drive hierarchical refinement as in Hanrahan "
+         "SIGGRAPH'91', in floats), read there only by the stochastic Jacobi method's "
+         "refinement, which compares a power (receiver area x estimate x reflectance x B) "
+         "with a threshold; hrbench uses it under its own threshold F <= eps. RenderPark is "
+         "3D only: the 2D form is hrbench's analogue with the flatland f",
          "RenderPark's: the point-to-disc factor f times\nboth |cosines|, each raised to at "
          "least 2f"},
         {FfEstimate::CentreCosine, "centre-cosine",

@@ -8,12 +8,13 @@
 namespace hrbench {
 
 enum class FfEstimate {
-    ClampedCosine,  // RenderPark's: point-to-disc factor f, |cosines| clamped below at 2f
+    ClampedCosine,  // RenderPark's (rpkCpp formFactorEstimate): f, |cosines| raised to >= 2f
     CentreCosine,   // point-to-disc factor times both centre cosines clamped at 0
     SolidAngle,     // point-to-disc factor with both cosines 1 (Hanrahan & Salzman 1990)
 };
 
-// The default: the one estimate whose source ties it to Hanrahan, Salzman & Aupperle.
+// The default: the one estimate whose source says it follows Hanrahan, Salzman & Aupperle
+// ("as in Hanrahan SIGGRAPH'91"), though there it drives a threshold on power, not F <= eps.
 constexpr FfEstimate kDefaultFfEstimate = FfEstimate::ClampedCosine;
 
 // How an estimate presents itself to the command line, the JSON and the capability listing.
