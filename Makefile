@@ -4,7 +4,8 @@ CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release
 
 .PHONY: setup build build-cli build-tests build-asan build-fuzz test test-cpp test-asan \
         test-asan-core test-python test-browser reproduce reproduce-full bench bench-naive history gates \
-        baseline examples python-package fuzz fuzz-smoke lint format clean meshes bunny-box
+        baseline examples python-package fuzz fuzz-smoke lint format clean meshes bunny-box \
+        docs-check
 JOBS := $(shell nproc)
 CONFIGURE := cmake -S . -B build $(CMAKE_FLAGS) >/dev/null
 
@@ -51,6 +52,12 @@ test-asan: build-asan
 
 test-python: build-cli
 	$(PYTHON) -m pytest tests/analysis tests/tools -q -m "not browser" -n $(JOBS)
+
+# Every console block of README.md and docs/*.md run and its output compared
+# (docs/docs-check.md); the two example kernels that some of them run are built too.
+docs-check: build-cli
+	@cmake --build build --target tiny_kernel c_kernel
+	$(PYTHON) tools/docs_check.py
 
 # The explorer page of `make reproduce` (results/explorer.html) in headless Chromium
 # (installed by `scripts/setup.sh --browser`): sliders moved, the counts it shows checked
