@@ -467,14 +467,6 @@ def assess_claim(claim, data, n_boot=2000):
             step_octaves=claim.step_octaves,
             one_per_step=getattr(claim, "plateaus", None) is not None, n_boot=n_boot,
             bound=getattr(claim, "bound", "theta"))
-    i, k, tol = result.interval, claim.expected_exponent, claim.tolerance
-    if (i is not None and getattr(claim, "bound", "theta") == "theta"
-            and k - tol <= i.low and i.high <= k + tol and not i.low <= k <= i.high):
-        # Within the tolerance, but not at the claimed exponent itself: say why.
-        why = getattr(claim, "interval_note", "") or "the claims file gives no reason"
-        note = f"the interval excludes {claim.expected_exponent:g} itself: {why}"
-        result.notes.append(note)
-        result.reason += f"; {note}"
     if not getattr(claim, "published", True) and result.interval is not None:
         # Nothing published to judge against: report the fit, and what the hypothesis
         # of the claims file would have been judged.
@@ -485,6 +477,14 @@ def assess_claim(claim, data, n_boot=2000):
                          f"{expected_text(claim)} it would be "
                          f"{result.verdict}")
         result.verdict = MEASURED
+    i, k, tol = result.interval, claim.expected_exponent, claim.tolerance
+    if (i is not None and getattr(claim, "bound", "theta") == "theta"
+            and k - tol <= i.low and i.high <= k + tol and not i.low <= k <= i.high):
+        # Within the tolerance, but not at the claimed exponent itself: say why.
+        why = getattr(claim, "interval_note", "") or "the claims file gives no reason"
+        note = f"the interval excludes {claim.expected_exponent:g} itself: {why}"
+        result.notes.append(note)
+        result.reason += f"; {note}"
     if fitted is not None:
         note = (f"fitted one point per plateau of {claim.plateaus.of.text}, the "
                 f"{claim.plateaus.keep} of each: {x.size} of {data.x.size} points")

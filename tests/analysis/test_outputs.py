@@ -360,8 +360,8 @@ def test_a_full_disk_at_any_step_of_the_report_leaves_the_previous_one(
     monkeypatch.setattr(report_write, "render_pngs", lambda figs, jobs=1: [pngs[f.name]
                                                                             for f in figs])
     old = snapshot(results)
-    assert {"report.md", "report.html", "claims.json", "plots/chart-t-elements.png",
-            "plots/slopes-t-elements.png"} <= set(old)
+    assert {"report.md", "report.html", "claims.json", "summary.txt",
+            "plots/chart-t-elements.png", "plots/slopes-t-elements.png"} <= set(old)
     later = dict(context, date="a later run")
     # The new report, written into a copy, and the writer's steps counted.
     copy = tmp_path / "copy"
@@ -371,8 +371,8 @@ def test_a_full_disk_at_any_step_of_the_report_leaves_the_previous_one(
         write_report(copy, outcomes, later, figures)
     new = snapshot(copy)
     assert new != old and set(new) == set(old)
-    steps = counter.calls                # 5 files written, synced, renamed; 2 folders synced
-    assert steps == 5 * 3 + 2
+    steps = counter.calls                # 6 files written, synced, renamed; 2 folders synced
+    assert steps == 6 * 3 + 2
     for at in range(1, steps + 1):
         with monkeypatch.context() as m:
             FailingWriter(m, at=at)

@@ -34,6 +34,10 @@ def test_report_is_written_and_claim_reproduced(tmp_path, data_dir, fake_hrbench
     assert html.count("data:image/png;base64,") >= 3
     assert f"<b>{lines[-1]}</b>" in html
     assert f"**{lines[-1]}**" in (results / "report.md").read_text()
+    # summary.txt keeps what the terminal showed: the table, the reasons and the tally.
+    shown = [line for line in lines if not line.startswith("report: ")]
+    assert (results / "summary.txt").read_text().splitlines() == shown
+    assert obj["kind"] == "stated" and obj["alternatives"] and obj["can_fail"] is True
 
 
 def test_refuted_claim_expected_to_hold_exits_1(tmp_path, data_dir, fake_hrbench, capsys):

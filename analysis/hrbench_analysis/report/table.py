@@ -20,6 +20,7 @@ __all__ = [
     "get_claims_table",
     "print_claims_table",
     "format_claims_table",
+    "claims_table_lines",
     "TERMINAL_WIDTH",
     "TIMED_NOTE",
 ]
@@ -154,9 +155,27 @@ def format_claims_table(rows):
     return lines
 
 
+def claims_table_lines(rows):
+    """The claims table (:func:`format_claims_table`), a blank line, then one reason per
+    claim, wrapped to :data:`TERMINAL_WIDTH` columns: what the terminal shows.
+
+    Parameters
+    ----------
+    rows : list of dict
+        From :func:`get_claims_table`.
+
+    Returns
+    -------
+    lines : list of str
+    """
+    lines = [*format_claims_table(rows), ""]
+    for r in rows:
+        lines += _wrap(f"{r['id']}: {r['verdict']}: {r['reason']}")
+    return lines
+
+
 def print_claims_table(rows, file=None):
-    """Print the claims table (:func:`format_claims_table`), then one reason per claim,
-    wrapped to :data:`TERMINAL_WIDTH` columns.
+    """Print :func:`claims_table_lines`.
 
     Parameters
     ----------
@@ -166,9 +185,5 @@ def print_claims_table(rows, file=None):
         Default standard output.
     """
     file = sys.stdout if file is None else file
-    for text in format_claims_table(rows):
+    for text in claims_table_lines(rows):
         print(text, file=file)
-    print(file=file)
-    for r in rows:
-        for text in _wrap(f"{r['id']}: {r['verdict']}: {r['reason']}"):
-            print(text, file=file)

@@ -2,19 +2,20 @@
 ``report.html``, ``claims.json`` and ``plots/*.png``."""
 
 from ..output import folder_lock, write_files
-from ..summary import report_order
+from ..summary import report_order, verdict_tally
 from .claims_json import claims_json_text
 from .figure import render_pngs
 from .html_page import html_report
 from .markdown_page import markdown_report
 from .sections import _contents, _place_figures
-from .table import KINDS_NOTE, TIMED_NOTE, get_claims_table
+from .table import KINDS_NOTE, TIMED_NOTE, claims_table_lines, get_claims_table
 
 __all__ = ["write_report"]
 
 
 def write_report(outdir, outcomes, context, figures, jobs=1):
-    """Write ``report.md``, ``report.html``, ``claims.json`` and ``plots/*.png``.
+    """Write ``report.md``, ``report.html``, ``claims.json``, ``summary.txt`` (the claims
+    table, the reasons and the tally as the terminal shows them) and ``plots/*.png``.
 
     The files are written as one set (:func:`~hrbench_analysis.output.write_files`): a
     failed write leaves the previous report as it was, and runs that share `outdir`
@@ -36,7 +37,7 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
     Returns
     -------
     paths : dict of str to pathlib.Path
-        ``{"markdown": ..., "html": ..., "json": ...}``.
+        ``{"markdown": ..., "html": ..., "json": ..., "summary": ...}``.
 
     Raises
     ------
@@ -60,10 +61,14 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
     md_text = markdown_report(outcomes, rows, context, placed, contents, note)
     html_path = outdir / "report.html"
     html_text = html_report(outcomes, rows, context, placed, contents, note, pngs)
+    # What the terminal shows, kept: the table, the reasons and the tally.
+    summary_path = outdir / "summary.txt"
+    summary_text = "\n".join([*claims_table_lines(rows), "", verdict_tally(outcomes), ""])
 
     # The figures first, so that a report never names a figure not yet written.
     files = [*((plots / f"{name}.png", png) for name, png in pngs.items()),
-             (json_path, json_text), (md_path, md_text), (html_path, html_text)]
+             (json_path, json_text), (summary_path, summary_text), (md_path, md_text),
+             (html_path, html_text)]
     with folder_lock(outdir):
         write_files(files)
         for stale in [*plots.glob("chart*.png"), *plots.glob("slopes*.png")]:
@@ -71,4 +76,5 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
                 # A figure of an earlier run whose claims have changed (another run on
                 # the folder may have removed it first).
                 stale.unlink(missing_ok=True)
-    return {"markdown": md_path, "html": html_path, "json": json_path}
+    return {"markdown": md_path, "html": html_path, "json": json_path,
+            "summary": summary_path}
