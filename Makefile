@@ -57,7 +57,7 @@ test-python: build-cli
 # (docs/docs-check.md); the two example kernels that some of them run are built too.
 docs-check: build-cli
 	@cmake --build build --target tiny_kernel c_kernel
-	$(PYTHON) tools/docs_check.py
+	$(PYTHON) tools/docs_check.py $(DOCS_CHECK_FLAGS)
 
 # The explorer page of `make reproduce` (results/explorer.html) in headless Chromium
 # (installed by `scripts/setup.sh --browser`): sliders moved, the counts it shows checked

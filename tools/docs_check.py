@@ -343,13 +343,17 @@ def check_quote(block, root):
             + get_diff(expected, actual, block.where))
 
 
-def check_block(block, root, timeout):
+def check_block(block, root, timeout, require_quoted=False):
     """The outcome of one block, or None for a block with nothing to check."""
     start = time.monotonic()
     if block.error:
         return Outcome(block, "FAILED", message=f"{block.where}: {block.error}")
     if "quotes" in block.options:
         message = check_quote(block, root)
+        if message is None and require_quoted:
+            return Outcome(block, "FAILED", message=(
+                f"{block.where}: quotes {block.options['quotes']}, which does not exist "
+                "(run `make reproduce` first)"))
         if message is None:
             return Outcome(block, "not checked", message=f"quotes {block.options['quotes']}, "
                                                          "which does not exist")
@@ -393,6 +397,9 @@ def main(argv=None):
     parser.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT,
                         help="seconds each command may take (default: %(default)g)")
     parser.add_argument("--jobs", type=int, default=1, help="blocks run at once (default: 1)")
+    parser.add_argument("--require-quoted", action="store_true",
+                        help="fail a block whose quoted file does not exist, instead of "
+                             "listing it as not checked (CI, after make reproduce)")
     args = parser.parse_args(argv)
     if args.timeout <= 0 or args.jobs < 1:
         parser.error("--timeout must be above 0 and --jobs at least 1")
@@ -411,7 +418,8 @@ def main(argv=None):
 
     counts = {"ok": 0, "FAILED": 0, "not checked": 0}
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-        futures = [pool.submit(check_block, b, root, args.timeout) for b in blocks]
+        futures = [pool.submit(check_block, b, root, args.timeout, args.require_quoted)
+                   for b in blocks]
         for future in futures:  # in file order, as each ends
             outcome = future.result()
             if outcome is not None:

@@ -151,6 +151,11 @@ class TestBlocksNotRun:
         code, out = check(tmp_path, capsys, text)
         assert code == 1 and "-C1 ok" in out
 
+    def test_a_missing_quoted_file_fails_where_it_is_required(self, tmp_path, capsys):
+        text = "<!-- docs-check: quotes=results/summary.txt -->\n```\nC1 ok\n```\n"
+        code, out = check(tmp_path, capsys, text, "--require-quoted")
+        assert code == 1 and "which does not exist (run `make reproduce` first)" in out
+
     def test_bad_markers_fail(self, tmp_path, capsys):
         code, out = check(tmp_path, capsys, console("$ true", marker="skip"))
         assert code == 1 and "unknown docs-check option 'skip'" in out
