@@ -88,6 +88,8 @@ def _details(o):
                       f"\"{c.words}\"")
     elif c.published:
         origin.append("- the source's words: not quoted in the claims file")
+    else:
+        origin.append("- the source's words: none: no source states this law")
     if c.quantity:
         origin.append(f"- quantity: {c.quantity}")
     if a.verdict == SKIPPED:
