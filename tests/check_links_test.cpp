@@ -105,9 +105,15 @@ TEST_CASE("a link dump is read with its line numbers", "[check-links]") {
         INFO(text);
         CHECK_THROWS_WITH(Parse(text, arity), message);
     };
-    rejects("", "d:1: empty file; a link dump starts with 'hrbench-link-dump 1'");
-    rejects("root_i,elem_i\n",
-            "d:1: not a link dump: the first line must be 'hrbench-link-dump 1'");
+    rejects("", "d:1: empty file; a link dump starts with 'hrbench-link-dump 1' or "
+                "'hrbench-link-dump 2'");
+    rejects("root_i,elem_i\n", "d:1: not a link dump: the first line must be "
+                               "'hrbench-link-dump 1' or 'hrbench-link-dump 2' (the "
+                               "versions this engine reads)");
+    // A version-2 dump with a damaged header is told both versions, not only 1.
+    rejects("hrbench-link-dump 2x\n", "d:1: not a link dump: the first line must be "
+                                      "'hrbench-link-dump 1' or 'hrbench-link-dump 2' (the "
+                                      "versions this engine reads)");
     rejects(kHeader + "0/0 1/0\n0/2 1\n",
             "d:3: bad element '0/2': path digits must be 0 to 1 with 2 children per element");
     rejects(kHeader + "0/3 1\n",

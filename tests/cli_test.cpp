@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -755,6 +756,68 @@ TEST_CASE("Hostile command lines and outputs give one line and exit code 2", "[c
     CheckError("save parallel --out /dev/full", 2, "cannot write scene file '/dev/full'");
     CheckError("save parallel --out /no/such/folder/s.json", 2, "cannot write scene file");
     CheckError("links parallel --eps 0.3 --out /dev/full", 2, "cannot write links file");
+    CheckError("links parallel --eps 0.3 --out /tmp", 2, "it is a folder");
+}
+
+TEST_CASE("An output is written whole or refused, and never over an input", "[cli][errors]") {
+    std::string dump = Scratch("own.dump"), scene = Scratch("own.json");
+    REQUIRE(Cli("links parallel l=4 d=1 --eps 0.5 --format probe --out " + dump).exitCode == 0);
+    REQUIRE(Cli("save parallel --out " + scene).exitCode == 0);
+    std::string dumpText = ReadFile(dump), sceneText = ReadFile(scene);
+    SECTION("an output that is the input is refused before anything is written") {
+        CheckError("dump-paths parallel l=4 d=1 --links " + dump + " --out " + dump, 2,
+                   "is the file --links '" + dump + "' reads");
+        CheckError("save --scene-file " + scene + " --out " + scene, 2, "--scene-file");
+        std::filesystem::remove(Scratch("own-link.json"));
+        std::filesystem::create_symlink(scene, Scratch("own-link.json"));
+        CheckError("save --scene-file " + Scratch("own-link.json") + " --out " + scene, 2,
+                   "reads; write the output to another file");
+        CHECK(ReadFile(dump) == dumpText);
+        CHECK(ReadFile(scene) == sceneText);
+    }
+    SECTION("a symbolic link's target is replaced, the link kept") {
+        std::string target = Scratch("target.json"), link = Scratch("link.json");
+        std::filesystem::remove(link);
+        std::ofstream(target) << "previous";
+        std::filesystem::create_symlink(target, link);
+        REQUIRE(Cli("save parallel --out " + link).exitCode == 0);
+        CHECK(std::filesystem::is_symlink(link));
+        CHECK(ReadFile(target) == sceneText);
+    }
+    SECTION("an mtllib name OBJ cannot carry is refused, before the MTL is written") {
+        // '#' would start a comment, a line break end the statement.
+        std::string hash = Scratch("a#b.obj"), mtl = Scratch("a#b.mtl");
+        CheckError("save parallel3d --out '" + hash + "'", 2,
+                   "an mtllib name is one word without '#' or control characters");
+        CHECK(!std::filesystem::exists(mtl));
+        CheckError("save parallel3d --out \"$(printf '" + Scratch("a") + "\\nb.obj')\"", 2,
+                   "cannot name material library 'a\\x0ab.mtl'");
+        CHECK(!std::filesystem::exists(Scratch("a\nb.mtl")));
+    }
+}
+
+TEST_CASE("Every input is checked as run checks it, and quoted on one short line",
+          "[cli][errors]") {
+    std::string dump = Scratch("quoted.dump"), scene = Scratch("typed.json");
+    REQUIRE(Cli("links parallel l=4 d=1 --eps 0.5 --format probe --out " + dump).exitCode == 0);
+    CheckError("dump-paths parallel --subdivision quadtree --links " + dump + " --out " +
+                   Scratch("quadtree.dump"),
+               2, "--subdivision quadtree applies to 3D scenes only");
+    REQUIRE(Cli("save parallel --out " + scene).exitCode == 0);
+    std::string text = ReadFile(scene);
+    size_t digest = text.find("\"scene_sha256\"");
+    REQUIRE(digest != std::string::npos);
+    size_t end = text.find_first_of(",}", digest);
+    std::ofstream(scene) << text.substr(0, digest) << "\"scene_sha256\": 12" << text.substr(end);
+    CheckError("run --scene-file " + scene + " --eps 1", 2, "\"scene_sha256\" must be a string");
+    // A NUL byte is shown escaped; a 1 MB token as its first 60 bytes and its length.
+    std::ofstream(dump) << "hrbench-link-dump 1\n0 1\n0/1" << std::string(1, '\0') << "x 1\n";
+    CheckError("check-links parallel l=4 d=1 --eps 0.5 --links " + dump, 2, "'0/1\\x00x'");
+    std::ofstream(dump) << "hrbench-link-dump 1\n0 1\n" << std::string(1 << 20, '7') << " 1\n";
+    CliResult r = Cli("check-links parallel l=4 d=1 --eps 0.5 --links " + dump);
+    CHECK(r.exitCode == 2);
+    CHECK(r.err.size() < 400);
+    CHECK_THAT(r.err, Catch::Contains("... (104857"));
 }
 
 TEST_CASE("Limits reached during refinement give exit code 3", "[cli][errors]") {

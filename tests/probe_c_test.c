@@ -247,6 +247,98 @@ static void hand_written(void) {
     CHECK(strncmp(token, "4294967295/0101", 15) == 0);
 }
 
+/* The bytes written to _f_ so far, into _text_ (at most _size_ - 1). */
+static size_t contents(FILE *f, char *text, size_t size) {
+    size_t n;
+    fflush(f);
+    rewind(f);
+    n = fread(text, 1, size - 1, f);
+    text[n] = '\0';
+    return n;
+}
+
+/* What a kernel may get wrong is a documented error, never a write out of bounds (the
+ * sanitizer build runs this): a path one level past the safety depth, NULL arguments, a
+ * probe used after finish, a part merged twice; the first error sticks and finish
+ * returns it. */
+static void defends_its_invariants(void) {
+    hrbench_probe probe, part;
+    hrbench_probe_path p = hrbench_probe_root(0), q = hrbench_probe_root(1), deep, past, bad;
+    char text[4096], token[HRBENCH_PROBE_TOKEN_SIZE];
+    size_t before;
+    int k;
+    FILE *f = tmpfile();
+    CHECK(f != NULL);
+
+    /* A child past the safety depth, or of a child index out of range, is invalid. */
+    deep = p;
+    for (k = 0; k < HRBENCH_PROBE_SAFETY_DEPTH; ++k)
+        deep = hrbench_probe_child(&deep, 1);
+    CHECK(deep.depth == HRBENCH_PROBE_SAFETY_DEPTH);
+    past = hrbench_probe_child(&deep, 0);
+    CHECK(past.depth == -1);
+    CHECK(hrbench_probe_child(&past, 0).depth == -1);
+    CHECK(hrbench_probe_child(&p, 4).depth == -1 && hrbench_probe_child(&p, -1).depth == -1);
+    CHECK(hrbench_probe_child(NULL, 0).depth == -1);
+    CHECK(hrbench_probe_format(&past, token) == HRBENCH_PROBE_EPATH && token[0] == '\0');
+    bad = p, bad.depth = 1000; /* made by hand, not by root and child */
+    CHECK(hrbench_probe_format(&bad, token) == HRBENCH_PROBE_EPATH);
+    CHECK(hrbench_probe_format(NULL, token) == HRBENCH_PROBE_ENULL);
+    CHECK(hrbench_probe_format(&p, NULL) == HRBENCH_PROBE_ENULL);
+
+    /* A record of an invalid path writes nothing; the error sticks to finish. */
+    CHECK(hrbench_probe_open(&probe, f, "") == 0);
+    before = contents(f, text, sizeof text);
+    CHECK(hrbench_probe_accept(&probe, &past, &q) == HRBENCH_PROBE_EPATH);
+    CHECK(hrbench_probe_split(&probe, &p, &q, &past) == HRBENCH_PROBE_EPATH);
+    CHECK(hrbench_probe_accept(&probe, &p, NULL) == HRBENCH_PROBE_ENULL);
+    CHECK(hrbench_probe_split(&probe, &p, &q, NULL) == HRBENCH_PROBE_ENULL);
+    CHECK(contents(f, text, sizeof text) == before);
+    CHECK(hrbench_probe_element_created(&probe, HRBENCH_PROBE_SAFETY_DEPTH + 1) ==
+          HRBENCH_PROBE_ERANGE);
+    CHECK(hrbench_probe_forced(&probe, &p, &q, (hrbench_probe_limit)7) == HRBENCH_PROBE_ERANGE);
+    CHECK(hrbench_probe_counts(&probe).links == 0 && hrbench_probe_counts(&probe).nodes == 0);
+    CHECK(hrbench_probe_accept(&probe, &p, &q) == 0);           /* a valid record still writes */
+    CHECK(hrbench_probe_finish(&probe) == HRBENCH_PROBE_EPATH); /* the first error */
+
+    /* Used after finish: refused, nothing written, no second counters line. */
+    before = contents(f, text, sizeof text);
+    CHECK(hrbench_probe_accept(&probe, &p, &q) == HRBENCH_PROBE_ECLOSED);
+    CHECK(hrbench_probe_pass(&probe) == HRBENCH_PROBE_ECLOSED);
+    CHECK(hrbench_probe_element_created(&probe, 0) == HRBENCH_PROBE_ECLOSED);
+    CHECK(hrbench_probe_finish(&probe) == HRBENCH_PROBE_ECLOSED);
+    CHECK(contents(f, text, sizeof text) == before);
+    CHECK(hrbench_probe_counts(&probe).links == 1); /* the counters stay readable */
+
+    /* NULL arguments. */
+    CHECK(hrbench_probe_open(NULL, f, "") == HRBENCH_PROBE_ENULL);
+    CHECK(hrbench_probe_finish(NULL) == HRBENCH_PROBE_ENULL);
+    CHECK(hrbench_probe_accept(NULL, &p, &q) == HRBENCH_PROBE_ENULL);
+    CHECK(hrbench_probe_counts(NULL).links == 0);
+    CHECK(hrbench_probe_open(&probe, f, NULL) == HRBENCH_PROBE_ENULL); /* writes nothing */
+    CHECK(contents(f, text, sizeof text) == before);
+    CHECK(hrbench_probe_element_created(&probe, 0) == 0); /* it counts */
+    CHECK(hrbench_probe_finish(&probe) == HRBENCH_PROBE_ENULL);
+    CHECK(contents(f, text, sizeof text) == before);
+
+    /* A part merged twice counts once; a part of a closed probe is refused. */
+    CHECK(hrbench_probe_open(&probe, NULL, "") == 0);
+    CHECK(hrbench_probe_part(&part, &probe) == 0);
+    CHECK(hrbench_probe_element_created(&part, 3) == 0);
+    CHECK(hrbench_probe_merge(&probe, &part) == 0);
+    CHECK(hrbench_probe_merge(&probe, &part) == HRBENCH_PROBE_ECLOSED);
+    CHECK(hrbench_probe_counts(&probe).nodes == 1 && hrbench_probe_counts(&probe).max_depth == 3);
+    CHECK(hrbench_probe_finish(&probe) == HRBENCH_PROBE_ECLOSED);
+    CHECK(hrbench_probe_part(&part, &probe) == HRBENCH_PROBE_ECLOSED);
+    CHECK(hrbench_probe_part(NULL, &probe) == HRBENCH_PROBE_ENULL);
+
+    /* A probe that only counts reads no path: any will do. */
+    CHECK(hrbench_probe_open(&probe, NULL, "") == 0);
+    CHECK(hrbench_probe_accept(&probe, &past, NULL) == 0);
+    CHECK(hrbench_probe_finish(&probe) == 0 && hrbench_probe_counts(&probe).links == 1);
+    fclose(f);
+}
+
 int main(void) {
     static unsigned char split_done[1u << 16];
     events passes[2];
@@ -258,6 +350,7 @@ int main(void) {
     int threads;
 
     hand_written();
+    defends_its_invariants();
     /* Pass 1 refines plates l=64 d=1 at eps 0.2; pass 2 removes a link of pass 1 and
      * refines the plates again at eps 0.1 (not a consistent dump: what matters here is
      * every kind of call, many of them, from every thread). */

@@ -10,26 +10,26 @@ through :mod:`hrbench_analysis.output` (exit code 74 when one cannot be written)
 import argparse
 import io
 import math
+import os
+import stat
 from pathlib import Path
 
-from .errors import INPUT_ERROR, one_line
+from .errors import OneLineParser, shown
 from .output import write_file
 
 __all__ = ["Parser", "add_engine_options", "engine_of", "positive_number", "positive_int",
-           "output_file", "scene_params", "save_figure"]
+           "output_file", "input_file", "image_side", "MAX_IMAGE_SIDE", "scene_params",
+           "figure_png", "save_figure"]
 
 
-class Parser(argparse.ArgumentParser):
-    """An argument parser whose usage errors are one line (``prog: error: ...``), exit 2,
-    with the option ``--debug`` of :func:`~hrbench_analysis.errors.run_main`."""
+class Parser(OneLineParser):
+    """A :class:`~hrbench_analysis.errors.OneLineParser` (usage errors in one line, exit
+    2) with the option ``--debug`` of :func:`~hrbench_analysis.errors.run_main`."""
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         self.add_argument("--debug", action="store_true",
                           help="print the traceback of an internal error (a bug)")
-
-    def error(self, message):
-        self.exit(INPUT_ERROR, f"{self.prog}: error: {one_line(message)}\n")
 
 
 def add_engine_options(parser):
@@ -59,9 +59,35 @@ def positive_number(text):
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        raise argparse.ArgumentTypeError(f"'{shown(text)}' is not a number") from None
     if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number > 0")
+        raise argparse.ArgumentTypeError(f"'{shown(text)}' is not a finite number > 0")
+    return value
+
+
+def input_file(text):
+    """argparse type: a regular file to read (a mesh). A FIFO, a device or a folder is
+    refused at once: the engine would wait on a FIFO for a writer that may never come."""
+    try:
+        mode = os.stat(text).st_mode
+    except (OSError, ValueError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) else "a NUL in the name"
+        raise argparse.ArgumentTypeError(f"'{shown(text)}': cannot read ({reason})") from None
+    if not stat.S_ISREG(mode):
+        raise argparse.ArgumentTypeError(f"'{shown(text)}' is not a regular file")
+    return Path(text)
+
+
+#: Pixels of the longest side of an image (``--size``): 8192 x 8192 RGBA is 256 MiB.
+MAX_IMAGE_SIDE = 8192
+
+
+def image_side(text):
+    """argparse type: an image side in pixels, 1 to :data:`MAX_IMAGE_SIDE`."""
+    value = positive_int(text)
+    if value > MAX_IMAGE_SIDE:
+        raise argparse.ArgumentTypeError(f"{value} pixels is more than the {MAX_IMAGE_SIDE} "
+                                         "an image side may have")
     return value
 
 
@@ -80,9 +106,9 @@ def positive_int(text):
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        raise argparse.ArgumentTypeError(f"'{shown(text)}' is not an integer") from None
     if value < 1:
-        raise argparse.ArgumentTypeError(f"{text!r} is not an integer >= 1")
+        raise argparse.ArgumentTypeError(f"'{shown(text)}' is not an integer >= 1")
     return value
 
 
@@ -104,7 +130,7 @@ def scene_params(parser, words):
     """
     scene, *pairs = words
     if "=" in scene:
-        parser.error(f"the scene family comes first, got {scene!r}")
+        parser.error(f"the scene family comes first, got '{shown(scene)}'")
     params = {}
     for pair in pairs:
         name, sep, text = pair.partition("=")
@@ -113,13 +139,18 @@ def scene_params(parser, words):
         except ValueError:
             value = math.nan
         if not sep or not name or not math.isfinite(value):
-            parser.error(f"scene parameter {pair!r} is not name=number")
+            parser.error(f"scene parameter '{shown(pair)}' is not name=number")
         params[name] = value
     return scene, params
 
 
-def save_figure(fig, out, dpi=100):
-    """Write a figure as PNG to `out` (:func:`~hrbench_analysis.output.write_file`)."""
+def figure_png(fig, dpi=100):
+    """The bytes of a figure as PNG."""
     png = io.BytesIO()
     fig.savefig(png, dpi=dpi, format="png")
-    write_file(out, png.getvalue())
+    return png.getvalue()
+
+
+def save_figure(fig, out, dpi=100):
+    """Write a figure as PNG to `out` (:func:`~hrbench_analysis.output.write_file`)."""
+    write_file(out, figure_png(fig, dpi))

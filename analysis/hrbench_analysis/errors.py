@@ -17,6 +17,7 @@ Python's reader accepts (``NaN``, ``Infinity``, a key given twice).
 Standard library only, like :mod:`hrbench_analysis.engine`, so that ``tools/`` can use it too.
 """
 
+import argparse
 import errno
 import json
 import os
@@ -24,7 +25,8 @@ import stat
 import sys
 import traceback
 
-__all__ = ["AnalysisError", "OutputError", "InputFileError", "one_line", "open_bounded",
+__all__ = ["AnalysisError", "OutputError", "InputFileError", "OneLineParser", "one_line",
+           "shown", "open_bounded",
            "read_bounded", "parse_json", "read_json", "run_main", "INPUT_ERROR",
            "INTERNAL_ERROR", "OUTPUT_ERROR", "INTERRUPTED"]
 
@@ -76,7 +78,41 @@ def one_line(text, limit=2000):
     line : str
     """
     line = " ".join(str(text).split("\n")).replace("\r", " ")
+    # Any other control character (a NUL from a file) escaped: it cuts a terminal's line.
+    line = "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in line)
     return line if len(line) <= limit else line[:limit - 3] + "..."
+
+
+#: Characters of a long token (a word of a file, an argument) shown in a message.
+SHOWN_CHARS = 60
+
+
+def shown(token, limit=SHOWN_CHARS):
+    """A token of input as a message shows it: control characters (a NUL, a line break)
+    escaped, and one longer than `limit` characters cut to them, ``"..."`` and its length.
+
+    Examples
+    --------
+    >>> shown("a\x00b")
+    'a\\x00b'
+    >>> shown("x" * 100, 4)
+    'xxxx... (100 characters)'
+    """
+    text = str(token)
+    cut = text[:limit]
+    escaped = "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in cut)
+    return escaped if len(text) <= limit else f"{escaped}... ({len(text)} characters)"
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line, ``prog: error: message``, and
+    exit code 2: argparse prints its usage block too, which a log or a CI summary then
+    shows as several errors. Its subcommands' parsers are of the
+    same class. Every command of the package, of ``tools/`` and of ``scripts/ci/`` parses
+    with it (or with :class:`hrbench_analysis.cli.Parser`, a subclass)."""
+
+    def error(self, message):
+        self.exit(INPUT_ERROR, f"{self.prog}: error: {one_line(message)}\n")
 
 
 class InputFileError(AnalysisError, ValueError):

@@ -18,6 +18,9 @@ name is:
   opened and written in place, never replaced; such a write cannot be atomic, and a FIFO
   waits for its reader as a shell redirection does.
 - a folder, a socket, a name whose folder does not exist: refused, exit code 2.
+- a file the command also reads (``hrbench-render --csv`` naming its ``--mesh``): refused,
+  exit code 2, before anything is written (:func:`refuse_inputs`; the same file by device
+  and inode, whatever name or link leads to it).
 
 A write that fails raises :class:`~hrbench_analysis.errors.OutputError` (exit code 74)
 naming the file, and leaves no temporary file behind (a process killed while writing can
@@ -35,7 +38,8 @@ from pathlib import Path
 
 from .errors import AnalysisError, OutputError
 
-__all__ = ["write_file", "write_files", "write_stdout", "staged", "folder_lock"]
+__all__ = ["write_file", "write_files", "write_stdout", "staged", "folder_lock",
+           "refuse_inputs"]
 
 
 def write_file(path, data):
@@ -99,6 +103,47 @@ def write_files(files):
     finally:
         for _, _, tmp in pending:
             _remove(tmp)
+
+
+def refuse_inputs(outputs, inputs):
+    """Refuse outputs that are inputs of the same command, or one another.
+
+    Call it before anything is written: an output that is one of the command's inputs
+    would be replaced by what was computed from it, and two outputs of one name would
+    leave only the last.
+
+    Parameters
+    ----------
+    outputs, inputs : iterable of (str, path-like or None)
+        ``(flag, path)`` pairs, such as ``("--csv", args.csv)``; a path of None (an
+        option not given) is skipped.
+
+    Raises
+    ------
+    AnalysisError
+        Naming both options, when an existing output is an input (the same device and
+        inode), or two outputs name one file.
+    """
+    def identity(path):
+        try:
+            info = os.stat(path)
+        except (OSError, ValueError):
+            return None  # not there yet: no input can be it
+        return info.st_dev, info.st_ino
+
+    seen = {}
+    for flag, path in outputs:
+        if path is None:
+            continue
+        key = identity(path) or os.path.realpath(path)
+        if key in seen:
+            raise AnalysisError(f"{flag} {path} is also {seen[key]}: give two different files")
+        seen[key] = f"{flag} {path}"
+    for flag, path in inputs:
+        key = None if path is None else identity(path)
+        if key is not None and key in seen:
+            raise AnalysisError(f"{seen[key]} is the file {flag} {path} reads; write the "
+                                "output to another file")
 
 
 def write_stdout(text):

@@ -33,13 +33,16 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from .cli import (
+    MAX_IMAGE_SIDE,
     Parser,
     add_engine_options,
     engine_of,
+    figure_png,
+    image_side,
+    input_file,
     output_file,
     positive_int,
     positive_number,
-    save_figure,
     scene_params,
 )
 from .drawing import (
@@ -55,6 +58,7 @@ from .drawing import (
 from .engine import MESH_SCENE
 from .errors import run_main
 from .loader import COLUMNS_2D, COLUMNS_3D, Solution, read_solution
+from .output import refuse_inputs, write_files
 from .raster import CORNELL_CAMERA, Camera, rasterise
 from .solution import solve_to_csv
 
@@ -111,7 +115,8 @@ def _render_parser():
                    help="reflectance of every patch")
     p.add_argument("--threads", type=positive_int, default=1, metavar="N",
                    help="solver threads (the solution does not depend on them)")
-    p.add_argument("--mesh", type=Path, metavar="F", help="an OFF or OBJ file instead of SCENE")
+    p.add_argument("--mesh", type=input_file, metavar="F",
+                   help="an OFF or OBJ file instead of SCENE")
     p.add_argument("--triangulate", action="store_true",
                    help="with --mesh: split faces that are not planar convex quads")
     p.add_argument("--scale", type=positive_number, metavar="S",
@@ -120,8 +125,9 @@ def _render_parser():
                    help="elevation and azimuth of the view in degrees (default: by scene)")
     p.add_argument("--up", choices=("x", "y", "z"), help="the vertical axis (default: by "
                    "scene, y for cornell, else z)")
-    p.add_argument("--size", type=positive_int, nargs=2, default=(900, 750),
-                   metavar=("W", "H"), help="image size in pixels (default: 900 750)")
+    p.add_argument("--size", type=image_side, nargs=2, default=(900, 750),
+                   metavar=("W", "H"), help="image size in pixels, each at most "
+                   f"{MAX_IMAGE_SIDE} (default: 900 750)")
     p.add_argument("--csv", type=output_file, metavar="F",
                    help="also keep the leaves the engine wrote (hrbench solve --out F)")
     add_engine_options(p)
@@ -142,12 +148,17 @@ def _render_main(argv):
         ("triangulate", args.triangulate or None), ("scale", args.scale),
         ("visibility", args.visibility), ("emission", args.emission),
         ("reflectance", args.reflectance), ("threads", args.threads)) if value is not None}
+    refuse_inputs([("--out", args.out), ("--csv", args.csv)], [("--mesh", args.mesh)])
     engine = engine_of(args)
+    # The engine writes into a folder of this command's own; --csv gets a copy, written
+    # with the image as one set (a FIFO, a link, a full disk: as every output of the
+    # analysis).
     with tempfile.TemporaryDirectory(prefix="hrbench-render-") as folder:
-        csv_path = args.csv or Path(folder) / "solution.csv"
+        csv_path = Path(folder) / "solution.csv"
         record = solve_to_csv(engine, scene, params, args.eps, args.oracle, options,
                               csv_path, min_area=args.min_area, max_depth=args.max_depth)
         solution = read_solution(csv_path)
+        csv_bytes = csv_path.read_bytes() if args.csv else None
     what = " ".join([args.mesh.name if args.mesh else scene,
                      *(f"{k}={v:g}" for k, v in params.items())])
     title = (f"{what}, {args.oracle}, eps {args.eps:g}: {len(solution)} leaves, "
@@ -170,7 +181,7 @@ def _render_main(argv):
                            extend="max" if solution.radiosity.max() > top else "neither")
         bar.set_label("radiosity B (units of emission)")
     ax.set_title(title, fontsize=10)
-    save_figure(fig, args.out)
+    write_files([*([(args.csv, csv_bytes)] if args.csv else []), (args.out, figure_png(fig))])
     print(f"{args.out}: {title}")
     return 0
 

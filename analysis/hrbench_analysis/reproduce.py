@@ -72,7 +72,7 @@ from .engine import (
 from .errors import OUTPUT_ERROR, AnalysisError, OutputError, one_line, run_main
 from .explorer import write_explorer
 from .loader import SCHEMA_VERSION, ResultFormatError, read_links_csv
-from .output import staged, write_file, write_stdout
+from .output import refuse_inputs, staged, write_file, write_stdout
 from .report import ClaimOutcome, get_claims_table, get_figures, print_claims_table, write_report
 from .reproduce_options import ENGINE_ENV, _reproduce_parser, _sweep_parser, default_engine
 from .scene_identity import reference_engine, scene_mismatch
@@ -396,6 +396,7 @@ def _prepare_and_sweep(args, parser):
 def _sweep_main(argv):
     parser = _sweep_parser()
     args = parser.parse_args(argv)
+    refuse_inputs([("--out", args.out)], [("--claims", args.claims), ("--cache", args.cache)])
     ran = _prepare_and_sweep(args, parser)
     if isinstance(ran, int):
         return ran

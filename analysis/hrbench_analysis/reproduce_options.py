@@ -14,6 +14,7 @@ from pathlib import Path
 
 from .cli import positive_number
 from .engine import EngineError
+from .errors import OneLineParser
 from .schedulers import LOCAL, SchedulerError, check_scheduler
 
 __all__ = ["CLAIMS_DIR", "ENGINE_ENV", "default_engine"]
@@ -86,7 +87,7 @@ def _scheduler_arg(text):
 def _parser(prog="hrbench-reproduce",
             description="Sweep the hrbench engine, fit exponents and judge the published "
                         "claims."):
-    p = argparse.ArgumentParser(prog=prog, description=description)
+    p = OneLineParser(prog=prog, description=description)
     p.add_argument("--debug", action="store_true",
                    help="print the traceback of an internal error (a bug)")
     mode = p.add_mutually_exclusive_group()

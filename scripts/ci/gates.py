@@ -39,7 +39,6 @@ inconclusive (too noisy, or too few rounds, to resolve the threshold); 70 intern
 could not be written. See examples/ci/README.md and docs/ci.md.
 """
 
-import argparse
 import io
 import json
 import math
@@ -54,6 +53,7 @@ from hrbench_analysis.bench.builds import (
     DEFAULT_FILTER,
     BuildError,
     UsageError,
+    bench_limit,
     build_commit,
     locate_project,
     read_file_at,
@@ -68,7 +68,7 @@ from hrbench_analysis.bench.gbench import (
     merge_benchmark_files,
 )
 from hrbench_analysis.bench.machine import cpu_model
-from hrbench_analysis.errors import run_main
+from hrbench_analysis.errors import OneLineParser, run_main
 
 # hrbench_analysis comes from analysis/ of this checkout (the shell script gates puts it on
 # the PYTHONPATH): gbench, builds and engine use the standard library only; benchcompare
@@ -108,19 +108,12 @@ def log(message):
 # Options.
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):
-        # One line, as for every other usage error (argparse prints the usage too).
-        print(f"{PROG}: error: {message} (see {PROG} --help)", file=sys.stderr)
-        sys.exit(2)
-
-
 def _default_workdir():
     return os.path.join(os.environ.get("RUNNER_TEMP") or "/tmp", "hrbench-gates")
 
 
 def parse_args(argv):
-    p = _Parser(prog=PROG, description="Run hrbench's count and timing gates on BASE_REF "
+    p = OneLineParser(prog=PROG, description="Run hrbench's count and timing gates on BASE_REF "
                 "and HEAD_REF; print a Markdown summary. Exit 0 pass, 1 a gate failed, "
                 "2 usage or input error, 3 timing inconclusive (too noisy to tell).")
     p.add_argument("base", metavar="BASE_REF", help="the base commit (any git revision)")
@@ -426,6 +419,7 @@ def _benchmark_rounds(builds, args, timing, start):
     files = {side: [] for side in SIDES}
     order, rounds = [], []
     what = "benchmark command" if args.bench_cmd else "refine_bench"
+    base_seconds = None  # the base's first run: the measure of every later run's limit
     for r in range(args.rounds):
         sides = round_order(r)
         order.append(sides)
@@ -433,12 +427,15 @@ def _benchmark_rounds(builds, args, timing, start):
         for side in sides:
             out = os.path.join(timing, f"{side}-{r + 1:03d}.json")
             try:
-                run_benchmarks(builds[side], out, f"{side}'s {what} in round {r + 1}",
-                               bench_cmd=args.bench_cmd, bench_filter=args.filter,
-                               min_time=args.min_time,
-                               env={"HRBENCH_SIDE": side, "HRBENCH_ROUND": str(r + 1)})
+                seconds = run_benchmarks(
+                    builds[side], out, f"{side}'s {what} in round {r + 1}",
+                    bench_cmd=args.bench_cmd, bench_filter=args.filter,
+                    min_time=args.min_time, timeout=bench_limit(base_seconds),
+                    env={"HRBENCH_SIDE": side, "HRBENCH_ROUND": str(r + 1)})
             except BuildError as e:
                 raise GateFailure(str(e)) from None
+            if side == "base" and base_seconds is None:
+                base_seconds = seconds
             files[side].append(out)
             rounds[-1][side] = _round_times(out, args.metric)
         log(f"timing: round {r + 1}/{args.rounds} ({' then '.join(sides)}), "

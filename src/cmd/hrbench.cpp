@@ -5,7 +5,6 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <iostream>
 #include <optional>
 #include <set>
@@ -39,6 +38,25 @@ Scene SceneOf(const Options &o) {
     if (!o.sceneFile.empty())
         return LoadScene(o.sceneFile, o.maxInputBytes, o.command != "check-links");
     return MakeScene(o.scene, ParseParams(o.params));
+}
+
+// The extension of the file _out_ in lower case ("obj"), "" if none.
+std::string ExtensionOf(const std::string &out) {
+    size_t dot = out.find_last_of('.');
+    std::string ext = dot == std::string::npos ? "" : out.substr(dot + 1);
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+// The files the command writes: --out, and beside an OBJ that `save` writes its MTL.
+std::vector<std::string> OutputPaths(const Options &o) {
+    std::vector<std::string> paths;
+    if (!o.out.empty())
+        paths.push_back(o.out);
+    if (o.command == "save" && ExtensionOf(o.out) == "obj")
+        paths.push_back(MaterialLibraryPath(o.out));
+    return paths;
 }
 
 // `hrbench scenes`: every family with its parameters, then every oracle and every
@@ -105,10 +123,7 @@ int CheckLinksCommand(const Scene &scene, const Options &o) {
 // `hrbench save`: the scene as JSON (standard output, or a file), or as OBJ with its MTL
 // library where the file ends in .obj (docs/scene-format.md).
 int SaveCommand(const Scene &scene, const std::string &out) {
-    size_t dot = out.find_last_of('.');
-    std::string ext = dot == std::string::npos ? "" : out.substr(dot + 1);
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
+    std::string ext = ExtensionOf(out);
     if (ext == "off")
         throw InputError("save writes .json or .obj files, not OFF (it holds no emission)");
     if (ext != "obj") {
@@ -160,6 +175,11 @@ int Main(int argc, char **argv) {
         std::cout << Capabilities().dump(2) << "\n";
         return kExitOk;
     }
+    // An output that is also an input is refused before anything is read or written.
+    for (const auto &[input, flag] :
+         {std::pair{o.mesh, "--mesh"}, {o.sceneFile, "--scene-file"}, {o.linksFile, "--links"}})
+        for (const std::string &output : OutputPaths(o))
+            RefuseOutputOverInput(output, "--out", input, flag);
     Scene scene = SceneOf(o);
     for (const std::string &warning : scene.warnings)
         std::cerr << "hrbench: warning: " << warning << std::endl;
@@ -198,14 +218,12 @@ int Main(int argc, char **argv) {
     if (o.command == "links") {
         AnyRefinement refinement = Refine(scene, o.refine);
         display.reset();
-        std::ofstream out(o.out, std::ios::binary);
-        if (!out)
-            throw InputError("cannot write links file '" + o.out + "'");
+        OutputFile out(o.out, "links file");
         if (o.linksFormat == "probe")
-            WriteLinkDump(refinement, out);
+            WriteLinkDump(refinement, out.Stream());
         else
-            WriteLinksCsv(refinement, out);
-        CheckOutput(out, "links file '" + o.out + "'");
+            WriteLinksCsv(refinement, out.Stream());
+        out.Commit();
         return kExitOk;
     }
     if (o.command == "check-links")

@@ -16,4 +16,9 @@ Subdivision ParseSubdivision(const std::string &name) {
     throw InputError("unknown subdivision '" + name + "' (choose binary or quadtree)");
 }
 
+void CheckSubdivision(Subdivision mode, int dimension) {
+    if (dimension == 2 && mode != Subdivision::Binary)
+        throw InputError("--subdivision quadtree applies to 3D scenes only (segments are halved)");
+}
+
 }  // namespace hrbench

@@ -8,6 +8,7 @@
 
 #include "hrbench/geometry/polygon.h"
 #include "hrbench/geometry/segment.h"
+#include "hrbench/geometry/subdivision.h"
 #include "hrbench/util/error.h"
 #include "util/args.h"
 #include "util/format.h"
@@ -242,6 +243,7 @@ void ConvertDumpPaths(const Scene &scene, Subdivision subdivision, double tolera
     std::visit(
         [&](const auto &patches) {
             using Shape = std::decay_t<decltype(patches.front().shape)>;
+            CheckSubdivision(subdivision, Shape::kDimension);
             Converter<Shape>(patches, subdivision, tolerance, source).Run(in, out);
         },
         scene.patches);

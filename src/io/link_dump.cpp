@@ -267,7 +267,8 @@ LinkDump ReadLinkDump(std::istream &in, const std::string &name, int arity, size
                 dump.version = 2;
             else if (text != probe::kDumpHeader)
                 reader.Fail(std::string("not a link dump: the first line must be '") +
-                            probe::kDumpHeader + "'");
+                            probe::kDumpHeader + "' or '" + probe::kDumpHeader2 +
+                            "' (the versions this engine reads)");
             continue;
         }
         reader.Line(text);
@@ -277,7 +278,7 @@ LinkDump ReadLinkDump(std::istream &in, const std::string &name, int arity, size
     if (line == 0) {
         reader.At(1);
         reader.Fail(std::string("empty file; a link dump starts with '") + probe::kDumpHeader +
-                    "'");
+                    "' or '" + probe::kDumpHeader2 + "'");
     }
     return dump;
 }

@@ -256,9 +256,13 @@ MeshPatches ReadObj(std::string_view text, const std::string &source,
 void SaveObj(const Scene &scene, const std::string &path) {
     std::string library = MaterialLibraryPath(path);
     std::string libraryName = library.substr(library.find_last_of('/') + 1);
-    if (libraryName.find_first_of(" \t") != std::string::npos)
+    // OBJ has no escapes: a blank splits the name, '#' starts a comment, a line break
+    // ends the statement, and each would silently lose the materials when read back.
+    if (std::any_of(libraryName.begin(), libraryName.end(),
+                    [](unsigned char c) { return c == ' ' || c == '#' || c < 0x20 || c == 0x7f; }))
         throw InputError("cannot name material library '" + libraryName +
-                         "' in an OBJ file: mtllib names are single words");
+                         "' in an OBJ file: an mtllib name is one word without '#' or "
+                         "control characters; choose another --out name");
     const Patches<Polygon> &patches = scene.Get<Polygon>();
     // Corners equal under == share an index, numbered in order of first use.
     std::unordered_map<std::array<double, 3>, size_t, CornerHash> vertexIndex;
@@ -301,10 +305,12 @@ void SaveObj(const Scene &scene, const std::string &path) {
     std::string header = "# hrbench scene '" + scene.family + "', " +
                          std::to_string(patches.size()) +
                          " patches: faces counter-clockwise seen from the front\n";
-    WriteOutputFile(library, "material library",
-                    "# Materials of " + path.substr(path.find_last_of('/') + 1) +
-                        ": reflectance = mean(Kd), emission = mean(Ke)\n" + mtl);
-    WriteOutputFile(path, "mesh file", header + "mtllib " + libraryName + "\n" + vertices + faces);
+    // Both staged, then the library renamed before the mesh that names it.
+    WriteOutputFiles(
+        {{library, "material library",
+          "# Materials of " + path.substr(path.find_last_of('/') + 1) +
+              ": reflectance = mean(Kd), emission = mean(Ke)\n" + mtl},
+         {path, "mesh file", header + "mtllib " + libraryName + "\n" + vertices + faces}});
 }
 
 }  // namespace hrbench::meshio

@@ -1,5 +1,4 @@
 // OFF files: the reader and the writer.
-#include <fstream>
 #include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -9,6 +8,7 @@
 #include "mtl.h"
 #include "numbers.h"
 #include "text_reader.h"
+#include "util/output.h"
 
 namespace hrbench::meshio {
 
@@ -198,11 +198,10 @@ void SaveOff(const Scene &scene, const std::string &path) {
         }
         polygons.push_back(indices);
     }
-    std::ofstream out(path, std::ios::binary);
+    OutputFile out(path, "mesh file");
     auto np = CGAL::parameters::stream_precision(17);
-    bool ok = out && CGAL::IO::write_OFF(out, points, polygons, np);
-    if (!ok || !out.flush())
-        throw InputError("cannot write mesh file '" + path + "'");
+    CGAL::IO::write_OFF(out.Stream(), points, polygons, np);
+    out.Commit();  // a failed write throws here, with its reason
 }
 
 }  // namespace hrbench::meshio

@@ -167,6 +167,8 @@ Scene SceneFromJson(const std::string &text, const std::string &source, bool ref
                          " (expected " + std::to_string(kSceneSchemaVersion) + ")");
     if (doc.contains("family") && !doc["family"].is_string())
         throw InputError(source + ": \"family\" must be a string");
+    if (doc.contains("scene_sha256") && !doc["scene_sha256"].is_string())
+        throw InputError(source + ": \"scene_sha256\" must be a string (64 hex digits)");
     if (doc.contains("params") && !doc["params"].is_object())
         throw InputError(source + ": \"params\" must be an object of numbers");
 

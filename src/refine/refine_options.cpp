@@ -59,8 +59,7 @@ void ValidateOptions(const RefineOptions &o, int dimension) {
     if (o.visibility == VisibilityMode::Refine && !o.HasRecursionLimit())
         throw InputError("--visibility refine splits partially visible pairs down to the "
                          "recursion limit; set one with --min-area or --max-depth");
-    if (dimension == 2 && o.subdivision != Subdivision::Binary)
-        throw InputError("--subdivision quadtree applies to 3D scenes only (segments are halved)");
+    CheckSubdivision(o.subdivision, dimension);
 }
 
 std::string MinAreaWarning(const Scene &scene, const RefineOptions &options) {

@@ -518,3 +518,211 @@ def test_two_reproduce_runs_on_one_results_folder_both_exit_0(tmp_path, data_dir
     assert_complete(results)
     shown = set(re.findall(r"plots/([^)]+\.png)", (results / "report.md").read_text()))
     assert {p.name for p in (results / "plots").iterdir()} == shown
+
+
+# ---------------------------------------------------------------------------------------
+# Every command that writes a file, against a full file system, a folder, a FIFO, a
+# symbolic link and its own input. The engine's commands exit 2 on a failed write, the
+# analysis' 74; both name the file and the system's reason, and leave the previous file.
+
+ENGINE = ROOT / "build" / "hrbench"
+PREVIOUS = b"the user's previous file\n"
+
+
+def _py(module, *args):
+    return [sys.executable, "-m", module, *args]
+
+
+def _writers(tmp_path, data_dir, fake_hrbench):
+    """name -> (argv for an output path, the input it reads or None, its failure code)."""
+    links = tmp_path / "links.dump"
+    mesh = tmp_path / "box.obj"
+    scene = tmp_path / "scene.json"
+    history = _history(tmp_path)
+    bench = _bench(tmp_path / "gbench.json")
+    claims = data_dir / "small_claims.toml"
+    results = tmp_path / "results"
+    baseline = tmp_path / "counts.json"
+    baseline.write_text(json.dumps({"schema_version": 1, "runs": [
+        {"args": ["parallel", "l=8", "d=1", "--eps", "0.5"]}]}))
+    fake_tools = tmp_path / "fake_tools_hrbench"
+    fake_tools.write_text(f'#!/bin/sh\nexec "{sys.executable}" '
+                          f'"{ROOT / "tests" / "tools" / "data" / "fake_hrbench.py"}" "$@"\n')
+    fake_tools.chmod(0o755)
+    engine = [str(ENGINE)]
+    writers = {
+        "tiling --out": (lambda o: _py("hrbench_analysis.tiling", "parallel", "l=8", "d=1",
+                                       "--eps", "1", "--hrbench", str(fake_hrbench),
+                                       "--out", o), None, 74),
+        "sweep --out": (lambda o: [sys.executable, "-c",
+                                   "import sys; from hrbench_analysis.reproduce import "
+                                   "sweep_main; sys.exit(sweep_main(sys.argv[1:]))",
+                                   "--claims", str(claims), "--hrbench", str(fake_hrbench),
+                                   "--results", str(results), "--jobs", "1", "--out", o],
+                        claims, 74),
+        "history html --out": (lambda o: _py("hrbench_analysis.bench.history", "html",
+                                             "--history", str(history), "--out", o),
+                               None, 74),
+        "merge_bench": (lambda o: [sys.executable, str(ROOT / "tools" / "merge_bench.py"),
+                                   o, str(bench)], bench, 74),
+        "check_baseline --update": (lambda o: [sys.executable,
+                                               str(ROOT / "tools" / "check_baseline.py"),
+                                               "--hrbench", str(fake_tools), "--update",
+                                               "--baseline", o], None, 74),
+    }
+    if ENGINE.exists():
+        subprocess.run([*engine, "links", "parallel", "l=4", "d=1", "--eps", "0.5",
+                        "--format", "probe", "--out", str(links)], check=True)
+        subprocess.run([*engine, "save", "parallel3d", "l=1", "d=1", "--out", str(mesh)],
+                       check=True)
+        subprocess.run([*engine, "save", "parallel", "--out", str(scene)], check=True)
+        writers.update({
+            "solve --out": (lambda o: [*engine, "solve", "--mesh", str(mesh), "--eps", "1",
+                                       "--emission", "1", "--out", o], mesh, 2),
+            "links --out": (lambda o: [*engine, "links", "--scene-file", str(scene), "--eps",
+                                       "0.5", "--out", o], scene, 2),
+            "links --format probe --out": (lambda o: [*engine, "links", "parallel", "--eps",
+                                                      "0.5", "--format", "probe", "--out", o],
+                                           None, 2),
+            "dump-paths --out": (lambda o: [*engine, "dump-paths", "parallel", "l=4", "d=1",
+                                            "--links", str(links), "--out", o], links, 2),
+            "save --out F.json": (lambda o: [*engine, "save", "--scene-file", str(scene),
+                                             "--out", o], scene, 2),
+            "save --out F.obj": (lambda o: [*engine, "save", "--mesh", str(mesh),
+                                            "--out", o], mesh, 2),
+            "render --out": (lambda o: _py("hrbench_analysis.render", "--mesh", str(mesh),
+                                           "--eps", "1", "--emission", "1", "--hrbench",
+                                           str(ENGINE), "--out", o),
+                             mesh, 74),
+            "render --csv": (lambda o: _py("hrbench_analysis.render", "--mesh", str(mesh),
+                                           "--eps", "1", "--emission", "1", "--hrbench",
+                                           str(ENGINE), "--out", str(tmp_path / "render.png"),
+                                           "--csv", o), mesh, 74),
+        })
+    return writers
+
+
+WRITERS = ["tiling --out", "sweep --out", "history html --out", "merge_bench",
+           "check_baseline --update", "solve --out", "links --out",
+           "links --format probe --out", "dump-paths --out", "save --out F.json",
+           "save --out F.obj", "render --out", "render --csv"]
+
+
+def _suffix(name):
+    return {"save --out F.obj": ".obj", "save --out F.json": ".json", "tiling --out": ".png",
+            "render --out": ".png", "history html --out": ".html"}.get(name, ".out")
+
+
+def _previous(name, tmp_path):
+    # check_baseline --update rewrites the baseline it reads: its previous file is one.
+    if name == "check_baseline --update":
+        return (tmp_path / "counts.json").read_bytes()
+    return PREVIOUS
+
+
+def _last_line(err):
+    # The error: the last line, after any progress lines.
+    lines = err.strip().splitlines()
+    return lines[-1] if lines else ""
+
+
+def _run(argv):
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "analysis"))
+    return subprocess.run(argv, env=env, capture_output=True, text=True, timeout=300)
+
+
+@pytest.fixture
+def full_folder(tmp_path):
+    """A folder on a tmpfs of 64 KiB (root only; CI runs as root)."""
+    if os.geteuid() != 0:
+        pytest.skip("mounting a file system to fill needs root")
+    folder = tmp_path / "full"
+    folder.mkdir()
+    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(folder)],
+                             capture_output=True, text=True)
+    if mounted.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs: {mounted.stderr.strip()}")
+    yield folder
+    subprocess.run(["umount", "-l", str(folder)], check=False)
+
+
+def _fill(folder):
+    fd = os.open(folder / "filler", os.O_WRONLY | os.O_CREAT)
+    try:
+        while True:
+            os.write(fd, b"\0" * 1024)
+    except OSError as exc:
+        assert exc.errno == errno.ENOSPC
+    finally:
+        os.close(fd)
+
+
+@pytest.mark.parametrize("name", WRITERS)
+def test_every_writer_on_a_full_disk_keeps_the_previous_file(name, full_folder, tmp_path,
+                                                             data_dir, fake_hrbench):
+    writers = _writers(tmp_path, data_dir, fake_hrbench)
+    if name not in writers:
+        pytest.skip("build/hrbench not built")
+    argv, _, code = writers[name]
+    out = full_folder / f"target{_suffix(name)}"
+    previous = _previous(name, tmp_path)
+    out.write_bytes(previous)
+    mtl = out.with_suffix(".mtl")
+    if name == "save --out F.obj":
+        mtl.write_bytes(PREVIOUS)   # save writes it first: it must survive too
+    _fill(full_folder)
+    done = _run(argv(str(out)))
+    assert done.returncode == code, done.stderr
+    line = _last_line(done.stderr)
+    # (save names the MTL, which it writes first)
+    assert "No space left on device" in line and out.stem in line, line
+    assert out.read_bytes() == previous
+    if name == "save --out F.obj":
+        assert mtl.read_bytes() == PREVIOUS
+    assert temporaries(full_folder) == []
+
+
+@pytest.mark.parametrize("kind", ["folder", "fifo", "symlink", "input"])
+@pytest.mark.parametrize("name", WRITERS)
+def test_every_writer_onto_a_folder_fifo_symlink_or_its_input(name, kind, tmp_path, data_dir,
+                                                             fake_hrbench):
+    writers = _writers(tmp_path, data_dir, fake_hrbench)
+    if name not in writers:
+        pytest.skip("build/hrbench not built")
+    argv, source, _ = writers[name]
+    out = tmp_path / f"target{_suffix(name)}"
+    if kind == "folder":
+        out.mkdir()
+        done = _run(argv(str(out)))
+        assert done.returncode == 2 and out.is_dir(), done.stderr
+        assert re.search("folder|directory", _last_line(done.stderr))
+    elif kind == "fifo" and name == "check_baseline --update":
+        os.mkfifo(out)   # the baseline it rewrites is its input: a FIFO is refused
+        done = _run(argv(str(out)))
+        assert done.returncode == 2 and "FIFO" in _last_line(done.stderr), done.stderr
+    elif kind == "fifo":
+        os.mkfifo(out)
+        got = []
+        reader = threading.Thread(target=lambda: got.append(out.read_bytes()))
+        reader.start()
+        done = _run(argv(str(out)))
+        if done.returncode != 0:
+            os.close(os.open(out, os.O_WRONLY | os.O_NONBLOCK))  # free a waiting reader
+        reader.join(10)
+        assert done.returncode == 0, done.stderr
+        assert stat.S_ISFIFO(os.lstat(out).st_mode) and got and got[0]
+    elif kind == "symlink":
+        target = tmp_path / f"real{_suffix(name)}"
+        target.write_bytes(_previous(name, tmp_path))
+        out.symlink_to(target)
+        done = _run(argv(str(out)))
+        assert done.returncode == 0, done.stderr
+        assert out.is_symlink() and target.read_bytes() != PREVIOUS
+    else:
+        if source is None:
+            pytest.skip("reads no file that could be its output")
+        before = source.read_bytes()
+        done = _run(argv(str(source)))
+        assert done.returncode == 2, done.stderr
+        assert re.search("reads|is also", _last_line(done.stderr)), done.stderr
+        assert source.read_bytes() == before

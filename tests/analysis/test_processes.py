@@ -17,7 +17,13 @@ from pathlib import Path
 
 import pytest
 
-from hrbench_analysis.bench.builds import BuildError, run_benchmarks
+from hrbench_analysis.bench.builds import (
+    BENCH_LIMIT_FACTOR,
+    BENCH_TIMEOUT,
+    BuildError,
+    bench_limit,
+    run_benchmarks,
+)
 from hrbench_analysis.engine import (
     OUTPUT_EXCEEDED,
     TIMED_OUT,
@@ -191,6 +197,72 @@ def test_a_hung_benchmark_command_is_ended_with_its_children(tmp_path):
                        bench_cmd=command, timeout=1)
     assert time.monotonic() - start < 5
     assert_all_ended(pids_of(pids))
+
+
+def test_a_benchmark_commands_background_child_does_not_hold_the_caller(tmp_path):
+    # The command exits at once and leaves a child holding its standard error for 5 s:
+    # the run ends with the command, and the child with its group.
+    pids = tmp_path / "pids"
+    command = (f"sleep 5 & echo $! > {pids}; echo '{{\"benchmarks\": []}}' "
+               "> \"$HRBENCH_BENCH_OUT\"")
+    start = time.monotonic()
+    seconds = run_benchmarks(str(tmp_path), str(tmp_path / "bench.json"), "the benchmarks",
+                             bench_cmd=command)
+    assert time.monotonic() - start < 3 and seconds < 3
+    assert_all_ended(pids_of(pids))
+
+
+def test_the_limit_of_a_benchmark_run_is_derived_from_the_first_run():
+    assert bench_limit(None) == BENCH_TIMEOUT              # nothing measured yet
+    assert bench_limit(20.0) == 20.0 * BENCH_LIMIT_FACTOR  # ten times the base's run
+    assert bench_limit(0.5) == 60                          # never below a minute
+    assert bench_limit(3600.0) == BENCH_TIMEOUT            # never above the default
+
+
+# --- A tool that dies ----------------------------------------------------------------------
+
+
+HANGING_ENGINE = """#!/bin/sh
+echo $$ >> "{pids}"
+exec sleep 600
+"""
+
+
+@pytest.mark.skipif(process._prctl is None, reason="no parent-death signal (not Linux)")
+@pytest.mark.parametrize("tool", ["reproduce", "check_baseline", "render"])
+def test_an_engine_dies_with_the_tool_killed_with_its_group(tool, tmp_path, data_dir):
+    # The engine hangs (in `--version`, a run, a solve); the tool and its process group
+    # get SIGKILL, as a CI time limit sends it: nothing can end the engine but the
+    # kernel's parent-death signal, since the engine runs in a session of its own.
+    pids = tmp_path / "pids"
+    engine = tmp_path / "hanging-hrbench"
+    engine.write_text(HANGING_ENGINE.format(pids=pids))
+    engine.chmod(0o755)
+    baseline = tmp_path / "counts.json"
+    baseline.write_text(json.dumps({"schema_version": 1, "runs": [
+        {"args": ["parallel", "l=1024", "d=1", "--eps", "1e-9", "--max-depth", "48"]}]}))
+    argv = {
+        "reproduce": ["-m", "hrbench_analysis.reproduce", "--claims",
+                      str(data_dir / "small_claims.toml"), "--hrbench", str(engine),
+                      "--results", str(tmp_path / "results"), "--no-pictures"],
+        "check_baseline": [str(ROOT / "tools" / "check_baseline.py"), "--hrbench",
+                           str(engine), "--baseline", str(baseline)],
+        "render": ["-m", "hrbench_analysis.render", "cornell", "--eps", "0.5", "--hrbench",
+                   str(engine), "--out", str(tmp_path / "r.png")],
+    }[tool]
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "analysis"))
+    proc = subprocess.Popen([sys.executable, *argv], env=env, start_new_session=True,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    try:
+        deadline = time.monotonic() + 60
+        while not pids_of(pids) and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        started = pids_of(pids)
+        assert started, proc.stderr.read().decode() if proc.poll() is not None else ""
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+    assert_all_ended(started)
 
 
 # --- Leases --------------------------------------------------------------------------------

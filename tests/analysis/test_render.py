@@ -1,5 +1,6 @@
 import io
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -545,9 +546,16 @@ def test_render_a_flatland_solve_as_its_profile(tmp_path, capsys):
     (["cornell", "--eps", "1", "--csv", "no/such/folder/x.csv"], "does not exist"),
     (["cornell", "--eps", "0.5"], "touch, so refinement cannot terminate"),
     (["parallel3d", "--eps", "0.5"], "nothing emits"),
-    (["--mesh", "no-such.obj", "--eps", "0.5"], "cannot read mesh file"),
+    (["--mesh", "no-such.obj", "--eps", "0.5"], "'no-such.obj': cannot read (No such file"),
+    # A FIFO would hold the engine that reads it; a huge image, the memory.
+    (["--mesh", "FIFO", "--eps", "0.5"], "'FIFO' is not a regular file"),
+    (["cornell", "--eps", "1", "--size", "200000", "200000"], "more than the 8192"),
+    (["cornell", "--eps", "1", "--size", "1" * 5000, "10"], "... (5000 characters)"),
 ])
-def test_render_bad_input_is_one_line_and_exit_2(tmp_path, capsys, argv, words):
+def test_render_bad_input_is_one_line_and_exit_2(tmp_path, capsys, argv, words, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "room.obj").write_text("")
+    os.mkfifo(tmp_path / "FIFO")
     out = tmp_path / "x.png"
     code, _, err = render([*argv, "--out", str(out)], capsys)
     assert code == 2

@@ -87,19 +87,22 @@ def test_a_killed_worker_loses_no_point(tmp_path, data_dir, fake_hrbench, monkey
     monkeypatch.setenv("FAKE_HRBENCH_LOG", str(log))
     monkeypatch.setenv("FAKE_HRBENCH_DELAY", "1.0")
     points = points_of(data_dir, fake_hrbench)[:4]
-    killed = []
+    killed, engines = [], []
 
     def kill_one_worker():
-        # Wait for the first run to start, then kill the worker process that runs it.
+        # Wait for the first run to start (its line logged), then kill the worker process
+        # that runs it; the engine dies with it (the parent-death signal).
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline:
             for proc in psutil.process_iter(["cmdline"]):
                 cmd = proc.info["cmdline"] or []
-                if any(str(fake_hrbench) == word for word in cmd) and "run" in cmd:
+                if (any(str(fake_hrbench) == word for word in cmd) and "run" in cmd
+                        and log.exists() and log.read_text()):
                     worker = proc.parent()
                     if worker is not None:
                         killed.append(worker.pid)
                         os.kill(worker.pid, signal.SIGKILL)
+                        engines.append(proc)
                         return
             time.sleep(0.05)
 
@@ -110,6 +113,7 @@ def test_a_killed_worker_loses_no_point(tmp_path, data_dir, fake_hrbench, monkey
         summary = run_points(points, store, scheduler=scheduler, progress=None)
         killer.join()
         assert killed, "no worker was killed"
+        engines[0].wait(timeout=10)   # ended with its worker, not left running
         assert summary == {"total": 4, "cached": 0, "ran": 4, "failed": 0}
         assert all(store.get(p.key).ok for p in points)
     # The killed worker's point started twice; each point is stored once.

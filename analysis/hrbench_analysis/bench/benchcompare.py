@@ -41,7 +41,6 @@ rounds and judges their CPU times with the same paired rule and exit codes
 (:mod:`hrbench_analysis.bench.cmdtiming`).
 """
 
-import argparse
 import math
 import sys
 import warnings
@@ -49,7 +48,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import run_main
+from ..errors import OneLineParser, run_main
 from .gbench import InputError, format_time, get_repetition_times, load_benchmark_file
 
 __all__ = ["TimingComparison", "get_timing_comparison", "get_comparison_report",
@@ -390,7 +389,7 @@ def print_comparison_report(comparisons, only_baseline=(), only_new=(), threshol
 
 
 def _parse_args(argv, prog):
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog=prog,
         description="Compare two Google Benchmark JSON files run with repetitions; exit 1 "
                     "on a significant slowdown beyond the threshold, 3 if a benchmark is "

@@ -13,16 +13,16 @@ is installed); a finished build is reused. Standard library only, like
 
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import time
 
+from ..engine import run_engine
 from ..errors import AnalysisError
 
 __all__ = ["UsageError", "BuildError", "DEFAULT_FILTER", "git", "locate_project",
            "resolve_ref", "read_file_at", "commits_between", "build_commit",
-           "run_benchmarks"]
+           "run_benchmarks", "bench_limit", "BENCH_TIMEOUT", "BENCH_LIMIT_FACTOR"]
 
 # Five refine_bench benchmarks, both oracles, count-only and store mode, both sweeps:
 # about 0.3 s each at --benchmark_min_time 0.2.
@@ -180,8 +180,26 @@ def build_commit(repo, prefix, sha, workdir, jobs, use_ccache, which, log):
     return build
 
 
-#: Seconds one benchmark run may take before it is ended with its child processes.
+#: Seconds one benchmark run may take before it is ended with its child processes, while
+#: no run of the same series has finished to measure it by.
 BENCH_TIMEOUT = 1800
+#: A later run may take this many times the first finished run of its series (the gates:
+#: the base's first run; ``hrbench-history measure``: the first commit measured), but
+#: never less than :data:`BENCH_LIMIT_FLOOR` seconds nor more than :data:`BENCH_TIMEOUT`:
+#: a hung benchmark holds the caller about ten times a run, not 30 minutes. A change that
+#: makes a run ten times slower fails its gate either way.
+BENCH_LIMIT_FACTOR = 10
+#: Seconds: the least limit :func:`bench_limit` gives (start-up noise of short runs).
+BENCH_LIMIT_FLOOR = 60
+
+
+def bench_limit(reference_seconds):
+    """The time limit of a benchmark run, given the wall time of the first finished run of
+    its series (None while there is none): ``BENCH_LIMIT_FACTOR`` times it, within
+    ``[BENCH_LIMIT_FLOOR, BENCH_TIMEOUT]`` seconds."""
+    if reference_seconds is None:
+        return BENCH_TIMEOUT
+    return min(BENCH_TIMEOUT, max(BENCH_LIMIT_FLOOR, BENCH_LIMIT_FACTOR * reference_seconds))
 
 
 def run_benchmarks(build, out, what, *, bench_cmd=None, bench_filter=DEFAULT_FILTER,
@@ -207,13 +225,25 @@ def run_benchmarks(build, out, what, *, bench_cmd=None, bench_filter=DEFAULT_FIL
     env : dict, optional
         More environment variables for _bench_cmd_.
     timeout : float, optional
-        Seconds the run may take (:data:`BENCH_TIMEOUT`); then its process group is
-        killed and the run fails.
+        Seconds the run may take (:data:`BENCH_TIMEOUT`; :func:`bench_limit` for the
+        runs after a first one); then its process group is killed and the run fails.
+
+    Returns
+    -------
+    seconds : float
+        The run's wall time.
 
     Raises
     ------
     BuildError
         The command failed, ran out of time or wrote no file.
+
+    Notes
+    -----
+    The run is an engine run (:func:`hrbench_analysis.engine.run_engine`): it ends when
+    the command exits, and its process group is killed then, so a child the command
+    leaves in the background holds neither the caller nor the next run; the command is
+    killed with the caller, however the caller ends.
     """
     if bench_cmd:
         cmd = ["sh", "-c", bench_cmd]
@@ -228,21 +258,14 @@ def run_benchmarks(build, out, what, *, bench_cmd=None, bench_filter=DEFAULT_FIL
         run_env = None
     if os.path.exists(out):
         os.remove(out)  # a file left by an earlier run must not pass for this one's
-    # In a process group of its own, so that a hung command ends with its children.
-    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                            env=run_env, start_new_session=True)
-    try:
-        _, stderr = proc.communicate(timeout=timeout)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)
-        proc.communicate()
+    run = run_engine(cmd, timeout=timeout, env=run_env)
+    if run.stopped == "timeout":
         raise BuildError(f"{what} did not finish within {timeout:g} s; it was ended with "
-                         "its child processes") from None
-    finally:
-        if proc.poll() is None:   # an interrupt: end the group too
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
-    if proc.returncode != 0 or not os.path.isfile(out):
-        why = (f"exit code {proc.returncode}" if proc.returncode != 0
+                         "its child processes")
+    if run.stopped:
+        raise BuildError(f"{what}: {run.reason}")
+    if run.exit_code != 0 or not os.path.isfile(out):
+        why = (f"exit code {run.exit_code}" if run.exit_code != 0
                else f"it wrote no {out}")
-        raise BuildError(f"{what} failed ({why}): {stderr.strip()[-300:]}")
+        raise BuildError(f"{what} failed ({why}): {run.stderr.strip()[-300:]}")
+    return run.wall_seconds

@@ -22,14 +22,13 @@ with --debug); 74 the report or the updated file could not be written.
 See docs/ci.md.
 """
 
-import argparse
 import concurrent.futures
 import json
 import os
 import sys
 
 from ..engine import EngineError, get_capabilities
-from ..errors import run_main
+from ..errors import OneLineParser, run_main
 from ..output import write_file
 from .baseline import (
     DEFAULT_RUNS,
@@ -51,7 +50,7 @@ PROG = "check_baseline.py"
 
 
 def _parse_args(argv):
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog=PROG,
         description="Check (or --update) the exact count baseline of the hrbench engine.")
     parser.add_argument("--hrbench", default=os.path.join(_ROOT, "build", "hrbench"),

@@ -12,7 +12,7 @@ import json
 import sys
 
 from ..errors import run_main
-from ..output import write_file
+from ..output import refuse_inputs, write_file
 from .gbench import load_benchmark_file, merge_benchmark_files
 
 
@@ -26,6 +26,7 @@ def _merge(argv):
         print(__doc__.strip().splitlines()[2], file=sys.stderr)
         return 2
     out, inputs = argv[0], argv[1:]
+    refuse_inputs([("the output", out)], [("the input", path) for path in inputs])
     merged = merge_benchmark_files([load_benchmark_file(path) for path in inputs])
     write_file(out, json.dumps(merged, indent=2) + "\n")
     return 0

@@ -66,6 +66,7 @@ from .process import (
     interrupt_exit_code,
     kill_engine_runs,
     run_engine,
+    start_process,
     stop_engine_runs,
 )
 from .run_spec import RunSpec, SharedRun
@@ -107,6 +108,7 @@ __all__ = [
     "links_argv",
     "save_argv",
     "run_engine",
+    "start_process",
     "run_links",
     "write_links",
     "kill_engine_runs",

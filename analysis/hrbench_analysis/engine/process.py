@@ -1,12 +1,16 @@
 """Running the engine: every engine process of the analysis is started by
 :func:`run_engine`, in a process group of its own that is killed when the engine exits,
 times out, prints too much or the analysis is interrupted (:func:`ending_engine_runs`).
+On Linux the engine is also killed (SIGKILL) when the analysis itself dies, however it
+dies (SIGKILL of it or of its process group included): the parent-death signal of
+:func:`start_process`, so that no engine outlives the tool that started it.
 
 Exit codes of the engine (README.md): 0 success, 1 internal error, 2 usage or input
 error (:data:`INPUT_ERROR`), 3 a limit reached during refinement (:data:`LIMIT_REACHED`).
 A run that could not be started has exit code 127 (:data:`NOT_STARTED`).
 """
 
+import ctypes
 import os
 import selectors
 import signal
@@ -124,6 +128,60 @@ class EngineRun:
 _lock = threading.RLock()
 _live = {}  # process -> tag
 _stopping = False
+
+
+# prctl(2) option: the signal a process gets when the thread that started it ends.
+_PR_SET_PDEATHSIG = 1
+
+
+def _load_prctl():
+    try:
+        prctl = ctypes.CDLL(None, use_errno=True).prctl
+    except (OSError, AttributeError):
+        return None  # not Linux: the process group is all there is
+    prctl.argtypes = [ctypes.c_int, ctypes.c_ulong, ctypes.c_ulong, ctypes.c_ulong,
+                      ctypes.c_ulong]
+    prctl.restype = ctypes.c_int
+    return prctl
+
+
+_prctl = _load_prctl()
+
+
+def _dying_with(parent):
+    # The child's last step before exec (after setsid): SIGKILL when `parent` dies; if it
+    # died already, in the instant between fork and prctl, the child ends itself.
+    def preexec():
+        if _prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) == 0 and os.getppid() != parent:
+            os._exit(128 + signal.SIGKILL)
+    return preexec
+
+
+def start_process(argv, **popen_kwargs):
+    """Start a process that ends with this one: the one way the analysis, its tools and
+    the CI gates start an engine or a benchmark command.
+
+    It runs in a process group of its own (a new session, without the terminal), which
+    the caller kills to end it with its children; and, on Linux, with the parent-death
+    signal SIGKILL (``prctl(PR_SET_PDEATHSIG)``), so that it is killed when this process
+    dies without the chance to (SIGKILL, a CI job's time limit killing its group). The
+    signal is tied to the thread that calls this function, which must outlive the
+    process: callers wait for it in the same thread. It reaches the process itself (an
+    engine, or a benchmark command's shell, which ``exec`` makes the command), not the
+    children it starts.
+
+    Parameters
+    ----------
+    argv : sequence of str
+    **popen_kwargs
+        Passed to :class:`subprocess.Popen` (standard streams, environment).
+
+    Returns
+    -------
+    proc : subprocess.Popen
+    """
+    preexec = _dying_with(os.getpid()) if _prctl is not None else None
+    return subprocess.Popen(argv, start_new_session=True, preexec_fn=preexec, **popen_kwargs)
 
 
 def _kill_group(proc):
@@ -253,12 +311,13 @@ def _read(proc, timeout):
     return b"".join(out), bytes(err), stopped
 
 
-def run_engine(argv, timeout=None, tag=None):
+def run_engine(argv, timeout=None, tag=None, env=None):
     """Run the engine once and wait for it: the one place where the analysis starts an
     engine process.
 
-    The process runs in a process group of its own (a new session, without the
-    terminal), so that it and every child it starts can be ended together. The group is
+    The process is started by :func:`start_process`: in a process group of its own, so
+    that it and every child it starts can be ended together, and killed if this process
+    dies. The group is
     killed when the engine has exited (a child left behind, say one that keeps standard
     output open, is ended, never waited for), when it runs past `timeout`, when it
     prints more than :data:`OUTPUT_LIMIT` bytes on standard output, when this call is
@@ -273,6 +332,8 @@ def run_engine(argv, timeout=None, tag=None):
         Seconds to let it run (default: no limit).
     tag : str, optional
         Names the run for :func:`kill_engine_runs`.
+    env : dict, optional
+        The process' whole environment (default: this process').
 
     Returns
     -------
@@ -296,8 +357,8 @@ def run_engine(argv, timeout=None, tag=None):
                 return finished(-signal.SIGKILL, "", "", INTERRUPTED,
                                 "not started: the analysis was interrupted")
             try:
-                proc = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                        stderr=subprocess.PIPE, start_new_session=True)
+                proc = start_process(argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                     stderr=subprocess.PIPE, env=env)
             except (OSError, ValueError) as exc:
                 return finished(NOT_STARTED, "", f"cannot run {argv[0]}: {exc}")
             _live[proc] = tag

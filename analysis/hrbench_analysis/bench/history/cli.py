@@ -1,6 +1,5 @@
 """``hrbench-history``: the command line of ``record``, ``measure`` and ``html``."""
 
-import argparse
 import math
 import os
 import socket
@@ -8,12 +7,14 @@ import sys
 from pathlib import Path
 
 from ...errors import (
+    OneLineParser,
     one_line,
     run_main,
 )
 from ..builds import (
     DEFAULT_FILTER,
     BuildError,
+    bench_limit,
     build_commit,
     commits_between,
     locate_project,
@@ -30,7 +31,7 @@ from .store import HistoryError, describe_range, get_series, load_history, recor
 
 
 def _parser(prog):
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog=prog, description="Benchmark history over commits (docs/history.md).")
     sub = parser.add_subparsers(dest="command", required=True)
     rec = sub.add_parser("record", help="store one Google Benchmark run with its metadata")
@@ -160,6 +161,7 @@ def _main_measure(args):
         print(f"measure: {message}", file=sys.stderr, flush=True)
 
     failed, recorded = [], 0
+    first_seconds = None  # the first commit measured: the measure of the later runs' limit
     for k, (sha, _) in enumerate(commits, 1):
         short = sha[:12]
         if sha in done:
@@ -171,9 +173,12 @@ def _main_measure(args):
         try:
             build = build_commit(repo, prefix, sha, workdir, args.jobs, not args.no_ccache,
                                  "commit", log)
-            run_benchmarks(build, out, f"the benchmarks of {short}", bench_cmd=args.bench_cmd,
-                           bench_filter=args.filter, min_time=args.min_time,
-                           repetitions=args.repetitions, env={"HRBENCH_COMMIT": sha})
+            seconds = run_benchmarks(
+                build, out, f"the benchmarks of {short}", bench_cmd=args.bench_cmd,
+                bench_filter=args.filter, min_time=args.min_time,
+                repetitions=args.repetitions, env={"HRBENCH_COMMIT": sha},
+                timeout=bench_limit(first_seconds))
+            first_seconds = seconds if first_seconds is None else first_seconds
         except BuildError as e:
             print(f"measure: {short} not measured: {one_line(e, 300)}", file=sys.stderr)
             failed.append(short)
