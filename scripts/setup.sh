@@ -21,11 +21,51 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# Another package manager may hold apt's or dpkg's lock (a first boot's automatic
+# upgrades, an install in another terminal): apt_locked waits for it, up to
+# HRBENCH_APT_LOCK_TIMEOUT seconds in all, saying once what it waits for. apt-get's own
+# DPkg::Lock::Timeout covers only dpkg's lock, not the lists' lock of `apt-get update`,
+# so each command is retried instead while apt says a lock is held.
+lock_limit=${HRBENCH_APT_LOCK_TIMEOUT:-600}
+[[ "$lock_limit" =~ ^[0-9]+$ ]] || {
+  echo "setup: HRBENCH_APT_LOCK_TIMEOUT must be a number of seconds, not '$lock_limit'" >&2; exit 2; }
+lock_deadline=$((SECONDS + lock_limit))
+apt_locked() {
+  local err status waited=""
+  err=$(mktemp)
+  while true; do
+    status=0
+    "$@" 2>"$err" || status=$?
+    # apt's line: "E: Could not get lock /var/lib/dpkg/lock-frontend. It is held by
+    # process 1234 (apt-get)", or "E: Unable to acquire the dpkg frontend lock (...)".
+    local what
+    what=$(sed -n -e 's/^E: Could not get lock \([^ ]*\)\. It is held by \(.*\)/\1, held by \2/p' \
+                  -e 's/^E: Could not get lock \([^ ]*\)\.*$/\1/p' \
+                  -e 's/^E: Unable to acquire the dpkg frontend lock (\([^)]*\)).*/\1/p' \
+                  -e 's/^E: Unable to lock directory \(.*\)/\1/p' "$err" | head -n 1)
+    if ((status == 0)) || [ -z "$what" ]; then
+      cat "$err" >&2; rm -f "$err"; return "$status"
+    fi
+    if ((SECONDS >= lock_deadline)); then
+      rm -f "$err"
+      echo "setup: gave up after ${lock_limit} s waiting for the package lock $what; run" \
+           "again once the other install ends, or set HRBENCH_APT_LOCK_TIMEOUT=SECONDS" >&2
+      return 1
+    fi
+    if [ -z "$waited" ]; then
+      echo "setup: waiting up to ${lock_limit} s (HRBENCH_APT_LOCK_TIMEOUT) for the" \
+           "package lock $what"
+      waited=1
+    fi
+    sleep 2
+  done
+}
 if ((${#missing[@]})); then
   echo "setup: installing ${missing[*]}"
   sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  apt_locked $sudo apt-get update -qq
+  apt_locked $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
+    --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
 # The venv is rebuilt only when the requirements change.

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -999,4 +1000,51 @@ TEST_CASE("dump-paths names the line of a token that matches no element", "[cli]
     CheckError("dump-paths parallel3d --links " + dump + " --out " + out + " --tolerance 0.5", 2,
                "--tolerance of dump-paths must be at least 0 and below 0.01, not 0.5");
     CheckError("dump-paths parallel3d --links " + dump, 2, "dump-paths needs --links IN");
+}
+
+TEST_CASE("a run estimated beyond its memory or --max-links stops at once with exit code 3",
+          "[cli][errors]") {
+    // Each within seconds: the estimate comes from small pilot refinements.
+    auto timed = [](const std::string &args) {
+        auto start = std::chrono::steady_clock::now();
+        CliResult r = Cli(args);
+        double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        CHECK(seconds < 20);
+        return r;
+    };
+    SECTION("a store run beyond the memory budget") {
+        CliResult r = timed("run parallel l=64 d=1 --eps 1e-9");
+        CHECK(r.exitCode == 3);
+        CHECK_THAT(r.err, Catch::Contains("this run would take about") &&
+                              Catch::Contains("links") &&
+                              Catch::Contains("--max-memory MIB raises it"));
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    }
+    SECTION("a count-only run beyond --max-links") {
+        CliResult r = timed("run parallel l=64 d=1 --eps 1e-9 --count-only");
+        CHECK(r.exitCode == 3);
+        CHECK_THAT(r.err, Catch::Contains("this run would take about"));
+        // A cap of its own, below the links of a run that the default lets through.
+        CliResult capped = timed("run parallel l=64 d=1 --eps 0.01 --count-only --max-links 1e5");
+        CHECK(capped.exitCode == 3);
+        CHECK_THAT(capped.err, Catch::Contains("more than --max-links 1e+05") &&
+                                   Catch::Contains("--max-links N raises the cap, 0 lifts it"));
+        CHECK(Cli("run parallel l=64 d=1 --eps 0.01 --count-only --max-links 0").exitCode == 0);
+        CHECK(Cli("run parallel l=64 d=1 --eps 0.01 --count-only --max-links -1").exitCode == 2);
+    }
+    SECTION("the translation method by its pair states") {
+        CliResult r = timed("run parallel l=64 d=1 --eps 1e-9 --count-only --method translation");
+        CHECK(r.exitCode == 3);
+        CHECK_THAT(r.err, Catch::Contains("pair states") && Catch::Contains("--max-memory"));
+    }
+    SECTION("an estimate near the counts: within 10% for a run scaled over 2 decades") {
+        // 262142 elements and 339577246 links when run (docs/limits.md#estimates).
+        CliResult r = Cli("run parallel l=64 d=1 --eps 1e-3 --count-only --max-links 1e8");
+        REQUIRE(r.exitCode == 3);
+        double elements = std::stod(r.err.substr(r.err.find("about ") + 6));
+        double links = std::stod(r.err.substr(r.err.find("elements, ") + 10));
+        CHECK_THAT(elements, Catch::WithinRel(262142.0, 0.1));
+        CHECK_THAT(links, Catch::WithinRel(339577246.0, 0.1));
+    }
 }

@@ -78,8 +78,9 @@ from .reproduce_options import ENGINE_ENV, _reproduce_parser, _sweep_parser, def
 from .scene_identity import reference_engine, scene_mismatch
 from .schedulers import open_scheduler
 from .solution import solution_figures
+from .stages import Stage
 from .store import ResultStore
-from .summary import verdict_tally
+from .summary import timed_tally, verdict_tally
 from .sweep import UNREADABLE_RECORD, ClaimData, get_claim_data, run_points
 from .sweep_plan import expand_claim
 from .verdict import assess_claim, skipped_assessment
@@ -436,29 +437,34 @@ def _main(argv):
     if isinstance(ran, int):
         return ran
     setup, summary, measured = ran
+    sweep_wall = time.perf_counter() - start
     capabilities, skipped = setup.capabilities, setup.skipped
     outcomes = []
-    for c in setup.claims:
-        if c.id in skipped:
-            empty = np.zeros(0)
-            data = ClaimData(value=empty, x=empty, y=empty)
-            outcomes.append(ClaimOutcome(c, data, skipped_assessment(c, skipped[c.id]),
-                                         args.mode))
-            continue
-        data = measured[c.id][1]
-        family = capabilities.family(c.scene)
-        outcomes.append(ClaimOutcome(c, data, assess_claim(c, data), args.mode,
-                                     family.dimension if family else None))
+    with Stage(f"fitting {len(setup.claims)} claims", total=len(setup.claims)) as stage:
+        for c in setup.claims:
+            stage.advance()
+            if c.id in skipped:
+                empty = np.zeros(0)
+                data = ClaimData(value=empty, x=empty, y=empty)
+                outcomes.append(ClaimOutcome(c, data, skipped_assessment(c, skipped[c.id]),
+                                             args.mode))
+                continue
+            data = measured[c.id][1]
+            family = capabilities.family(c.scene)
+            outcomes.append(ClaimOutcome(c, data, assess_claim(c, data), args.mode,
+                                         family.dimension if family else None))
 
     # Draw the link tiling of one small refinement.
     links, links_title = None, ""
-    if not args.no_pictures:
+    runs_pictures = not (args.no_pictures or args.charts_only)
+    if runs_pictures:
         scene, params, eps, oracle = TILING
         name = "-".join(f"{k}{v:g}" for k, v in params.items())
         csv_path = args.results / f"links-{scene}-{name}-eps{eps:g}.csv"
         try:
             _tiling_iv(capabilities)
-            with staged(csv_path) as written:  # whole for another run reading it
+            with Stage("listing the links of the tiling figure"), \
+                    staged(csv_path) as written:  # whole for another run reading it
                 write_links(setup.engine, RunSpec.of(scene, params, eps, oracle), written)
                 links = read_links_csv(written)
             links_title = (f"{scene} " + " ".join(f"{k}={v:g}" for k, v in params.items())
@@ -466,8 +472,7 @@ def _main(argv):
         except (EngineError, ResultFormatError, OSError) as exc:
             print(f"warning: no link tiling: {one_line(exc)}", file=sys.stderr)
 
-    # Write the report and print the table.
-    wall = time.perf_counter() - start
+    # Draw the figures, solve for the pictures, write the report and print the table.
     context = {
         "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "mode": args.mode,
@@ -479,30 +484,44 @@ def _main(argv):
                    f"{summary['failed']} failed)"),
         "claims skipped": (", ".join(f"{k} ({v})" for k, v in skipped.items())
                            if skipped else "none"),
-        "sweep and fit wall time": f"{wall:.1f} s",
+        "sweep wall time": f"{sweep_wall:.1f} s (loading the claims and running the sweep)",
         "python": (f"{platform.python_version()}, numpy {np.__version__}, "
                    f"matplotlib {matplotlib.__version__}"),
     }
-    figures = get_figures(outcomes, links, links_title)
+    figures = []
     if not args.no_pictures:
+        with Stage("drawing the charts"):
+            figures = get_figures(outcomes, links, links_title)
+    if runs_pictures:
         figures += solution_figures(setup.engine, args.results, args.jobs,
-                                    warn=lambda line: print(line, file=sys.stderr))
+                                    warn=lambda line: print(line, file=sys.stderr),
+                                    progress=sys.stderr)
+    every = len(figures) + sum(f.alternate is not None for f in figures)
     try:
-        paths = write_report(args.results, outcomes, context, figures, args.jobs)
+        with Stage(f"rendering {every} figures and writing the report", total=every,
+                   beat=False) as stage:  # renders in forked processes: no thread
+            paths = write_report(args.results, outcomes, context, figures, args.jobs,
+                                 advance=stage.advance)
     except OSError as exc:  # making plots/ or removing an old figure
         raise OutputError(f"--results {args.results}: cannot write the report "
                           f"({exc.strerror or exc}: {exc.filename or ''})") from None
-    if not args.no_pictures:
+    if runs_pictures:
         try:
-            write_explorer(args.results, setup.engine)
+            with Stage("writing the explorer page"):
+                write_explorer(args.results, setup.engine)
         except (EngineError, ResultFormatError, OSError) as exc:
             print(f"warning: no explorer page: {one_line(exc)}", file=sys.stderr)
     print_claims_table(get_claims_table(outcomes))
+    wall = time.perf_counter() - start
     print(f"\nreport: {paths['markdown']}, {paths['html']}, {paths['json']} "
-          f"({wall:.1f} s)")
+          f"(sweep {sweep_wall:.1f} s, then fits, figures and report "
+          f"{wall - sweep_wall:.1f} s: {wall:.1f} s of wall time in all)")
     print(verdict_tally(outcomes))
-    refuted = [o.claim.id for o in outcomes
-               if o.claim.expected_to_hold and o.assessment.verdict == "refuted"]
+    if timed_tally(outcomes):
+        print(timed_tally(outcomes))
+    # Timed claims never decide the exit code: their verdicts change with the load.
+    refuted = [o.claim.id for o in outcomes if not o.claim.timed
+               and o.claim.expected_to_hold and o.assessment.verdict == "refuted"]
     if refuted:
         print(f"refuted although expected to hold: {', '.join(refuted)}", file=sys.stderr)
         return REFUTED

@@ -130,10 +130,14 @@ def _parser(prog="hrbench-reproduce",
 
 def _reproduce_parser():
     p = _parser()
-    p.add_argument("--no-pictures", "--no-tiling", dest="no_pictures", action="store_true",
-                   help="skip the figures that need runs of their own: the link tiling "
-                   "('hrbench links'), the radiosity profile and the Cornell box ('hrbench "
-                   "solve'), and the explorer page")
+    p.add_argument("--no-pictures", action="store_true",
+                   help="draw no figure at all: no charts, no link tiling ('hrbench "
+                   "links'), no radiosity profile, Cornell box or bunny ('hrbench solve'), "
+                   "no explorer page; the report keeps its tables and verdicts")
+    p.add_argument("--charts-only", "--no-tiling", dest="charts_only", action="store_true",
+                   help="draw only the charts of the sweeps' points: no figure that needs "
+                   "runs of its own (the link tiling, the solves' pictures, the explorer "
+                   "page)")
     return p
 
 

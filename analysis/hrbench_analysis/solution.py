@@ -16,6 +16,7 @@ from .loader import ResultFormatError, read_record, read_solution
 from .output import staged
 from .raster import Camera
 from .report import ReportFigure
+from .stages import Stage
 
 __all__ = ["PROFILE", "CORNELL", "BUNNY", "BUNNY_CAMERA", "solution_figures", "profile_figure",
            "cornell_figures", "bunny_figure", "solve_to_csv"]
@@ -210,7 +211,7 @@ def bunny_figure(engine, results, jobs=1):
                         caption, image)
 
 
-def solution_figures(engine, results, jobs=1, warn=print):
+def solution_figures(engine, results, jobs=1, warn=print, progress=None):
     """The report's solution figures that could be made.
 
     Parameters
@@ -221,6 +222,9 @@ def solution_figures(engine, results, jobs=1, warn=print):
     warn : callable, optional
         Called with one line for each figure that could not be made (an engine without
         ``solve`` or the options it needs, or a failed solve); the report goes on.
+    progress : text stream, optional
+        Where each figure's solves print their progress lines
+        (:class:`~hrbench_analysis.stages.Stage`); none by default.
 
     Returns
     -------
@@ -231,7 +235,8 @@ def solution_figures(engine, results, jobs=1, warn=print):
                        ("Cornell box", lambda: cornell_figures(engine, results, jobs)),
                        ("bunny", lambda: bunny_figure(engine, results, jobs))):
         try:
-            figures.append(make())
+            with Stage(f"solving for the {name} figure", stream=progress):
+                figures.append(make())
         except (EngineError, ResultFormatError, OSError, KeyError, ValueError) as exc:
             warn(f"warning: no {name} figure: {' '.join(str(exc).split())}")
     return figures

@@ -16,6 +16,7 @@ __all__ = [
     "claim_anchors",
     "distinct_names",
     "verdict_tally",
+    "timed_tally",
 ]
 
 #: The seed paper's claims, in its numbering: Garmann & Müller's C1, C2 and C4, and C3,
@@ -25,7 +26,8 @@ SEED_CLAIMS = ("C1", "C2", "C3", "C4")
 #: The groups of :func:`claim_group`, in order: (anchor, heading).
 GROUPS = (("seed", "The seed paper's claims C1 to C4 (Garmann & Müller 2003)"),
           ("published", "Other published claims"),
-          ("own", "hrbench's own laws and measurements"))
+          ("own", "hrbench's own laws and measurements"),
+          ("timed", "Timings: claims on CPU time, which depends on the machine and its load"))
 
 #: The mark of a claim whose x or y is a time (:attr:`~hrbench_analysis.claimfile.Claim.timed`).
 TIMED_MARK = "†"
@@ -40,10 +42,15 @@ def claim_group(claim):
     Returns
     -------
     group : int
-        2 for hrbench's own laws and measurements, the claims without a published
-        exponent (``published = false``), whatever their source says; 0 for the seed
-        paper's claims (:data:`SEED_CLAIMS`); 1 for every other published claim.
+        3 for the claims whose x or y is a time (:attr:`Claim.timed
+        <hrbench_analysis.claimfile.Claim.timed>`), whose points change with the machine's
+        load, so that they never share a section or a tally with the others; 2 for
+        hrbench's own laws and measurements, the claims without a published exponent
+        (``published = false``), whatever their source says; 0 for the seed paper's
+        claims (:data:`SEED_CLAIMS`); 1 for every other published claim.
     """
+    if claim.timed:
+        return 3
     if not claim.published:
         return 2
     return 0 if claim.id in SEED_CLAIMS else 1
@@ -86,13 +93,13 @@ def source_label(claim, short=False):
     Returns
     -------
     label : str
-        ``"hrbench"`` for the benchmark's own claims (group 2 of :func:`claim_group`);
+        ``"hrbench"`` for the benchmark's own claims (``published = false``);
         else the authors' surnames and the year of a citation of the form ``"R. Garmann,
         H. Müller: title, ..., 2003"``: ``"Garmann & Müller 2003"``, ``"Hanrahan et al.
         1991"`` (``"Garmann 2003"``, ``"Hanrahan 1991"`` when `short`); the source key of
         a citation of another form.
     """
-    if claim_group(claim) == 2:
+    if not claim.published:
         return "hrbench"
     authors, colon, rest = claim.source.partition(":")
     year = _YEAR.search(rest)
@@ -155,7 +162,12 @@ def distinct_names(texts, prefix):
 
 
 def verdict_tally(outcomes):
-    """One line that counts the verdicts and names the claims not as expected.
+    """The line that tells whether a reproduction matches: the verdicts of the claims on
+    counts and errors, and the claims not as expected.
+
+    The claims on timings (:attr:`Claim.timed <hrbench_analysis.claimfile.Claim.timed>`)
+    are left out: their verdicts change with the machine's load, and this line must not
+    (:func:`timed_tally` counts them).
 
     Parameters
     ----------
@@ -170,6 +182,32 @@ def verdict_tally(outcomes):
         verdict is not what their file expects (``ClaimOutcome.agrees`` false), five at
         most by name.
     """
+    return _tally([o for o in outcomes if not o.claim.timed], "claim")
+
+
+def timed_tally(outcomes):
+    """The tally of the claims on timings, apart from :func:`verdict_tally`'s, or ``None``.
+
+    Parameters
+    ----------
+    outcomes : sequence of ClaimOutcome
+
+    Returns
+    -------
+    line : str or None
+        E.g. ``"3 timed claims (CPU time, which depends on the machine's load; not in the
+        line above): measured 3; not as expected: none"``; ``None`` when no claim is
+        timed.
+    """
+    timed = [o for o in outcomes if o.claim.timed]
+    if not timed:
+        return None
+    head, rest = _tally(timed, "timed claim").split(": ", 1)
+    return f"{head} (CPU time, which depends on the machine's load; not in the line above): {rest}"
+
+
+def _tally(outcomes, noun):
+    # "N nouns: verdict n, ...; not as expected: ids".
     counts = Counter(o.assessment.verdict for o in outcomes)
     parts = [f"{v} {counts[v]}" for v in VERDICTS if v != UNFALSIFIABLE or counts[v]]
     if counts[SKIPPED]:
@@ -178,5 +216,5 @@ def verdict_tally(outcomes):
     named = ", ".join(against[:5]) + (f" and {len(against) - 5} more" if len(against) > 5
                                       else "")
     n = len(outcomes)
-    return (f"{n} claim{'' if n == 1 else 's'}: {', '.join(parts)}; not as expected: "
+    return (f"{n} {noun}{'' if n == 1 else 's'}: {', '.join(parts)}; not as expected: "
             f"{named or 'none'}")

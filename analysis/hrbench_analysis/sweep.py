@@ -26,6 +26,7 @@ from .lemmas import measure, statistics_env, stored_statistics
 from .loader import ResultFormatError, parse_run_json, run_environment
 from .schedulers import LOCAL, open_scheduler
 from .slopes import plateau_ends
+from .stages import EVERY_SECONDS
 from .store import ACQUIRED, DONE, StoreError
 from .store_leases import LEASE_RENEW
 from .store_points import StoredPoint
@@ -46,6 +47,9 @@ __all__ = [
 
 #: Seconds between two looks at the points another sweep is running.
 POLL_SECONDS = 0.2
+#: The longest wait on running points before the sweep renews its leases
+#: (:data:`~hrbench_analysis.store_leases.LEASE_RENEW`) or prints its progress line.
+WAKE_SECONDS = min(LEASE_RENEW, EVERY_SECONDS / 3)
 
 #: Runs of a point whose worker is lost (a killed Dask worker) before it is stored as
 #: failed.
@@ -155,6 +159,7 @@ class _Progress:
         self.start = time.perf_counter()
         self.tty = stream is not None and hasattr(stream, "isatty") and stream.isatty()
         self.last_print = -1.0
+        self.last_time = self.start
         self.last_width = 0
         self.running = []
 
@@ -164,11 +169,15 @@ class _Progress:
         self.failed += bool(failed)
         elapsed = time.perf_counter() - self.start
         frac = self.done / self.total if self.total else 1.0
-        if not (self.tty or final or frac - self.last_print >= 0.1):
+        # Off a terminal, a line per tenth of the points, and one at least every
+        # EVERY_SECONDS while points run (a sweep that ends on a long run is not silent).
+        if not (self.tty or final or frac - self.last_print >= 0.1
+                or elapsed - (self.last_time - self.start) >= EVERY_SECONDS):
             return
         if final and not self.tty and self.last_print == frac:
             return
         self.last_print = frac
+        self.last_time = time.perf_counter()
         bar = "#" * int(round(frac * self.width))
         text = (f"[{bar:<{self.width}}] {self.done}/{self.total} points "
                 f"({self.cached} cached, {self.failed} failed) {elapsed:6.1f} s")
@@ -283,8 +292,10 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
                         running[_submit(scheduler, acquired, timeout)] = acquired
                 if running:
                     bar.running = [p.key for ps in running.values() for p in ps]
-                    finished, _ = wait(running, timeout=poll if waiting else LEASE_RENEW,
+                    finished, _ = wait(running, timeout=poll if waiting else WAKE_SECONDS,
                                        return_when=FIRST_COMPLETED)
+                    if not finished:
+                        bar.update()  # the elapsed time, while long runs go on
                     for future in finished:
                         batch = running.pop(future)
                         try:

@@ -30,7 +30,9 @@ hrbench_analysis.bench.builds), or takes prebuilt build directories (--base-buil
 
 Prints a Markdown summary and writes it to --summary FILE and, when set, appends it to
 $GITHUB_STEP_SUMMARY ($GITHUB_OUTPUT gets verdict= and summary=). Progress goes to
-stderr; so does a warning when BASE and HEAD are the same commit. Exit codes: 0 both
+stderr, a line at least every 15 s while a commit builds; so does a warning when BASE
+and HEAD build the same program, judged by content: the same source tree, or prebuilt
+builds with identical executables (not by the commits' names). Exit codes: 0 both
 gates pass; 1 a gate failed (or a build or a benchmark run failed); 2 usage or input
 error (unknown ref, missing build or executable, not a git repository, a malformed
 baseline file), with one line on stderr; 3 no gate failed but the timing gate is
@@ -55,10 +57,14 @@ from hrbench_analysis.bench.builds import (
     UsageError,
     bench_limit,
     build_commit,
+    default_workdir,
+    files_digest,
     locate_project,
+    prepare_workdir,
     read_file_at,
     resolve_ref,
     run_benchmarks,
+    tree_of,
 )
 from hrbench_analysis.bench.gbench import (
     InputError,
@@ -108,10 +114,6 @@ def log(message):
 # Options.
 
 
-def _default_workdir():
-    return os.path.join(os.environ.get("RUNNER_TEMP") or "/tmp", "hrbench-gates")
-
-
 def parse_args(argv):
     p = OneLineParser(prog=PROG, description="Run hrbench's count and timing gates on BASE_REF "
                 "and HEAD_REF; print a Markdown summary. Exit 0 pass, 1 a gate failed, "
@@ -147,9 +149,10 @@ def parse_args(argv):
                         "$HRBENCH_SIDE and $HRBENCH_ROUND; any program, built your way at "
                         "BASE and HEAD (--base-build, --head-build)")
     p.add_argument("--summary", metavar="FILE", help="also write the Markdown summary here")
-    p.add_argument("--workdir", metavar="DIR", default=_default_workdir(),
-                   help="worktrees, builds and results (default $RUNNER_TEMP/hrbench-gates, "
-                        "else /tmp/hrbench-gates)")
+    p.add_argument("--workdir", metavar="DIR", default=default_workdir(),
+                   help="worktrees, builds and results, the user's own (default "
+                        "$RUNNER_TEMP/hrbench-gates on CI, else "
+                        "$XDG_CACHE_HOME/hrbench-gates: ~/.cache/hrbench-gates)")
     p.add_argument("--base-build", metavar="DIR",
                    help="prebuilt build of BASE_REF (refine_bench unless --bench-cmd): do not "
                         "build")
@@ -506,16 +509,45 @@ def _timing_detail(timing, threshold):
             f"by more than {threshold:.0%}, {sum(c.inconclusive for c in cs)} inconclusive")
 
 
-def same_commit_note(ctx):
-    """What to say when BASE and HEAD are one commit, or None."""
-    if ctx["base_sha"] != ctx["head_sha"]:
+def build_identity(repo, prefix, sha, prebuilt, need):
+    """What a side's build is, by content: ``(kind, digest, text)``.
+
+    A prebuilt build is its executables that the gates run (the SHA-256 of their bytes;
+    with --bench-cmd or --time-cmd, which run no executable the gates know, the folder
+    itself); a build from source is the git tree of hrbench's directory at its commit,
+    so that two names of one commit, or two commits of one tree, are the same build.
+    """
+    if prebuilt:
+        if need:
+            return ("files", files_digest(prebuilt, need),
+                    f"identical executables ({', '.join(need)})")
+        return ("folder", os.path.realpath(prebuilt), "the same build folder")
+    tree = tree_of(repo, sha, prefix)
+    return ("tree", tree, f"the same source tree {tree[:12]}")
+
+
+def same_content_note(ctx):
+    """What to say when BASE and HEAD build the same program, or None.
+
+    Judged by content (:func:`build_identity`), not by the commits' names: one commit
+    built twice in two ways is two builds to compare; two commits of one tree, or two
+    builds with identical executables, are one.
+    """
+    base, head = ctx["identity"]["base"], ctx["identity"]["head"]
+    if base[:2] != head[:2]:
         return None
     args = ctx["args"]
-    return (f"BASE_REF {args.base} and HEAD_REF {args.head} are the same commit "
-            f"{ctx['base_sha'][:12]}: nothing is compared with another version (the timing "
-            "gate measures the build against itself: the machine's noise). Give the base "
-            "commit explicitly, e.g. `scripts/ci/gates HEAD~1 HEAD` or "
-            "`make gates BASE=HEAD~1` (in a fresh clone origin/main is HEAD)")
+    if ctx["base_sha"] == ctx["head_sha"]:
+        what = (f"BASE_REF {args.base} and HEAD_REF {args.head} are the same commit "
+                f"{ctx['base_sha'][:12]}" + (f", built to {base[2]}" if base[0] != "tree"
+                                              else ""))
+    else:
+        what = (f"BASE_REF {args.base} ({ctx['base_sha'][:12]}) and HEAD_REF {args.head} "
+                f"({ctx['head_sha'][:12]}) have the same content: {base[2]}")
+    return (f"{what}: nothing is compared with another version (the timing gate measures "
+            "the build against itself: the machine's noise). Give the base commit "
+            "explicitly, e.g. `scripts/ci/gates HEAD~1 HEAD` or `make gates BASE=HEAD~1` "
+            "(in a fresh clone origin/main is HEAD)")
 
 
 def render_summary(ctx):
@@ -527,9 +559,9 @@ def render_summary(ctx):
     out = [f"## hrbench gates: {overall}", ""]
     out.append(f"base `{ctx['base_sha'][:12]}` ({_md(args.base)}), head "
                f"`{ctx['head_sha'][:12]}` ({_md(args.head)})")
-    same = same_commit_note(ctx)
+    same = same_content_note(ctx)
     if same:
-        out += ["", f"**Same commit.** {_md(same)}."]
+        out += ["", f"**Same content.** {_md(same)}."]
     out += ["", "| gate | verdict | detail |", "|---|---|---|"]
     if counts:
         detail = counts["line"] + ("; baseline updated on purpose" if counts["info"] else "")
@@ -655,16 +687,21 @@ def run(args):
         for side in SIDES:
             if prebuilt[side]:
                 check_filter(os.path.join(prebuilt[side], "refine_bench"), args.filter, side)
-    workdir = os.path.abspath(args.workdir)
+    workdir = prepare_workdir(args.workdir)
     results = os.path.join(workdir, "results", f"{base_sha[:12]}-{head_sha[:12]}")
     if os.path.isdir(results):
         shutil.rmtree(results)
     os.makedirs(results)
     log(f"base {base_sha[:12]} ({args.base}), head {head_sha[:12]} ({args.head}); "
         f"results in {results}")
-    ctx = {"args": args, "machine": machine, "base_sha": base_sha, "head_sha": head_sha}
-    if same_commit_note(ctx):
-        log(f"warning: {same_commit_note(ctx)}")
+    ctx = {"args": args, "machine": machine, "base_sha": base_sha, "head_sha": head_sha,
+           "identity": {side: build_identity(repo, prefix, sha, prebuilt[side], need[side])
+                        for side, sha in (("base", base_sha), ("head", head_sha))}}
+    if same_content_note(ctx):
+        log(f"warning: {same_content_note(ctx)}")
+    elif base_sha == head_sha:
+        log(f"BASE_REF and HEAD_REF are one commit, {base_sha[:12]}, but the builds differ "
+            "in content: comparing the builds")
 
     builds, how = {}, []
     for side, sha in (("base", base_sha), ("head", head_sha)):
@@ -697,8 +734,8 @@ def run(args):
         log("timing inconclusive: the noise exceeds the threshold on "
             f"{sum(c.inconclusive for c in ctx['timing']['comparisons'])} benchmark(s); "
             "rerun with more --rounds or on a quieter machine (exit code 3)")
-    if same_commit_note(ctx):
-        log(f"warning: {same_commit_note(ctx)}")
+    if same_content_note(ctx):
+        log(f"warning: {same_content_note(ctx)}")
     return EXIT_CODES[overall]
 
 

@@ -210,6 +210,15 @@ int Main(int argc, char **argv) {
                 std::cerr << "hrbench: warning: " << warning << std::endl;
         if (std::string hint = FacingAwayHint(scene); !hint.empty())
             std::cerr << "hrbench: hint: " << hint << std::endl;
+        // Estimate the run before it starts, and refuse one beyond its memory or
+        // --max-links (exit code 3); a sweep by its dearest value.
+        RefineOptions dearest = o.refine;
+        if (o.sweep) {
+            double least = *std::min_element(o.sweep->values.begin(), o.sweep->values.end());
+            (o.sweep->param == "eps" ? dearest.eps : dearest.minArea) = least;
+        }
+        CheckEstimate(EstimateRun(scene, dearest, o.command, o.method, o.maxLinks), dearest,
+                      o.method, o.maxLinks);
         if (!o.json && !o.sweep && isatty(fileno(stderr))) {
             o.refine.progress = &progress;
             display.emplace(progress, stderr);

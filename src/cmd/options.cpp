@@ -1,6 +1,7 @@
 #include "cmd/options.h"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <sstream>
 
@@ -30,6 +31,17 @@ SweepValues ParseSweep(const std::string &text) {
         throw InputError("--sweep needs numbers separated by commas after " + sweep.param +
                          "=, not '" + list + "'");
     return sweep;
+}
+
+// --max-links: a whole number of links, 0 to 2^63, in any notation ParseDouble reads
+// (1e12).
+uint64_t ParseMaxLinks(const std::string &text) {
+    double links = ParseDouble(text, "--max-links");
+    if (!(links >= 0 && links <= 9.2e18 && links == std::floor(links)))
+        throw InputError("--max-links must be a whole number of links from 0 (no cap) to "
+                         "9.2e18, not " +
+                         text);
+    return uint64_t(links);
 }
 
 int ClampedInt(const std::string &text, const std::string &flag) {
@@ -222,6 +234,14 @@ const std::vector<OptionSpec> &OptionTable() {
          kRefining,
          "memory budget for elements and links in MiB (default: 90% of free)",
          [](Options &o, S v) { o.refine.memoryBudget = ParseMib(v, "--max-memory"); }},
+        {"max_links",
+         "--max-links",
+         "N",
+         {},
+         kRefining,
+         "refuse a run whose estimated links exceed N (default 1e11; 0:\nno cap; "
+         "docs/limits.md#estimates)",
+         [](Options &o, S v) { o.maxLinks = ParseMaxLinks(v); }},
         {"max_input",
          "--max-input",
          "MIB",

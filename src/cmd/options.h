@@ -11,6 +11,7 @@
 #include "hrbench/refine_options.h"
 #include "hrbench/solve.h"
 #include "hrbench/util/input_file.h"
+#include "refine/estimate.h"
 
 namespace hrbench {
 
@@ -42,6 +43,7 @@ struct Options {
     std::optional<SweepValues> sweep;  // run --sweep: one record per value
     SolveOptions solve;
     size_t maxInputBytes = kDefaultMaxInputBytes;  // size limit of a scene or mesh file
+    uint64_t maxLinks = kDefaultMaxLinks;          // --max-links: the estimate's link cap
 };
 
 struct CommandSpec {

@@ -88,7 +88,7 @@ def assert_complete(folder):
 
 def reproduce_args(claims, engine, results):
     return ["--claims", str(claims), "--hrbench", str(engine), "--results", str(results),
-            "--jobs", "1", "--no-pictures"]
+            "--jobs", "1", "--charts-only"]
 
 
 def one_line(err):
@@ -338,9 +338,9 @@ def previous_report(tmp_path, data_dir, fake_hrbench, monkeypatch, capsys):
     calls = []
     real = reproduce.write_report
 
-    def recording(*args):
+    def recording(*args, **kwargs):
         calls.append(args)
-        return real(*args)
+        return real(*args, **kwargs)
 
     with monkeypatch.context() as m:
         m.setattr(reproduce, "write_report", recording)
@@ -357,8 +357,8 @@ def test_a_full_disk_at_any_step_of_the_report_leaves_the_previous_one(
     # A figure drawn again comes out a few pixels different (its layout settles), so
     # each is drawn once and every write below gets the same bytes.
     pngs = {f.name: f.png() for f in figures}
-    monkeypatch.setattr(report_write, "render_pngs", lambda figs, jobs=1: [pngs[f.name]
-                                                                            for f in figs])
+    monkeypatch.setattr(report_write, "render_pngs",
+                        lambda figs, jobs=1, advance=None: [pngs[f.name] for f in figs])
     old = snapshot(results)
     assert {"report.md", "report.html", "claims.json", "summary.txt",
             "plots/chart-t-elements.png", "plots/slopes-t-elements.png"} <= set(old)

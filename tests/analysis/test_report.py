@@ -24,6 +24,7 @@ from hrbench_analysis.summary import (
     claim_group,
     report_order,
     source_label,
+    timed_tally,
     verdict_tally,
 )
 from hrbench_analysis.sweep import ClaimData
@@ -106,7 +107,8 @@ def outcomes(claims):
 def test_groups_and_order(claims, outcomes):
     groups = {c.id: claim_group(c) for c in claims}
     assert [cid for cid, g in groups.items() if g == 0] == ["C4", "C1", "C3"]
-    assert {cid for cid, g in groups.items() if g == 2} == {"ACC-cpu", "OWN-count", "HO-law"}
+    assert {cid for cid, g in groups.items() if g == 2} == {"OWN-count", "HO-law"}
+    assert {cid for cid, g in groups.items() if g == 3} == {"ACC-cpu"}  # timed: apart
     assert groups["H-own-words"] == 1   # published: the source's words do not matter
     assert [o.claim.id for o in report_order(outcomes)] == ORDER
     assert [r["id"] for r in get_claims_table(outcomes)] == ORDER
@@ -127,20 +129,39 @@ def test_source_labels(claims):
 
 def test_tally_counts_every_verdict_and_names_the_unexpected(outcomes):
     line = verdict_tally(outcomes)
-    verdicts = Counter(o.assessment.verdict for o in outcomes)
+    # The timed claim (ACC-cpu) is counted apart, on a line of its own.
+    verdicts = Counter(o.assessment.verdict for o in outcomes if o.claim.id != "ACC-cpu")
     assert verdicts == {"reproduced": 3, "refuted": 2, "inconclusive": 1, "unfalsifiable": 1,
-                        "measured": 3, "skipped": 1}
+                        "measured": 2, "skipped": 1}
     head, counts = line.split(";")[0].split(": ")
-    assert head == f"{len(outcomes)} claims"
+    assert head == f"{len(outcomes) - 1} claims"
     assert {name: int(n) for name, n in (part.split() for part in counts.split(", "))} == (
         verdicts)
-    assert counts == ("reproduced 3, refuted 2, inconclusive 1, unfalsifiable 1, measured 3, "
+    assert counts == ("reproduced 3, refuted 2, inconclusive 1, unfalsifiable 1, measured 2, "
                       "skipped 1")
     # C3 (its points grow like x^2) is refuted although expected to hold; C2-not is
     # refuted as its file expects.
     assert line.endswith("; not as expected: C3")
-    assert verdict_tally(outcomes[:1]) == ("1 claim: reproduced 0, refuted 0, inconclusive 0, "
-                                           "measured 1; not as expected: none")
+    assert verdict_tally(outcomes[:1]) == ("0 claims: reproduced 0, refuted 0, inconclusive 0, "
+                                           "measured 0; not as expected: none")
+    assert verdict_tally(outcomes[1:2]) == ("1 claim: reproduced 0, refuted 0, inconclusive 0, "
+                                            "measured 1; not as expected: none")
+    assert timed_tally(outcomes) == ("1 timed claim (CPU time, which depends on the machine's "
+                                     "load; not in the line above): reproduced 0, refuted 0, "
+                                     "inconclusive 0, measured 1; not as expected: none")
+    assert timed_tally(outcomes[1:]) is None
+
+
+def test_tally_does_not_move_with_the_timings(outcomes):
+    # The timed claim's points change with the load: whatever its verdict becomes, the
+    # line that says whether a reproduction matches stays the same, and so does the exit
+    # code's rule (a refuted timed claim is named on its own line only).
+    before = verdict_tally(outcomes)
+    timed = next(o for o in outcomes if o.claim.timed)
+    for verdict in ("inconclusive", "refuted", "reproduced"):
+        timed.assessment.verdict = verdict
+        assert verdict_tally(outcomes) == before
+        assert f"{verdict} 1" in timed_tally(outcomes)
 
 
 def test_anchors_are_unique_and_plain():
@@ -208,7 +229,8 @@ def test_report_has_contents_anchors_links_tally_and_groups(tmp_path, outcomes):
 
     # Markdown: the tally and the contents come before everything else.
     lines = md.splitlines()
-    assert lines[2] == f"**{tally}**" and lines[4] == "## Contents"
+    assert lines[2] == f"**{tally}**" and lines[4] == timed_tally(outcomes)
+    assert lines[6] == "## Contents"
     targets = re.findall(r'<a id="([^"]+)"></a>', md)
     assert len(targets) == len(set(targets))
     links = re.findall(r"\]\(#([^)]+)\)", md)
@@ -223,7 +245,8 @@ def test_report_has_contents_anchors_links_tally_and_groups(tmp_path, outcomes):
     assert order == ORDER
     groups = [h.split("</a>")[1] for h in headings if h.startswith("## <a id=\"group-")]
     assert groups == ["The seed paper's claims C1 to C4 (Garmann & Müller 2003)",
-                      "Other published claims", "hrbench's own laws and measurements"]
+                      "Other published claims", "hrbench's own laws and measurements",
+                      "Timings: claims on CPU time, which depends on the machine and its load"]
     assert f"| [ACC-cpu](#claim-acc-cpu){TIMED_MARK} | hrbench | derived |" in md
     assert md.count(TIMED_NOTE) == 1 and md.count(KINDS_NOTE) == 1
     assert "| [C1](#claim-c1) | Garmann & Müller 2003 | stated |" in md

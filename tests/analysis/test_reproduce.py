@@ -1,4 +1,5 @@
 import json
+import re
 
 from hrbench_analysis.reproduce import main
 
@@ -111,3 +112,37 @@ def test_figures_render_the_same_bytes_on_several_processes():
     assert [png[:8] for png in serial] == [b"\x89PNG\r\n\x1a\n"] * 3
     assert len(set(serial)) == 3  # three different pictures, in order
     assert render_pngs(figures, jobs=2) == serial
+
+
+def test_no_pictures_draws_no_figure_and_charts_only_no_runs_of_their_own(
+        tmp_path, data_dir, fake_hrbench, capsys):
+    claims = str(data_dir / "small_claims.toml")
+    bare, charts = tmp_path / "bare", tmp_path / "charts"
+    code, _, err = run(["--claims", claims, "--hrbench", str(fake_hrbench), "--results",
+                        str(bare), "--no-pictures"], capsys)
+    assert code == 0, err
+    assert not list(bare.glob("plots/*.png")) and not (bare / "explorer.html").exists()
+    assert "![" not in (bare / "report.md").read_text()
+    assert "rendering 0 figures" in err and "drawing the charts" not in err
+    code, _, err = run(["--claims", claims, "--hrbench", str(fake_hrbench), "--results",
+                        str(charts), "--charts-only"], capsys)
+    assert code == 0, err
+    assert {p.name for p in charts.glob("plots/*.png")} == {"chart-t-elements.png",
+                                                            "slopes-t-elements.png"}
+    assert not (charts / "explorer.html").exists() and "solving" not in err
+
+
+def test_every_stage_after_the_sweep_says_when_it_starts_and_ends(tmp_path, data_dir,
+                                                                   fake_hrbench, capsys):
+    code, out, err = run(["--claims", str(data_dir / "small_claims.toml"), "--hrbench",
+                          str(fake_hrbench), "--results", str(tmp_path / "r")], capsys)
+    assert code == 0, err
+    for stage in ("fitting 1 claims", "listing the links of the tiling figure",
+                  "drawing the charts", "writing the explorer page"):
+        assert f"{stage} ...\n" in err and f"{stage}: done in " in err, stage
+    # The fake engine cannot solve: the stage starts, and a warning ends it.
+    assert "solving for the profile figure ...\nwarning: no profile figure" in err
+    assert re.search(r"rendering \d+ figures and writing the report: done in ", err)
+    # The report line names what its times time.
+    assert re.search(r"\(sweep \d+\.\d s, then fits, figures and report \d+\.\d s: "
+                     r"\d+\.\d s of wall time in all\)", out)

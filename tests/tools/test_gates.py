@@ -90,9 +90,11 @@ def make_build(tmp_path, name, factor=1.0, shift=None, crash=False, noise=0.02):
     if crash:
         (build / "crash").write_text("")
     _fake_runs(build / "runs", name, factor, noise)
-    _executable(build / "refine_bench", FAKE_REFINE_BENCH)
+    # Each build's executables differ in content, as two real builds' do (the gates
+    # compare builds by content); the fakes read their data beside them.
+    _executable(build / "refine_bench", FAKE_REFINE_BENCH + f"# build {name}\n")
     env = f"FAKE_HRBENCH_SHIFT={shift} " if shift else ""
-    _executable(build / "hrbench", f'#!/bin/sh\n{env}exec "{sys.executable}" '
+    _executable(build / "hrbench", f'#!/bin/sh\n# build {name}\n{env}exec "{sys.executable}" '
                 f'"{os.path.join(DATA, "fake_hrbench.py")}" "$@"\n')
     return str(build)
 
@@ -385,7 +387,38 @@ class TestGates:
         assert warnings and warnings[0].startswith("gates: warning: BASE_REF base and "
                                                    "HEAD_REF base are the same commit")
         assert "nothing is compared with another version" in warnings[0]
-        assert "**Same commit.**" in summary
+        assert "**Same content.**" in summary
+
+    def test_one_commit_built_twice_differently_is_compared(self, tmp_path, repo):
+        """By content, not by name: `gates HEAD HEAD --base-build B --head-build H` with
+        two different builds compares them, with no warning."""
+        proc, summary = run_gates(tmp_path, repo, make_build(tmp_path, "base"),
+                                  make_build(tmp_path, "head", factor=2), "--skip-counts",
+                                  head="base")
+        assert proc.returncode == 1, proc.stderr  # head is twice as slow
+        assert "warning" not in proc.stderr and "Same content" not in summary
+        assert "are one commit" in proc.stderr and "the builds differ in content" in proc.stderr
+
+    def test_identical_builds_of_two_commits_are_said_the_same(self, tmp_path, repo):
+        build = make_build(tmp_path, "base")
+        copy = tmp_path / "copy"
+        shutil.copytree(build, copy)
+        proc, summary = run_gates(tmp_path, repo, build, str(copy), "--skip-counts")
+        assert proc.returncode == 0, proc.stderr
+        warnings = [line for line in proc.stderr.splitlines() if "warning" in line]
+        assert warnings and "have the same content: identical executables (refine_bench)" \
+            in warnings[0]
+        assert "**Same content.**" in summary
+
+    def test_the_default_workdir_is_the_users_own(self, tmp_path, monkeypatch):
+        gates = _GATES[0] if _GATES else load_gates()
+        monkeypatch.delenv("RUNNER_TEMP", raising=False)
+        monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+        assert gates.default_workdir() == str(tmp_path / "cache" / "hrbench-gates")
+        made = gates.prepare_workdir(gates.default_workdir())
+        assert os.stat(made).st_mode & 0o777 == 0o700
+        monkeypatch.setenv("RUNNER_TEMP", str(tmp_path / "runner"))
+        assert gates.default_workdir() == str(tmp_path / "runner" / "hrbench-gates")
 
     def test_any_benchmark_command_is_timed(self, tmp_path, repo):
         """--bench-cmd: the user's own benchmark, in builds without refine_bench."""

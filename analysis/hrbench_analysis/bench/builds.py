@@ -7,22 +7,26 @@ that writes Google Benchmark JSON.
 
 Each commit is built under ``WORKDIR/commits/<sha[:12]>/``: ``src`` (the worktree) and
 ``build`` (Release, the targets ``hrbench`` and ``refine_bench``, through ccache when it
-is installed); a finished build is reused. Standard library only, like
+is installed); a finished build is reused. The work folder is the user's own
+(:func:`default_workdir`, :func:`prepare_workdir`). Standard library only, like
 :mod:`hrbench_analysis.bench.gbench`, so that the count gate runs without numpy.
 """
 
+import hashlib
 import os
+import re
 import shutil
 import subprocess
 import sys
-import time
 
 from ..engine import run_engine
 from ..errors import AnalysisError
+from ..stages import Stage
 
 __all__ = ["UsageError", "BuildError", "DEFAULT_FILTER", "git", "locate_project",
            "resolve_ref", "read_file_at", "commits_between", "build_commit",
-           "run_benchmarks", "bench_limit", "BENCH_TIMEOUT", "BENCH_LIMIT_FACTOR"]
+           "run_benchmarks", "bench_limit", "BENCH_TIMEOUT", "BENCH_LIMIT_FACTOR",
+           "default_workdir", "prepare_workdir", "tree_of", "files_digest"]
 
 # Five refine_bench benchmarks, both oracles, count-only and store mode, both sweeps:
 # about 0.3 s each at --benchmark_min_time 0.2.
@@ -86,6 +90,56 @@ def commits_between(repo, base, head):
     if proc.returncode != 0:
         return None
     return [tuple((line.split("\t", 1) + [""])[:2]) for line in proc.stdout.splitlines()]
+
+
+def default_workdir():
+    """The default work folder of the gates and ``hrbench-history``: the user's own.
+
+    ``$RUNNER_TEMP/hrbench-gates`` on a CI runner (a job's own temporary folder), else
+    ``$XDG_CACHE_HOME/hrbench-gates`` (``~/.cache/hrbench-gates``): private to the user,
+    and kept, so that a commit's finished build is reused by the next run. A folder in
+    /tmp shared by every user would let one user's builds be read, replaced or blocked
+    by another's.
+    """
+    if os.environ.get("RUNNER_TEMP"):
+        return os.path.join(os.environ["RUNNER_TEMP"], "hrbench-gates")
+    cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(cache, "hrbench-gates")
+
+
+def prepare_workdir(path, option="--workdir"):
+    """Create the work folder, readable by its user only, and refuse another user's.
+
+    Returns the absolute path. Raises UsageError if it cannot be created, or if it
+    exists and belongs to another user (whose builds this run would use or replace).
+    """
+    path = os.path.abspath(path)
+    try:
+        os.makedirs(path, mode=0o700, exist_ok=True)
+        owner = os.stat(path).st_uid
+    except OSError as exc:
+        raise UsageError(f"{option} {path}: cannot create it ({exc.strerror or exc})") from None
+    if hasattr(os, "getuid") and owner != os.getuid():
+        raise UsageError(f"{option} {path} belongs to another user (uid {owner}); give a "
+                         f"folder of your own with {option} DIR")
+    return path
+
+
+def tree_of(repo, sha, prefix):
+    """The git tree hash of hrbench's directory at commit _sha_: two commits with the same
+    tree build the same program, whatever their names."""
+    return git(repo, "rev-parse", f"{sha}:{prefix}").stdout.strip()
+
+
+def files_digest(folder, names):
+    """The SHA-256 of the files _names_ of _folder_ (their names and bytes, in order)."""
+    digest = hashlib.sha256()
+    for name in names:
+        digest.update(name.encode() + b"\0")
+        with open(os.path.join(folder, name), "rb") as f:
+            for block in iter(lambda: f.read(1 << 20), b""):
+                digest.update(block)
+    return digest.hexdigest()
 
 
 def _tail(path, n=30):
@@ -162,9 +216,11 @@ def build_commit(repo, prefix, sha, workdir, jobs, use_ccache, which, log):
         # leaves alone is a cache hit.
         env.setdefault("CCACHE_BASEDIR", workdir)
     build_log = os.path.join(build, "hrbench-gates-build.log")
-    log(f"{which} {short}: building in {build} (log {build_log})")
-    start = time.monotonic()
-    with open(build_log, "w") as out:
+    # A build takes minutes: a line every few seconds with the build's last step
+    # ("step 34/89"), so that a slow build is not taken for a hung one.
+    with open(build_log, "w") as out, Stage(
+            f"{which} {short}: building", log=log, detail=lambda: _build_step(build_log),
+            start=f"{which} {short}: building in {build} (log {build_log})"):
         for cmd in (configure, ["cmake", "--build", build, "--target", "hrbench",
                                 "refine_bench", "--parallel", str(jobs)]):
             out.write("$ " + " ".join(cmd) + "\n")
@@ -176,8 +232,13 @@ def build_commit(repo, prefix, sha, workdir, jobs, use_ccache, which, log):
                                  f"see {build_log}")
     with open(stamp, "w") as f:
         f.write(sha + "\n")
-    log(f"{which} {short}: built in {time.monotonic() - start:.0f} s")
     return build
+
+
+def _build_step(build_log):
+    # The last "[done/total]" step ninja or make wrote to the build log, or "".
+    steps = re.findall(r"^\[\s*(\d+/\d+|\d+%)\]", _tail(build_log, 20), re.MULTILINE)
+    return f"step {steps[-1]}" if steps else ""
 
 
 #: Seconds one benchmark run may take before it is ended with its child processes, while

@@ -59,7 +59,7 @@ def _render(k):
     return _TO_RENDER[k].png()
 
 
-def render_pngs(figures, jobs=1):
+def render_pngs(figures, jobs=1, advance=None):
     """The PNG bytes of every figure, rendered on up to `jobs` processes.
 
     Rendering dominates the report's time (about half a second per figure), and each
@@ -71,6 +71,9 @@ def render_pngs(figures, jobs=1):
     figures : sequence of ReportFigure
     jobs : int
         Processes to use; 1, or a platform without ``fork``, renders here, in order.
+    advance : callable, optional
+        Called with no argument as each figure is rendered, in order (a progress line:
+        :meth:`hrbench_analysis.stages.Stage.advance`).
 
     Returns
     -------
@@ -78,15 +81,23 @@ def render_pngs(figures, jobs=1):
         In the order of `figures`.
     """
     global _TO_RENDER
+    advance = advance or (lambda: None)
     if jobs <= 1 or len(figures) < 2 or "fork" not in multiprocessing.get_all_start_methods():
-        return [f.png() for f in figures]
+        return [_advanced(f.png(), advance) for f in figures]
     _TO_RENDER = tuple(figures)
     try:
         with multiprocessing.get_context("fork").Pool(min(jobs, len(figures)),
                                                       initializer=_worker_signals) as pool:
-            return pool.map(_render, range(len(figures)), chunksize=1)
+            return [_advanced(png, advance)
+                    for png in pool.imap(_render, range(len(figures)), chunksize=1)]
     finally:
         _TO_RENDER = ()
+
+
+def _advanced(png, advance):
+    # The PNG, once `advance` has counted it.
+    advance()
+    return png
 
 
 def _worker_signals():

@@ -4,7 +4,7 @@ embedded and the claims table's verdicts coloured."""
 import base64
 import html
 
-from ..summary import verdict_tally
+from ..summary import timed_tally, verdict_tally
 from .sections import _COLUMNS, _GROUP_ANCHORS, _details
 
 __all__ = ["html_report"]
@@ -30,6 +30,7 @@ def html_report(outcomes, rows, context, placed, contents, note, pngs):
              "</style></head><body>",
              "<h1>hrbench: reproduction of published complexity claims</h1>",
              f"<p><b>{esc(verdict_tally(outcomes))}</b></p>",
+             *([f"<p>{esc(timed_tally(outcomes))}</p>"] if timed_tally(outcomes) else []),
              "<nav><h2 id='contents'>Contents</h2><ul>"]
     for anchor, title, claims in contents:
         links = ", ".join(f"<a href='#{esc(a)}'>{esc(cid)}</a>" for cid, a in claims)

@@ -13,7 +13,7 @@ from .table import KINDS_NOTE, TIMED_NOTE, claims_table_lines, get_claims_table
 __all__ = ["write_report"]
 
 
-def write_report(outdir, outcomes, context, figures, jobs=1):
+def write_report(outdir, outcomes, context, figures, jobs=1, advance=None):
     """Write ``report.md``, ``report.html``, ``claims.json``, ``summary.txt`` (the claims
     table, the reasons and the tally as the terminal shows them) and ``plots/*.png``.
 
@@ -33,6 +33,8 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
     figures : sequence of ReportFigure
     jobs : int
         Processes that render the figures (`render_pngs`).
+    advance : callable, optional
+        Called as each figure (or alternate view) is rendered, for a progress line.
 
     Returns
     -------
@@ -50,7 +52,7 @@ def write_report(outdir, outcomes, context, figures, jobs=1):
     every = [*figures, *(f.alternate for f in figures if f.alternate is not None)]
     outcomes = report_order(outcomes)
     rows = get_claims_table(outcomes)
-    pngs = dict(zip((f.name for f in every), render_pngs(every, jobs), strict=True))
+    pngs = dict(zip((f.name for f in every), render_pngs(every, jobs, advance), strict=True))
 
     json_path = outdir / "claims.json"
     json_text = claims_json_text(outcomes, context)

@@ -17,7 +17,9 @@ from ..builds import (
     bench_limit,
     build_commit,
     commits_between,
+    default_workdir,
     locate_project,
+    prepare_workdir,
     resolve_ref,
     run_benchmarks,
 )
@@ -71,10 +73,10 @@ def _parser(prog):
     mes.add_argument("--machine", metavar="NAME", help="machine name (default: this host)")
     mes.add_argument("--project", metavar="DIR", default=".",
                      help="hrbench's directory in the git repository (default: here)")
-    mes.add_argument("--workdir", metavar="DIR", default=os.path.join(
-        os.environ.get("RUNNER_TEMP") or "/tmp", "hrbench-gates"),
+    mes.add_argument("--workdir", metavar="DIR", default=default_workdir(),
                      help="worktrees and builds, shared with scripts/ci/gates (default "
-                          "/tmp/hrbench-gates)")
+                          "$RUNNER_TEMP/hrbench-gates on CI, else "
+                          "$XDG_CACHE_HOME/hrbench-gates: ~/.cache/hrbench-gates)")
     mes.add_argument("--filter", default=DEFAULT_FILTER, help="--benchmark_filter of "
                      "refine_bench (default: the five benchmarks of the CI gates)")
     mes.add_argument("--repetitions", type=int, default=5,
@@ -153,7 +155,7 @@ def _main_measure(args):
                            "BASE up to HEAD)")
     machine = args.machine or socket.gethostname()
     done = set() if args.rerun else _measured_commits(args.history, machine)
-    workdir = os.path.abspath(args.workdir)
+    workdir = prepare_workdir(args.workdir)
     runs_dir = os.path.join(workdir, "history-runs")
     os.makedirs(runs_dir, exist_ok=True)
 
