@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -565,6 +566,37 @@ TEST_CASE("capabilities --json lists the engine's families, methods and options"
         CHECK_THAT(help, Catch::Contains(o["flag"].get<std::string>()));
         CHECK(o["commands"].size() > 0);
     }
+}
+
+TEST_CASE("capabilities --json lists the options that exclude each other, and run refuses each "
+          "pair in either order",
+          "[cli][capabilities]") {
+    json caps = json::parse(Cli("capabilities --json").out);
+    std::set<std::pair<std::string, std::string>> pairs;
+    for (const json &o : caps["options"]) {
+        REQUIRE(o["excludes"].is_array());
+        for (const json &x : o["excludes"])
+            pairs.insert({o["name"].get<std::string>(), x.get<std::string>()});
+    }
+    // What the analysis's planner reads to keep these options out of a shared --sweep run.
+    CHECK(pairs == std::set<std::pair<std::string, std::string>>{{"clusters", "sweep"},
+                                                                 {"link_form_factors", "sweep"},
+                                                                 {"sweep", "method"},
+                                                                 {"sweep", "threads"}});
+    std::map<std::string, std::string> words = {{"clusters", "--clusters"},
+                                                {"link_form_factors", "--link-form-factors"},
+                                                {"sweep", "--sweep eps=0.5,0.2"},
+                                                {"method", "--method enumerate"},
+                                                {"threads", "--threads 1"}};
+    for (const auto &[a, b] : pairs)
+        for (const std::string &order : {words[a] + " " + words[b], words[b] + " " + words[a]}) {
+            CliResult r = Cli("run parallel l=1 d=1 --count-only " + order);
+            INFO(order);
+            CHECK(r.exitCode == 2);
+            CHECK_THAT(r.err, Catch::Contains("which") && Catch::Contains("drop one of them"));
+            CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+        }
+    CHECK(Cli("run parallel l=1 d=1 --count-only --sweep eps=0.5,0.2").exitCode == 0);
 }
 
 TEST_CASE("capabilities --json lists exactly the registry's oracles, and each of them runs",
