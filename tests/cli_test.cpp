@@ -816,6 +816,23 @@ TEST_CASE("An output is written whole or refused, and never over an input", "[cl
         CHECK(std::filesystem::is_symlink(link));
         CHECK(ReadFile(target) == sceneText);
     }
+    SECTION("an OBJ through a symbolic link gets its MTL beside its real target") {
+        std::filesystem::create_directories(Scratch("real"));
+        std::string target = Scratch("real/target.obj"), link = Scratch("named.obj");
+        std::filesystem::remove(link);
+        std::filesystem::remove(Scratch("named.mtl"));
+        std::filesystem::create_symlink(target, link);
+        REQUIRE(Cli("save parallel3d --out " + link).exitCode == 0);
+        CHECK(std::filesystem::is_symlink(link));
+        CHECK_THAT(ReadFile(target), Catch::Contains("\nmtllib target.mtl\n"));
+        CHECK_THAT(ReadFile(Scratch("real/target.mtl")),
+                   Catch::StartsWith("# Materials of target.obj:"));
+        CHECK(!std::filesystem::exists(Scratch("named.mtl")));
+        // Read back through the link, the materials are found.
+        CliResult r = Cli("run --mesh " + link + " --eps 0.5 --json");
+        CHECK(r.exitCode == 0);
+        CHECK(r.err.empty());
+    }
     SECTION("an mtllib name OBJ cannot carry is refused, before the MTL is written") {
         // '#' would start a comment, a line break end the statement.
         std::string hash = Scratch("a#b.obj"), mtl = Scratch("a#b.mtl");
