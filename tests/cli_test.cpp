@@ -6,6 +6,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -568,6 +569,37 @@ TEST_CASE("capabilities --json lists the engine's families, methods and options"
     }
 }
 
+TEST_CASE("capabilities --json lists the options that exclude each other, and run refuses each "
+          "pair in either order",
+          "[cli][capabilities]") {
+    json caps = json::parse(Cli("capabilities --json").out);
+    std::set<std::pair<std::string, std::string>> pairs;
+    for (const json &o : caps["options"]) {
+        REQUIRE(o["excludes"].is_array());
+        for (const json &x : o["excludes"])
+            pairs.insert({o["name"].get<std::string>(), x.get<std::string>()});
+    }
+    // What the analysis's planner reads to keep these options out of a shared --sweep run.
+    CHECK(pairs == std::set<std::pair<std::string, std::string>>{{"clusters", "sweep"},
+                                                                 {"link_form_factors", "sweep"},
+                                                                 {"sweep", "method"},
+                                                                 {"sweep", "threads"}});
+    std::map<std::string, std::string> words = {{"clusters", "--clusters"},
+                                                {"link_form_factors", "--link-form-factors"},
+                                                {"sweep", "--sweep eps=0.5,0.2"},
+                                                {"method", "--method enumerate"},
+                                                {"threads", "--threads 1"}};
+    for (const auto &[a, b] : pairs)
+        for (const std::string &order : {words[a] + " " + words[b], words[b] + " " + words[a]}) {
+            CliResult r = Cli("run parallel l=1 d=1 --count-only " + order);
+            INFO(order);
+            CHECK(r.exitCode == 2);
+            CHECK_THAT(r.err, Catch::Contains("which") && Catch::Contains("drop one of them"));
+            CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+        }
+    CHECK(Cli("run parallel l=1 d=1 --count-only --sweep eps=0.5,0.2").exitCode == 0);
+}
+
 TEST_CASE("capabilities --json lists exactly the registry's oracles, and each of them runs",
           "[cli][capabilities]") {
     CliResult r = Cli("capabilities --json");
@@ -784,6 +816,23 @@ TEST_CASE("An output is written whole or refused, and never over an input", "[cl
         REQUIRE(Cli("save parallel --out " + link).exitCode == 0);
         CHECK(std::filesystem::is_symlink(link));
         CHECK(ReadFile(target) == sceneText);
+    }
+    SECTION("an OBJ through a symbolic link gets its MTL beside its real target") {
+        std::filesystem::create_directories(Scratch("real"));
+        std::string target = Scratch("real/target.obj"), link = Scratch("named.obj");
+        std::filesystem::remove(link);
+        std::filesystem::remove(Scratch("named.mtl"));
+        std::filesystem::create_symlink(target, link);
+        REQUIRE(Cli("save parallel3d --out " + link).exitCode == 0);
+        CHECK(std::filesystem::is_symlink(link));
+        CHECK_THAT(ReadFile(target), Catch::Contains("\nmtllib target.mtl\n"));
+        CHECK_THAT(ReadFile(Scratch("real/target.mtl")),
+                   Catch::StartsWith("# Materials of target.obj:"));
+        CHECK(!std::filesystem::exists(Scratch("named.mtl")));
+        // Read back through the link, the materials are found.
+        CliResult r = Cli("run --mesh " + link + " --eps 0.5 --json");
+        CHECK(r.exitCode == 0);
+        CHECK(r.err.empty());
     }
     SECTION("an mtllib name OBJ cannot carry is refused, before the MTL is written") {
         // '#' would start a comment, a line break end the statement.

@@ -208,7 +208,8 @@ TEST_CASE("run --sweep prints one record per value, in the order given", "[cli][
     CheckError(base + " --eps 1 --sweep 0.1", 2, "eps=V,V,... or min_area=V,V,...");
     CheckError(base + " --eps 1 --sweep min_area=0.1 --min-area 0.2", 2, "give one of them");
     CheckError(base + " --eps 1 --sweep eps=0.1", 2, "give one of them");
-    CheckError(base + " --sweep eps=0.1 --method translation", 2, "drop --method");
+    CheckError(base + " --sweep eps=0.1 --method translation", 2,
+               "--sweep counts by enumeration, which --method does not: drop one of them");
     CheckError("run parallel --sweep eps=0.1", 2, "--count-only");
     CheckError("run parallel --sweep eps=0.1 --count-only --threads 2", 2, "--threads");
     CheckError("links parallel --eps 0.1 --out x.csv --sweep eps=0.1", 2,

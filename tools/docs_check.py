@@ -32,7 +32,6 @@ with a unified diff of expected against actual output, then ``N passed, M failed
 Exit codes: 0 every block passes; 1 a block fails; 2 usage error.
 """
 
-import argparse
 import concurrent.futures
 import difflib
 import glob
@@ -44,6 +43,8 @@ import sys
 import tempfile
 import time
 from dataclasses import dataclass, field
+
+from hrbench_analysis.errors import OneLineParser
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_TIMEOUT = 120.0  # seconds per command
@@ -387,7 +388,7 @@ def print_outcome(outcome):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="docs_check.py", description="Run the console blocks of README.md and "
         "docs/*.md and compare their output (docs/docs-check.md).")
     parser.add_argument("files", nargs="*", metavar="FILE.md",

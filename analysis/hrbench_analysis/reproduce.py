@@ -342,9 +342,8 @@ def _sweep(args, setup):
                             f"({exc.strerror or exc})") from None
     cache = args.cache if args.cache is not None else args.results / "hrbench.sqlite"
     with ResultStore(cache) as store:
-        sweep = setup.capabilities.option("sweep")
-        shared_runs = sweep is not None and "run" in sweep.commands
-        points = {c.id: expand_claim(c, args.mode, setup.engine, setup.version, shared_runs)
+        points = {c.id: expand_claim(c, args.mode, setup.engine, setup.version,
+                                     setup.capabilities)
                   for c in setup.claims if c.id not in setup.skipped}
         try:
             with open_scheduler(args.scheduler, args.jobs) as scheduler:

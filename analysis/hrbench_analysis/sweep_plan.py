@@ -16,7 +16,7 @@ from .engine.run_spec import SWEPT
 from .lemmas import STATISTICS_MODE, StatisticsJob
 from .store_points import PointKey
 
-__all__ = ["SweepPoint", "expand_claim"]
+__all__ = ["DEFAULT_SWEEP_EXCLUDES", "SweepPoint", "expand_claim", "sweep_excludes"]
 
 
 @dataclass(frozen=True)
@@ -55,12 +55,34 @@ class SweepPoint:
     run: RunSpec = None
 
 
-#: Options with which ``--sweep`` cannot count (it runs count-only, on one thread, by
-#: enumeration).
-_NOT_SHARED = ("threads", "method")
+#: The options taken to exclude ``--sweep`` when the engine's capabilities do not say
+#: which do (its ``sweep`` entry has no ``excludes``): those hrbench refused with it
+#: before it listed them (docs/engine-contract.md).
+DEFAULT_SWEEP_EXCLUDES = frozenset({"threads", "method", "clusters", "link_form_factors"})
 
 
-def expand_claim(claim, mode, hrbench, version, shared_runs=False):
+def sweep_excludes(capabilities):
+    """The options with which the engine cannot count a series in one ``run --sweep``.
+
+    Parameters
+    ----------
+    capabilities : Capabilities or None
+
+    Returns
+    -------
+    names : frozenset of str or None
+        ``None`` if the engine has no ``--sweep`` for ``run`` (or no capabilities are
+        given); else the options its capabilities say exclude ``--sweep``, or
+        :data:`DEFAULT_SWEEP_EXCLUDES` where they do not say.
+    """
+    sweep = None if capabilities is None else capabilities.option("sweep")
+    if sweep is None or "run" not in sweep.commands:
+        return None
+    excluded = capabilities.excluded("sweep")
+    return DEFAULT_SWEEP_EXCLUDES if excluded is None else excluded
+
+
+def expand_claim(claim, mode, hrbench, version, capabilities=None):
     """The runs a claim needs.
 
     Parameters
@@ -73,10 +95,10 @@ def expand_claim(claim, mode, hrbench, version, shared_runs=False):
         (:func:`~hrbench_analysis.engine.engine_argv`).
     version : str
         Engine version, part of every cache key.
-    shared_runs : bool, optional
-        Whether the engine counts several values of eps or ``--min-area`` in one run
-        (``--sweep`` in its capabilities); if so, the points of a count-only sweep over
-        ``eps`` or ``min_area`` get a ``shared`` command line.
+    capabilities : Capabilities, optional
+        The engine's. Where they list ``--sweep`` for ``run``, the points of a count-only
+        sweep over ``eps`` or ``min_area`` whose options the engine takes with it
+        (:func:`sweep_excludes`) get a ``shared`` command line; without them, none does.
 
     Returns
     -------
@@ -95,8 +117,9 @@ def expand_claim(claim, mode, hrbench, version, shared_runs=False):
             for combo in itertools.product(*claim.grid.values())]
     # A solve is its own record (the counters and the solve's measures), never a count's.
     command = getattr(claim, "command", "run")
-    share = (shared_runs and claim.sweep_param in SWEPT and command == "run"
-             and not claim.statistics and not set(options) & set(_NOT_SHARED))
+    excludes = sweep_excludes(capabilities)
+    share = (excludes is not None and claim.sweep_param in SWEPT and command == "run"
+             and not claim.statistics and not set(options) & excludes)
     for fixed in grid:
         for value in claim.range_for(mode).values():
             params = dict(claim.params) | fixed

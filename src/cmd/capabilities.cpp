@@ -65,11 +65,15 @@ json FfEstimateJson(const FfEstimateInfo &info) {
 }
 
 json OptionJson(const OptionSpec &o) {
+    json excludes = json::array();
+    for (const OptionExclusion &x : o.excludes)
+        excludes.push_back(x.option);
     return {{"name", o.name},
             {"flag", o.flag},
             {"value", o.value.empty() ? json(nullptr) : json(o.value)},
             {"choices", o.choices.empty() ? json(nullptr) : json(o.choices)},
             {"commands", o.commands},
+            {"excludes", excludes},
             {"doc", o.doc}};
 }
 

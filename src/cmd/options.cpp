@@ -4,6 +4,7 @@
 #include <cmath>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "generators.h"
 #include "hrbench/count.h"
@@ -158,7 +159,8 @@ const std::vector<OptionSpec> &OptionTable() {
          "count the run at each value of P, eps or min_area, from one\nenumeration at "
          "the smallest (count-only, one thread; with --json one\nrecord per line, each "
          "with an equal share of the time in seconds)",
-         [](Options &o, S v) { o.sweep = ParseSweep(v); }},
+         [](Options &o, S v) { o.sweep = ParseSweep(v); },
+         {{"method", "counts by enumeration"}, {"threads", "runs on one thread"}}},
         {"max_depth",
          "--max-depth",
          "D",
@@ -181,7 +183,8 @@ const std::vector<OptionSpec> &OptionTable() {
          "also report the links' largest exact form factor, either way,\nand the share of "
          "links above eps (docs/solve.md; needs the\nlinks stored: not with --count-only, "
          "--method translation,\n--sweep)",
-         [](Options &o, S) { o.linkFormFactors = true; }},
+         [](Options &o, S) { o.linkFormFactors = true; },
+         {{"sweep", "needs every link stored"}}},
         {"method",
          "--method",
          "M",
@@ -219,7 +222,8 @@ const std::vector<OptionSpec> &OptionTable() {
          "refine through a hierarchy of clusters of the root patches\n"
          "(docs/conventions.md#clusters; not with --method translation,\n--sweep); "
          "check-links: a dump with cluster links (docs/probe.md)",
-         [](Options &o, S) { o.refine.clusters = true; }},
+         [](Options &o, S) { o.refine.clusters = true; },
+         {{"sweep", "refines by enumeration"}}},
         {"threads",
          "--threads",
          "N",
@@ -440,6 +444,20 @@ std::string Usage() {
     return out.str();
 }
 
+namespace {
+
+// The entry of the option named _name_, a name the table itself uses (an exclusion).
+const OptionSpec &FindOption(const std::string &name) {
+    const auto &table = OptionTable();
+    auto spec = std::find_if(table.begin(), table.end(),
+                             [&](const OptionSpec &s) { return s.name == name; });
+    if (spec == table.end())
+        throw std::logic_error("the option table excludes an option it lacks: " + name);
+    return *spec;
+}
+
+}  // namespace
+
 Options ParseCommandLine(const std::vector<std::string> &args) {
     Options o;
     if (args.empty())
@@ -490,6 +508,13 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
         }
     }
 
+    // Reject the options given together that the table says exclude each other.
+    for (const OptionSpec &spec : OptionTable())
+        for (const OptionExclusion &x : spec.excludes)
+            if (seen.count(spec.flag) && seen.count(FindOption(x.option).flag))
+                throw InputError(spec.flag + " " + x.why + ", which " + FindOption(x.option).flag +
+                                 " does not: drop one of them");
+
     // Reject combinations that make no sense, naming the flags.
     bool refines = o.command == "run" || o.command == "links" || o.command == "check-links" ||
                    o.command == "solve";
@@ -513,19 +538,16 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
                              (eps ? "--eps" : "--min-area") + ": give one of them");
         if (eps)
             o.eps = o.sweep->values.front();  // each run's own is set when it is counted
-        if (o.method != "enumerate")
-            throw InputError("--sweep counts by enumeration: drop --method");
     }
-    if (o.refine.clusters && (o.method != "enumerate" || o.sweep))
-        throw InputError(std::string("--clusters refines by enumeration, which ") +
-                         (o.sweep ? "--sweep" : "--method translation") +
-                         " does not: drop one of them");
+    if (o.refine.clusters && o.method != "enumerate")
+        throw InputError(
+            "--clusters refines by enumeration, which --method translation does not: drop one "
+            "of them");
     if (seen.count("--cluster-transfer") && !o.refine.clusters)
         throw InputError("--cluster-transfer is how light crosses cluster links: add --clusters");
     if (o.linkFormFactors) {
         const char *other = o.countOnly               ? "--count-only"
                             : o.method != "enumerate" ? "--method translation"
-                            : o.sweep                 ? "--sweep"
                                                       : nullptr;
         if (other)
             throw InputError(std::string("--link-form-factors needs every link stored, which ") +

@@ -52,6 +52,13 @@ struct CommandSpec {
     std::string doc;       // one line
 };
 
+// An option that another cannot be given with, and why, worded to follow the other's flag:
+// "--clusters refines by enumeration, which --sweep does not: drop one of them".
+struct OptionExclusion {
+    std::string option;  // the excluded option's name: "sweep"
+    std::string why;     // "refines by enumeration"
+};
+
 struct OptionSpec {
     std::string name;                   // the option's name in claim files: "min_area"
     std::string flag;                   // "--min-area"
@@ -60,6 +67,10 @@ struct OptionSpec {
     std::vector<std::string> commands;  // the commands it applies to
     std::string doc;                    // help text; lines after the first are indented
     std::function<void(Options &, const std::string &)> apply;  // stores the value
+    // The options it cannot be given with, whatever the values (symmetric: listed on one
+    // of the two). ParseCommandLine refuses them and `capabilities` lists them, so that
+    // the analysis plans only the runs the engine accepts.
+    std::vector<OptionExclusion> excludes = {};
 };
 
 const std::vector<CommandSpec> &Commands();

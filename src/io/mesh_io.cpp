@@ -86,8 +86,13 @@ Scene ParseMesh(const std::string &text, MeshFormat format, const std::string &s
 Scene LoadMesh(const std::string &path, size_t maxInputBytes, const MeshOptions &options) {
     MeshFormat format = FormatOf(path);
     std::string text = ReadInputFile(path, "mesh file", maxInputBytes);
+    // Libraries are relative to the OBJ's real folder: a symbolic link to an OBJ reads
+    // those beside its target, where `save --out LINK` writes them.
+    std::error_code realError;
+    std::string real = std::filesystem::canonical(path, realError).string();
+    const std::string folder = meshio::Directory(realError ? path : real);
     auto readLibrary = [&](const std::string &name) -> std::optional<std::string> {
-        std::string libraryPath = meshio::Directory(path) + name;
+        std::string libraryPath = folder + name;
         std::error_code error;
         if (std::filesystem::status(libraryPath, error).type() ==
             std::filesystem::file_type::not_found)

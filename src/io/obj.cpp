@@ -254,7 +254,10 @@ MeshPatches ReadObj(std::string_view text, const std::string &source,
 // (docs/scene-format.md#obj-and-mtl): corners shared where equal, faces in scene order
 // with their corners in order, one material per distinct surface.
 void SaveObj(const Scene &scene, const std::string &path) {
-    std::string library = MaterialLibraryPath(path);
+    // The library goes beside the file written, which a symbolic link _path_ names
+    // elsewhere: mtllib is read relative to the OBJ's real folder.
+    const std::string target = OutputTarget(path, "mesh file");
+    std::string library = MaterialLibraryPath(target);
     std::string libraryName = library.substr(library.find_last_of('/') + 1);
     // OBJ has no escapes: a blank splits the name, '#' starts a comment, a line break
     // ends the statement, and each would silently lose the materials when read back.
@@ -308,7 +311,7 @@ void SaveObj(const Scene &scene, const std::string &path) {
     // Both staged, then the library renamed before the mesh that names it.
     WriteOutputFiles(
         {{library, "material library",
-          "# Materials of " + path.substr(path.find_last_of('/') + 1) +
+          "# Materials of " + target.substr(target.find_last_of('/') + 1) +
               ": reflectance = mean(Kd), emission = mean(Ke)\n" + mtl},
          {path, "mesh file", header + "mtllib " + libraryName + "\n" + vertices + faces}});
 }

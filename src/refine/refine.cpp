@@ -388,6 +388,42 @@ void SumCounts(const TaskDepthPass<F> &pass, const WorkerResults<F> &workers,
     DropTrailingZeros(counters.linksPerDepth);
 }
 
+// Links the store-mode merge copies before giving their source back (MergeWorkers).
+constexpr size_t kMergeBlock = size_t(1) << 17;  // 1 MiB of links
+
+// Refuses, before any of it is taken, a merge of several workers' results whose peak
+// would exceed the budget: what the run holds now (records, every forest, the links)
+// plus what the merge holds beside it at most. Store mode: the split lists and id maps
+// of the workers' elements (4 bytes each per element), the copy of the links' visible
+// fractions, and the blocks of links copied but not yet given back; count-only: the
+// list of the pass's leaves that CountUnion walks from. The union forest is no larger
+// than the forests it replaces, which are given back first.
+template <bool kStoreLinks, typename F>
+void CheckMergeBudget(const TaskDepthPass<F> &pass, const WorkerResults<F> &workers,
+                      const RefineOptions &options, const std::vector<PairTally> &pairs,
+                      size_t budget) {
+    size_t elements = pass.forest.Size(), workerElements = 0, links = 0;
+    for (const F &forest : workers.forests)
+        workerElements += forest.Size();
+    for (const LinkBuffer &buffer : workers.links)
+        links += buffer.size();
+    size_t held = pass.RecordBytes(pairs) + (elements + workerElements) * F::kBytesPerElement +
+                  links * StoredLinkBytes(options);
+    size_t merge = elements * sizeof(uint32_t);  // count-only: the leaves' list
+    if constexpr (kStoreLinks) {
+        size_t splits = workerElements / size_t(pass.forest.Arity());
+        size_t inFlight = std::min(links, size_t(options.threads) * 2 * kMergeBlock);
+        merge = (splits + workerElements) * sizeof(uint32_t) +
+                (options.visibility != VisibilityMode::None ? links * sizeof(double) : 0) +
+                inFlight * sizeof(Link);
+    }
+    if (held + merge > budget)
+        throw LimitError("merging the workers' trees and links would exceed the memory budget (" +
+                         std::to_string(held + merge) +
+                         " bytes at its peak); raise --max-memory "
+                         "or eps, or use fewer --threads");
+}
+
 // The workers' trees as one, counted, and (store mode) the result's forest and links in
 // the ids that one worker running every task in order would have made.
 template <bool kStoreLinks, typename F, typename Shape>
@@ -421,6 +457,7 @@ void MergeWorkers(const Patches<Shape> &patches, TaskDepthPass<F> &pass, WorkerR
         result.forest = std::move(pass.forest);
         result.forest.LiftBudget();
         ForestUnion<F> merged(splits, tasks, result.forest);
+        std::vector<std::vector<uint32_t>>().swap(splits);  // the maps replace them
         CountTrees(result.forest, counters);
 
         // Concatenate the tasks' ranges in task order, translating each worker's ids:
@@ -446,7 +483,7 @@ void MergeWorkers(const Patches<Shape> &patches, TaskDepthPass<F> &pass, WorkerR
             // copy together hold little more than one of them (a task's range can be
             // tens of MB). Each give-back reaches half a block back, over the page the
             // previous one rounded off, but not below the task's first link.
-            constexpr size_t kBlock = size_t(1) << 17;  // 1 MiB of links
+            constexpr size_t kBlock = kMergeBlock;
             for (size_t block = begin; block < end; block += kBlock) {
                 size_t blockEnd = std::min(end, block + kBlock);
                 result.links.Populate(to, to + (blockEnd - block));  // one call, not a fault a page
@@ -490,6 +527,8 @@ void RefineAllPairs(const Patches<Shape> &patches, const Oracle &oracle,
     SumCounts(pass, workers, options, result);
     if (PairsForTasksOnly<kStoreLinks>(options))  // counted: none is kept
         std::vector<PairTally>().swap(result.pairs);
+    if (workers.forests.size() > 1)  // one worker's results are the run's as they are
+        CheckMergeBudget<kStoreLinks>(pass, workers, options, result.pairs, budget.bytes);
     MergeWorkers<kStoreLinks>(patches, pass, workers, options, result);
 }
 

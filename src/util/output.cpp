@@ -228,6 +228,10 @@ void OutputFile::Commit() {
     s.committed = true;
 }
 
+std::string OutputTarget(const std::string &path, const std::string &what) {
+    return Resolve(path, what + " '" + path + "'").Path();
+}
+
 void WriteOutputFile(const std::string &path, const std::string &what, const std::string &text) {
     WriteOutputFiles({{path, what, text}});
 }

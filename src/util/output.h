@@ -46,6 +46,11 @@ class OutputFile {
     std::unique_ptr<State> state_;
 };
 
+// The file an OutputFile at _path_ writes: symbolic links followed, in its real folder
+// (InputError as OutputFile's where it names a folder or a folder that does not exist).
+// A file that others name beside it (an OBJ's MTL) belongs beside this one.
+std::string OutputTarget(const std::string &path, const std::string &what);
+
 // Writes _text_ to _path_ as one OutputFile.
 void WriteOutputFile(const std::string &path, const std::string &what, const std::string &text);
 

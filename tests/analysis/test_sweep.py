@@ -9,11 +9,18 @@ from pathlib import Path
 
 import pytest
 
-from hrbench_analysis.claimfile import load_claims
-from hrbench_analysis.engine import engine_version
+from hrbench_analysis.claimfile import load_claims, load_claims_dir, resolve_oracle
+from hrbench_analysis.engine import (
+    CapabilitiesError,
+    engine_version,
+    get_capabilities,
+    parse_capabilities,
+)
+from hrbench_analysis.reproduce import check_claims
+from hrbench_analysis.reproduce_options import CLAIMS_DIR
 from hrbench_analysis.store import ResultStore
 from hrbench_analysis.sweep import get_claim_data, run_points
-from hrbench_analysis.sweep_plan import expand_claim
+from hrbench_analysis.sweep_plan import DEFAULT_SWEEP_EXCLUDES, expand_claim, sweep_excludes
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -227,7 +234,7 @@ def test_sweep_runs_once_and_stores_what_separate_runs_give(tmp_path, fail_share
     (claim,) = load_claims(path)
     engine, log = logged_engine(tmp_path, fail_shared)
     version = engine_version(engine)
-    shared = expand_claim(claim, "quick", engine, version, shared_runs=True)
+    shared = expand_claim(claim, "quick", engine, version, get_capabilities(engine))
     alone = expand_claim(claim, "quick", engine, version)
     assert len(shared) == 13 and len({p.shared for p in shared}) == 1
     assert [p.key for p in shared] == [p.key for p in alone]
@@ -259,14 +266,92 @@ def test_sweep_runs_once_and_stores_what_separate_runs_give(tmp_path, fail_share
 
 
 @needs_engine
-@pytest.mark.parametrize("options", ["{ threads = 2 }", '{ method = "enumerate" }'])
+@pytest.mark.parametrize("options", ["{ threads = 2 }", '{ method = "enumerate" }',
+                                     "{ clusters = true }"])
 def test_sweeps_with_options_a_shared_run_cannot_take_run_point_by_point(tmp_path, options):
     path = tmp_path / "claims.toml"
     path.write_text(EPS_CLAIM.replace("min_area = 1e-9\n",
                                       f"min_area = 1e-9\noptions = {options}\n"))
     (claim,) = load_claims(path)
-    points = expand_claim(claim, "quick", HRBENCH, engine_version(HRBENCH), shared_runs=True)
+    points = expand_claim(claim, "quick", HRBENCH, engine_version(HRBENCH),
+                          get_capabilities(HRBENCH))
     assert points and all(p.shared is None for p in points)
+
+
+def _capabilities(sweep_entry, clusters_entry=None):
+    # An engine's capabilities listing `run --sweep` (and `--clusters`) as given.
+    options = [{"name": "sweep", "flag": "--sweep", "value": "P=V,...", "choices": None,
+                "commands": ["run"], "doc": "", **sweep_entry}]
+    if clusters_entry is not None:
+        options.append({"name": "clusters", "flag": "--clusters", "value": None,
+                        "choices": None, "commands": ["run"], "doc": "", **clusters_entry})
+    return parse_capabilities(json.dumps({
+        "schema_version": 1, "engine": "e", "version": "1", "run_schema_version": 1,
+        "commands": [], "families": [], "oracles": [], "methods": [], "options": options,
+        "counters": []}))
+
+
+def test_the_planner_reads_which_options_exclude_sweep_on_either_side_or_its_default():
+    # An engine that lists no exclusions is taken to refuse what hrbench refused before
+    # it listed them.
+    assert sweep_excludes(_capabilities({})) == DEFAULT_SWEEP_EXCLUDES
+    assert sweep_excludes(_capabilities({"commands": ["links"]})) is None
+    assert sweep_excludes(None) is None
+    # Listed on --sweep's entry, or on the other option's: the relation is symmetric.
+    assert sweep_excludes(_capabilities({"excludes": []})) == frozenset()
+    assert sweep_excludes(_capabilities({"excludes": ["threads"]},
+                                        {"excludes": ["sweep"]})) == {"threads", "clusters"}
+    with pytest.raises(CapabilitiesError, match="excludes"):
+        _capabilities({"excludes": "threads"})
+
+
+def _exit_code(argv, wait):
+    # The engine's exit code, or None if it is still counting after _wait_ seconds (it
+    # took the command line: a refusal comes before any counting).
+    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            text=True)
+    try:
+        proc.wait(timeout=wait)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+        return None
+    finally:
+        proc.stderr.close()
+    return proc.returncode
+
+
+@needs_engine
+def test_the_planner_shares_a_run_for_every_shipped_claim_exactly_where_the_engine_takes_it():
+    # Every shipped count-only claim over eps or min_area, in both modes: the shared run
+    # the planner plans is accepted by the engine (at the series' cheapest value), and
+    # where it plans none, the engine refuses that run with exit 2 (a usage error).
+    capabilities, version = get_capabilities(HRBENCH), engine_version(HRBENCH)
+    # The claims as hrbench-reproduce runs them: oracles named as the engine names them,
+    # those it skips left out.
+    claims = [c.with_oracle(resolve_oracle(c, capabilities)[0] or c.oracle)
+              for c in load_claims_dir(CLAIMS_DIR)]
+    shared, alone = set(), set()
+    for mode in ("quick", "full"):
+        errors, skipped = check_claims(claims, mode, capabilities)
+        assert errors == []
+        for claim in claims:
+            if claim.id in skipped or claim.sweep_param not in ("eps", "min_area") or \
+                    claim.statistics or getattr(claim, "command", "run") != "run":
+                continue
+            points = expand_claim(claim, mode, HRBENCH, version, capabilities)
+            first = points[0]
+            run = first.shared or first.run.shared(HRBENCH, claim.sweep_param)
+            code = _exit_code(run.argv([first.value]), 60 if first.shared is None else 5)
+            if first.shared is not None:
+                assert all(p.shared is not None for p in points), claim.id
+                assert code in (0, None), f"{claim.id} {mode}: refused: {run.argv()}"
+                shared.add(claim.id)
+            else:
+                assert code == 2, f"{claim.id} {mode}: the engine takes {run.argv()}"
+                alone.add(claim.id)
+    # Both kinds are shipped: clusters and translation claims run point by point.
+    assert "SIL-eps" in alone and len(shared) > 10, (shared, alone)
 
 
 def test_a_flag_echoed_in_the_record_matches_its_key():

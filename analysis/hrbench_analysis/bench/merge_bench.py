@@ -11,7 +11,7 @@ with --debug), 74 OUT.json could not be written.
 import json
 import sys
 
-from ..errors import run_main
+from ..errors import OneLineParser, run_main
 from ..output import refuse_inputs, write_file
 from .gbench import load_benchmark_file, merge_benchmark_files
 
@@ -21,11 +21,13 @@ def main(argv=None):
 
 
 def _merge(argv):
-    argv = [a for a in argv if a != "--debug"]
-    if len(argv) < 2 or any(a.startswith("-") for a in argv):
-        print(__doc__.strip().splitlines()[2], file=sys.stderr)
-        return 2
-    out, inputs = argv[0], argv[1:]
+    parser = OneLineParser(prog="merge_bench.py", description="Merge Google Benchmark "
+                           "JSON files (one per suite) into one.")
+    parser.add_argument("out", metavar="OUT.json")
+    parser.add_argument("inputs", nargs="+", metavar="IN.json")
+    parser.add_argument("--debug", action="store_true", help="a bug's traceback")
+    args = parser.parse_args(argv)
+    out, inputs = args.out, args.inputs
     refuse_inputs([("the output", out)], [("the input", path) for path in inputs])
     merged = merge_benchmark_files([load_benchmark_file(path) for path in inputs])
     write_file(out, json.dumps(merged, indent=2) + "\n")

@@ -175,6 +175,10 @@ class Option:
     commands : tuple of str
         The commands that accept it.
     doc : str
+    excludes : tuple of str or None
+        The options it cannot be given with, whatever their values (the relation is
+        symmetric; the engine lists a pair on one of the two: :meth:`Capabilities.excluded`);
+        ``None`` where the engine does not say (an engine before the key ``excludes``).
     """
 
     name: str
@@ -183,6 +187,7 @@ class Option:
     choices: object
     commands: tuple
     doc: str
+    excludes: object = None
 
     @property
     def is_switch(self):
@@ -300,6 +305,21 @@ class Capabilities:
     def option(self, name):
         """The option `name` (underscores, e.g. ``"min_area"``), or ``None``."""
         return next((o for o in self.options if o.name == name), None)
+
+    def excluded(self, name):
+        """The options that cannot be given with the option `name`, listed on either side.
+
+        Returns
+        -------
+        names : frozenset of str or None
+            ``None`` if the engine lacks the option or does not say what it excludes (its
+            entry has no ``excludes``).
+        """
+        option = self.option(name)
+        if option is None or option.excludes is None:
+            return None
+        return frozenset(option.excludes) | {
+            o.name for o in self.options if name in (o.excludes or ())}
 
     def ff_estimate(self, name):
         """The form-factor estimate `name`, or ``None`` if the engine lacks it."""
@@ -422,7 +442,9 @@ def _read_option(obj, where):
                   value=_value_iv(obj, "value", "a string", where, nullable=True),
                   choices=_strings_iv(obj, "choices", where, nullable=True),
                   commands=_strings_iv(obj, "commands", where),
-                  doc=_value_iv(obj, "doc", "a string", where))
+                  doc=_value_iv(obj, "doc", "a string", where),
+                  excludes=(_strings_iv(obj, "excludes", where) if "excludes" in obj
+                            else None))
 
 
 def _read_ff_estimate(obj, where):
