@@ -121,10 +121,22 @@ TEST_CASE("A mesh whose faces mostly have every other face behind them draws a h
     CHECK(FacingAwayHint(LoadMesh(kData + "/room_box.obj")).empty());
     // Every face reversed: the room's six walls (16 of the 17.5 units of area) have all
     // else behind them; the box's faces now face each other.
+    // Judged per connected part: the room's walls are one, the box another.
     CHECK(FacingAwayHint(LoadMesh(kData + "/room_box_flipped.obj")) ==
-          "faces holding 91% of the mesh's area (6 of 12 faces) have every other face behind "
-          "them and exchange no light; faces are counter-clockwise seen from their front "
-          "(docs/3d.md): a room seen from inside may have its faces the wrong way round");
+          "faces holding 100% of the area of one of the mesh's 2 connected parts (6 of its 6 "
+          "faces) have every other face behind them and exchange no light; faces are "
+          "counter-clockwise seen from their front (docs/3d.md): a room seen from inside, or a "
+          "face of a part, may be the wrong way round");
+    // Two facing quads, the second reversed: half the area faces away, all of its part,
+    // and no light is exchanged (0 links).
+    std::string facing = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                         "f 1 2 3 4\nf 5 6 7 8\n";
+    CHECK_THAT(FacingAwayHint(ParseMesh(facing, MeshFormat::Obj, "facing.obj", {})),
+               Catch::StartsWith("faces holding 100% of the area of one of the mesh's 2 connected "
+                                 "parts (1 of its 1 faces)"));
+    std::string fixed = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                        "f 1 2 3 4\nf 5 8 7 6\n";
+    CHECK(FacingAwayHint(ParseMesh(fixed, MeshFormat::Obj, "facing.obj", {})).empty());
     // The published Cornell boxes: blocks seen from outside in a room seen from inside.
     for (const char *file : {"/meshes/CornellBox-Original.obj", "/meshes/cornell_box.obj"}) {
         INFO(file);

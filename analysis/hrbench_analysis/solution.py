@@ -189,9 +189,13 @@ def bunny_figure(engine, results, jobs=1):
                           min_area=min_area)
     seconds = _cpu_seconds(record)
     balance = record["absorbed_power"] / record["emitted_power"] - 1
+    more = "more" if balance >= 0 else "less"
+    # In plain words: "+5.3% of the emitted power" read as a share absorbed.
+    energy = (f"the surfaces absorb {abs(balance):.1%} {more} power than the lamp emits "
+              f"({record['absorbed_power']:.3g} against {record['emitted_power']:.3g})")
     facts = (f"{record['patches']:,} patches, {record['links']:,} links "
-             f"({record['cluster_links']:,} cluster links)\nabsorbed {balance:+.1%} of the "
-             f"emitted power, {sum(seconds.values()):.0f} s of CPU")
+             f"({record['cluster_links']:,} cluster links)\n{energy[0].upper() + energy[1:]}, "
+             f"{sum(seconds.values()):.0f} s of CPU")
     image = render_figure(read_solution(path), title=facts, camera=BUNNY_CAMERA)
     caption = ("The Stanford bunny (75,408 triangles, from Debian's libcgal-demo) in a closed "
                "box of 8 x 8 cells a wall lit by the four central cells of its ceiling, seen "
@@ -205,8 +209,9 @@ def bunny_figure(engine, results, jobs=1):
                "link by the share of unblocked segments between sample patches of its ends. "
                f"CPU seconds: refinement {seconds['refine']:.1f}, coefficients "
                f"{seconds['coefficients']:.1f}, {record['iterations']} Jacobi sweeps "
-               f"{seconds['solve']:.1f}. Energy balance: absorbed {balance:+.1%} of the "
-               "emitted power, the error of the cluster links' approximations (docs/meshes.md).")
+               f"{seconds['solve']:.1f}. Energy balance: {energy}; in a closed box every "
+               "watt emitted is absorbed once, so the difference is the error of the cluster "
+               "links' approximations (docs/meshes.md).")
     return ReportFigure("bunny", "The Stanford bunny in a lit box, solved through clusters",
                         caption, image)
 

@@ -49,6 +49,11 @@ struct DumpDecision {
     size_t line;
 };
 
+// The tokens of a conventions text: KEY=VALUE (or a set name, value "") separated by
+// spaces, commas or both, alike in a dump's conventions line, Probe(dump, conventions)
+// and `check-links --conventions` (docs/probe.md#conventions).
+std::vector<std::pair<std::string, std::string>> ParseConventionTokens(const std::string &text);
+
 struct LinkDump {
     std::string name;  // the file, for messages
     int version = 1;

@@ -59,16 +59,7 @@ LinkConventions ResolveConventions(const LinkDump &dump, const CheckLinksOptions
     std::map<std::string, std::string> fromDump, fromLine;
     ApplyConventions(dump.conventions, dump.name + ":" + std::to_string(dump.conventionsLine),
                      fromDump);
-    std::vector<std::pair<std::string, std::string>> tokens;
-    for (size_t begin = 0; begin <= extra.conventions.size() && !extra.conventions.empty();) {
-        size_t end = std::min(extra.conventions.find(',', begin), extra.conventions.size());
-        std::string token = extra.conventions.substr(begin, end - begin);
-        size_t eq = token.find('=');
-        tokens.push_back(
-            {token.substr(0, eq), eq == std::string::npos ? "" : token.substr(eq + 1)});
-        begin = end + 1;
-    }
-    ApplyConventions(tokens, "--conventions", fromLine);
+    ApplyConventions(ParseConventionTokens(extra.conventions), "--conventions", fromLine);
     std::map<std::string, std::string> keys = fromDump;
     for (const auto &[key, value] : fromLine) {
         auto it = fromDump.find(key);

@@ -352,8 +352,8 @@ const std::vector<OptionSpec> &OptionTable() {
          "C",
          {},
          {"check-links"},
-         "the kernel's conventions: hrbench or KEY=VALUE,... (docs/probe.md);\na key the dump's "
-         "conventions line also gives must agree",
+         "the kernel's conventions: hrbench or \"KEY=VALUE ...\" (docs/probe.md);\na key the "
+         "dump's conventions line also gives must agree",
          [](Options &o, S v) { o.linkConventions = v; }},
         {"summary",
          "--summary",

@@ -67,11 +67,10 @@ class DumpReader {
                 Fail("the conventions line must come before every link, unlink, decide and "
                      "pass record");
             dump_.conventionsLine = line_;
-            for (size_t k = 1; k < f.size(); ++k) {
-                size_t eq = f[k].find('=');
-                dump_.conventions.push_back(
-                    {f[k].substr(0, eq), eq == std::string::npos ? "" : f[k].substr(eq + 1)});
-            }
+            std::string text;
+            for (size_t k = 1; k < f.size(); ++k)
+                text += f[k] + " ";
+            dump_.conventions = ParseConventionTokens(text);
             return true;
         }
         if (kind == "pass") {
@@ -248,6 +247,26 @@ const std::vector<std::string> &DumpCounterNames(int version) {
         "links",     "oracle_calls",       "nodes", "forced_links",
         "max_depth", "total_oracle_calls", "passes"};
     return version >= 2 ? names2 : names1;
+}
+
+std::vector<std::pair<std::string, std::string>> ParseConventionTokens(const std::string &text) {
+    std::vector<std::pair<std::string, std::string>> tokens;
+    auto separator = [](char c) { return c == ',' || c == ' ' || c == '\t'; };
+    for (size_t begin = 0; begin < text.size();) {
+        if (separator(text[begin])) {
+            ++begin;
+            continue;
+        }
+        size_t end = begin;
+        while (end < text.size() && !separator(text[end]))
+            ++end;
+        std::string token = text.substr(begin, end - begin);
+        size_t eq = token.find('=');
+        tokens.push_back(
+            {token.substr(0, eq), eq == std::string::npos ? "" : token.substr(eq + 1)});
+        begin = end;
+    }
+    return tokens;
 }
 
 LinkDump ReadLinkDump(std::istream &in, const std::string &name, int arity, size_t numPatches) {

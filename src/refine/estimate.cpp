@@ -163,6 +163,12 @@ RunEstimate EstimateRun(const Scene &scene, const RefineOptions &options,
                 break;  // past the pilot's budget: scale the last one that fitted
             ++k;
             continue;
+        } catch (const Error &) {
+            // Input the run itself refuses, with its own message (the bf oracle without an
+            // emitter, before solve gives the emission): no estimate.
+            RunEstimate e;
+            e.basis = "none";
+            return e;
         }
         previous = last;
         last = Pilot{pilot.eps, double(c.nodes), double(c.links)};

@@ -515,11 +515,15 @@ std::string EnergyBalanceWarning(const Scene &scene, const RefineOptions &refine
     std::string powers = "absorbed power " + Short(result.absorbedPower) +
                          " against emitted power " + Short(result.emittedPower) + " (" + change +
                          ")";
+    // Light let through an occluder is light absorbed twice, an excess: the balance is
+    // quoted as its sign shows it, or as not showing it, never against the reason.
     if (refine.visibility == VisibilityMode::None && CanOcclude(scene))
         return "--visibility none lets light pass through the patches between others, which "
                "this scene has (without --visibility, solve weighs each link by its visible "
-               "fraction; docs/solve.md, Occlusion): " +
-               powers;
+               "fraction; docs/solve.md, Occlusion)" +
+               (excess > 0 ? ": " + powers + ", light let through among it"
+                           : "; the energy balance alone does not show it here (" + powers +
+                                 ": the discretisation's error outweighs it)");
     if (!(excess > kEnergyExcessAllowance * result.emittedPower))
         return "";
     return powers + ", beyond the " + Short(100 * kEnergyExcessAllowance) +

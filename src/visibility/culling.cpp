@@ -1,5 +1,9 @@
 #include "visibility/culling.h"
 
+#include <algorithm>
+#include <array>
+#include <map>
+
 #include <cstdio>
 #include <limits>
 #include <string>
@@ -187,27 +191,73 @@ bool CanOcclude(const Scene &scene) {
         scene.patches);
 }
 
+// The connected parts of a mesh: faces that share a corner (the same coordinates) are
+// in one part. Returns each face's part, numbered from 0 in the order of first faces.
+std::vector<uint32_t> ConnectedParts(const Patches<Polygon> &patches) {
+    std::vector<uint32_t> parent(patches.size());
+    for (uint32_t r = 0; r < parent.size(); ++r)
+        parent[r] = r;
+    auto find = [&](uint32_t r) {
+        while (parent[r] != r)
+            r = parent[r] = parent[parent[r]];
+        return r;
+    };
+    std::map<std::array<double, 3>, uint32_t> firstAt;
+    for (uint32_t r = 0; r < patches.size(); ++r)
+        for (int k = 0; k < patches[r].shape.n; ++k) {
+            const Vec3 &v = patches[r].shape.v[k];
+            auto [it, added] = firstAt.insert({{v.x(), v.y(), v.z()}, r});
+            if (!added)
+                parent[find(r)] = find(it->second);
+        }
+    std::vector<uint32_t> part(patches.size());
+    std::map<uint32_t, uint32_t> number;
+    for (uint32_t r = 0; r < patches.size(); ++r)
+        part[r] = number.insert({find(r), uint32_t(number.size())}).first->second;
+    return part;
+}
+
 std::string FacingAwayHint(const Scene &scene) {
     if (scene.family != "mesh")
         return "";
     const Patches<Polygon> &patches = scene.Get<Polygon>();
-    double area = 0, outArea = 0;
-    size_t out = 0;
+    // Per connected part (an object, a room's walls): one object turned inside out among
+    // others is a small share of the whole mesh, and a large one of its part.
+    std::vector<uint32_t> part = ConnectedParts(patches);
+    size_t parts = part.empty() ? 0 : *std::max_element(part.begin(), part.end()) + 1;
+    std::vector<double> area(parts), outArea(parts);
+    std::vector<size_t> faces(parts), out(parts);
     SideTests sides(patches);
     for (size_t r = 0; r < patches.size(); ++r) {
-        area += patches[r].shape.Area();
+        area[part[r]] += patches[r].shape.Area();
+        ++faces[part[r]];
         if (FacesOut(sides, r))
-            ++out, outArea += patches[r].shape.Area();
+            ++out[part[r]], outArea[part[r]] += patches[r].shape.Area();
     }
-    if (!(2 * outArea > area))
+    // Name the parts mostly facing away: how many, and the largest by area.
+    size_t flagged = 0, worst = parts;
+    for (size_t p = 0; p < parts; ++p)
+        if (2 * outArea[p] > area[p]) {
+            ++flagged;
+            if (worst == parts || area[p] > area[worst])
+                worst = p;
+        }
+    if (!flagged)
         return "";
     char percent[16];
-    std::snprintf(percent, sizeof percent, "%.0f%%", 100 * outArea / area);
-    return "faces holding " + std::string(percent) + " of the mesh's area (" + std::to_string(out) +
-           " of " + std::to_string(patches.size()) +
-           " faces) have every other face behind them and exchange no light; faces are "
-           "counter-clockwise seen from their front (docs/3d.md): a room seen from inside may "
-           "have its faces the wrong way round";
+    std::snprintf(percent, sizeof percent, "%.0f%%", 100 * outArea[worst] / area[worst]);
+    std::string count = std::to_string(out[worst]) + " of " + (parts == 1 ? "" : "its ") +
+                        std::to_string(faces[worst]) + " faces";
+    std::string where = parts == 1     ? "the mesh's area (" + count + ")"
+                        : flagged == 1 ? "the area of one of the mesh's " + std::to_string(parts) +
+                                             " connected parts (" + count + ")"
+                                       : "the area of the largest of " + std::to_string(flagged) +
+                                             " of the mesh's " + std::to_string(parts) +
+                                             " connected parts that face away (" + count + ")";
+    return "faces holding " + std::string(percent) + " of " + where +
+           " have every other face behind them and exchange no light; faces are "
+           "counter-clockwise seen from their front (docs/3d.md): a room seen from inside, or "
+           "a face of a part, may be the wrong way round";
 }
 
 bool RefinesRootPair(PairRelation relation, uint32_t p, uint32_t q, const RefineOptions &options) {
