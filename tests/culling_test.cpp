@@ -224,10 +224,13 @@ TEST_CASE("The scene-wide side tests, far corners first, agree with every corner
         double area = 0;
         for (const auto &p : patches)
             area += p.shape.Area();
+        // The hint is judged per connected part: a mesh with most of its area facing
+        // away has such a part, so it is never silent then.
         std::string hint = FacingAwayHint(scenes[s]);
-        CHECK(hint.empty() == !(2 * outArea > area));
+        if (2 * outArea > area)
+            CHECK_FALSE(hint.empty());
         if (!hint.empty())
-            CHECK_THAT(hint, Catch::Contains("(" + std::to_string(out) + " of " +
-                                             std::to_string(patches.size()) + " faces)"));
+            CHECK_THAT(hint, Catch::Contains("have every other face behind them"));
+        CHECK(out <= patches.size());
     }
 }
