@@ -80,7 +80,7 @@ from .schedulers import open_scheduler
 from .solution import solution_figures
 from .stages import Stage
 from .store import ResultStore
-from .summary import timed_tally, verdict_tally
+from .summary import tally_lines
 from .sweep import UNREADABLE_RECORD, ClaimData, get_claim_data, run_points
 from .sweep_plan import expand_claim
 from .verdict import assess_claim, skipped_assessment
@@ -515,9 +515,8 @@ def _main(argv):
     print(f"\nreport: {paths['markdown']}, {paths['html']}, {paths['json']} "
           f"(sweep {sweep_wall:.1f} s, then fits, figures and report "
           f"{wall - sweep_wall:.1f} s: {wall:.1f} s of wall time in all)")
-    print(verdict_tally(outcomes))
-    if timed_tally(outcomes):
-        print(timed_tally(outcomes))
+    for line in tally_lines(outcomes):
+        print(line)
     # Timed claims never decide the exit code: their verdicts change with the load.
     refuted = [o.claim.id for o in outcomes if not o.claim.timed
                and o.claim.expected_to_hold and o.assessment.verdict == "refuted"]

@@ -17,6 +17,7 @@ __all__ = [
     "distinct_names",
     "verdict_tally",
     "timed_tally",
+    "tally_lines",
 ]
 
 #: The seed paper's claims, in its numbering: Garmann & Müller's C1, C2 and C4, and C3,
@@ -204,6 +205,23 @@ def timed_tally(outcomes):
         return None
     head, rest = _tally(timed, "timed claim").split(": ", 1)
     return f"{head} (CPU time, which depends on the machine's load; not in the line above): {rest}"
+
+
+def tally_lines(outcomes):
+    """The tally as the report and the terminal end with it: :func:`verdict_tally`, then
+    :func:`timed_tally` where a claim is timed.
+
+    Parameters
+    ----------
+    outcomes : sequence of ClaimOutcome
+
+    Returns
+    -------
+    lines : list of str
+        One or two lines.
+    """
+    timed = timed_tally(outcomes)
+    return [verdict_tally(outcomes), *([timed] if timed else [])]
 
 
 def _tally(outcomes, noun):

@@ -4,7 +4,7 @@ embedded and the claims table's verdicts coloured."""
 import base64
 import html
 
-from ..summary import timed_tally, verdict_tally
+from ..summary import tally_lines
 from .sections import _COLUMNS, _GROUP_ANCHORS, _details
 
 __all__ = ["html_report"]
@@ -21,6 +21,7 @@ def html_report(outcomes, rows, context, placed, contents, note, pngs):
         The PNG of every figure and alternate view, by its name.
     """
     esc = html.escape
+    tally, *timed = tally_lines(outcomes)
     parts = ["<!DOCTYPE html><html><head><meta charset='utf-8'>",
              "<title>hrbench claims report</title><style>",
              "body{font-family:sans-serif;max-width:1250px;margin:2em auto;padding:0 1em}",
@@ -29,8 +30,7 @@ def html_report(outcomes, rows, context, placed, contents, note, pngs):
              ".inconclusive{background:#f5efc8}.measured{background:#dce8f5}.skipped{background:#e4e4e4}img{max-width:100%}code{background:#f4f4f4}",
              "</style></head><body>",
              "<h1>hrbench: reproduction of published complexity claims</h1>",
-             f"<p><b>{esc(verdict_tally(outcomes))}</b></p>",
-             *([f"<p>{esc(timed_tally(outcomes))}</p>"] if timed_tally(outcomes) else []),
+             f"<p><b>{esc(tally)}</b></p>", *(f"<p>{esc(t)}</p>" for t in timed),
              "<nav><h2 id='contents'>Contents</h2><ul>"]
     for anchor, title, claims in contents:
         links = ", ".join(f"<a href='#{esc(a)}'>{esc(cid)}</a>" for cid, a in claims)

@@ -1,7 +1,7 @@
 """The Markdown report (``report.md``): the tally, the contents, the run, the claims table,
 one section per group of claims, the figures of no claim."""
 
-from ..summary import timed_tally, verdict_tally
+from ..summary import tally_lines
 from .sections import _COLUMNS, _GROUP_ANCHORS, _context_lines, _details
 
 __all__ = ["markdown_report"]
@@ -25,9 +25,9 @@ def markdown_report(outcomes, rows, context, placed, contents, note):
     note : list of str
         Lines below the claims table (the note on the timed claims, or none).
     """
-    timed = timed_tally(outcomes)
+    tally, *timed = tally_lines(outcomes)
     md = ["# hrbench: reproduction of published complexity claims", "",
-          f"**{verdict_tally(outcomes)}**", "", *([timed, ""] if timed else []),
+          f"**{tally}**", "", *(line for t in timed for line in (t, "")),
           "## Contents", ""]
     md += [f"- {_md_link(title, anchor)}"
            + (": " + ", ".join(_md_link(*claim) for claim in claims) if claims else "")

@@ -2,7 +2,7 @@
 ``report.html``, ``claims.json`` and ``plots/*.png``."""
 
 from ..output import folder_lock, write_files
-from ..summary import report_order, timed_tally, verdict_tally
+from ..summary import report_order, tally_lines
 from .claims_json import claims_json_text
 from .figure import render_pngs
 from .html_page import html_report
@@ -65,9 +65,7 @@ def write_report(outdir, outcomes, context, figures, jobs=1, advance=None):
     html_text = html_report(outcomes, rows, context, placed, contents, note, pngs)
     # What the terminal shows, kept: the table, the reasons and the tally.
     summary_path = outdir / "summary.txt"
-    timed = timed_tally(outcomes)
-    summary_text = "\n".join([*claims_table_lines(rows), "", verdict_tally(outcomes),
-                              *([timed] if timed else []), ""])
+    summary_text = "\n".join([*claims_table_lines(rows), "", *tally_lines(outcomes), ""])
 
     # The figures first, so that a report never names a figure not yet written.
     files = [*((plots / f"{name}.png", png) for name, png in pngs.items()),
