@@ -163,3 +163,21 @@ def test_solve_claim_end_to_end(tmp_path, capsys):
     # Leaves of length ~eps against a reference of 512 elements per plate: first order.
     assert -1.3 < c["measured_exponent"] < -0.7 and c["published"] is False
     assert "no published value" in (tmp_path / "out" / "report.md").read_text()
+
+
+def test_an_interval_within_the_band_that_excludes_its_exponent_quotes_the_claims_note(
+        tmp_path):
+    # A fall like x^-1.1 with a scatter of 1%: within -1 +/- 0.2, but not at -1 itself.
+    x = np.geomspace(2, 200, 16)
+    data = ClaimData(value=1 / x, x=x, y=x ** -1.1 * (1 + 0.01 * np.cos(2.3 * np.arange(16))))
+    (silent,) = load_claims(write(tmp_path, SOLVE_CLAIM))
+    a = assess_claim(silent, data, n_boot=200)
+    assert "the interval excludes -1 itself: the claims file gives no reason" in a.reason
+    (noted,) = load_claims(write(tmp_path, SOLVE_CLAIM.replace(
+        "published = false", 'published = false\ninterval_note = "a slow factor"'), "n.toml"))
+    assert noted.interval_note == "a slow factor"
+    assert assess_claim(noted, data, n_boot=200).reason.endswith(
+        "the interval excludes -1 itself: a slow factor")
+    # At the exponent itself no note is quoted.
+    exact = ClaimData(value=1 / x, x=x, y=data.y * x ** 0.1)
+    assert "excludes" not in assess_claim(noted, exact, n_boot=200).reason
