@@ -1082,7 +1082,7 @@ TEST_CASE("solve accounts for occlusion where the scene can occlude, and warns o
     CHECK_THAT(none3.err, Catch::StartsWith("hrbench: warning: --visibility none lets light "
                                             "pass through") &&
                               Catch::EndsWith("absorbed power 4.88 against emitted power 4 "
-                                              "(+21.9%)\n"));
+                                              "(+21.9%), light let through among it\n"));
     // The open Cornell box loses more through its front than the blocks let through: the
     // powers alone would not tell, the line does.
     CliResult cornell = Cli("solve cornell --eps 0.5 --min-area 0.01 --visibility none");

@@ -324,7 +324,10 @@ def test_sweep_csv_onto_a_symlink_and_a_full_device(tmp_path, data_dir, fake_hrb
     assert len(target.read_text().splitlines()) == 12     # header and 11 points
     capsys.readouterr()
     assert reproduce.sweep_main(argv + ["--out", "/dev/full"]) == 74
-    assert one_line(capsys.readouterr().err).startswith("error: /dev/full: cannot write")
+    # One error line, the last; the lines before it are the stages' progress.
+    err = capsys.readouterr().err.splitlines()
+    assert err[-1].startswith("error: /dev/full: cannot write")
+    assert not [line for line in err[:-1] if "error" in line], err
 
 
 # ---------------------------------------------------------------------------------------
@@ -399,7 +402,10 @@ def test_reproduce_ends_a_full_disk_with_one_line_and_74(previous_report, data_d
     code = reproduce.main(reproduce_args(data_dir / "small_claims.toml", fake_hrbench,
                                          results))
     assert code == 74
-    line = one_line(capsys.readouterr().err)
+    # One error line, the last; the lines before it are the stages' progress.
+    err = capsys.readouterr().err
+    assert not [line for line in err.splitlines()[:-1] if "error" in line], err
+    line = err.splitlines()[-1]
     assert re.fullmatch(r"error: \S+\.png: cannot write \(No space left on device\); the "
                         r"previous file is kept", line), line
     assert snapshot(results) == old
