@@ -33,6 +33,7 @@ engine runs under way end with their child processes. Every error but a bug is o
 on standard error. See ``docs/analysis.md``.
 """
 
+import contextlib
 import csv
 import datetime
 import difflib
@@ -355,24 +356,34 @@ def _sweep(args, setup):
             return interrupt_exit_code(exc)
         measured, refusals = {}, []
         # The scenes the engine reports (scene_sha256) are checked against hrbench's,
-        # unless the engine is that hrbench.
+        # unless the engine is that hrbench (a run of hrbench per scene: a stage).
         (reference, same), digests = reference_engine(setup.engine), {}
-        for c in setup.claims:
-            if c.id in setup.skipped:
-                continue
-            data = get_claim_data(c, points[c.id], store,
-                                  setup.capabilities.scalar_counters)
-            line = engine_refusals(c, data)
-            if line is None and not same:
-                line, warnings = scene_mismatch(c, args.mode, points[c.id], store, reference,
-                                                digests)
-                for warning in warnings:
-                    print(f"warning: {one_line(warning)}", file=sys.stderr)
-            if line is not None:
-                refusals.append(line)
-                continue
-            measured[c.id] = (points[c.id], data)
+        with contextlib.ExitStack() as stage:
+            if not same:
+                stage.enter_context(Stage("checking the engine's scenes against hrbench's"))
+            _judge_scenes(args, setup, points, store, reference, same, digests, measured,
+                          refusals)
     return summary, measured, refusals
+
+
+def _judge_scenes(args, setup, points, store, reference, same, digests, measured, refusals):
+    # Read each claim's points; a claim whose runs the engine refused, or whose scenes
+    # differ from hrbench's, goes to `refusals`, the others to `measured`.
+    for c in setup.claims:
+        if c.id in setup.skipped:
+            continue
+        data = get_claim_data(c, points[c.id], store,
+                              setup.capabilities.scalar_counters)
+        line = engine_refusals(c, data)
+        if line is None and not same:
+            line, warnings = scene_mismatch(c, args.mode, points[c.id], store, reference,
+                                            digests)
+            for warning in warnings:
+                print(f"warning: {one_line(warning)}", file=sys.stderr)
+        if line is not None:
+            refusals.append(line)
+            continue
+        measured[c.id] = (points[c.id], data)
 
 
 def _prepare_and_sweep(args, parser):
