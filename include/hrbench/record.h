@@ -39,9 +39,16 @@ struct Counters {
     uint64_t elementLinks = 0;            // links between elements (links = these + clusterLinks)
     uint64_t clusterOracleCalls = 0;      // cluster oracle calls (oracleCalls includes them)
     uint64_t openedClusters = 0;          // distinct clusters opened by a refused cluster pair
+    // The initial linking, everything decided above the input patches (with or without
+    // --clusters; docs/conventions.md#initial-linking), set by CountInitialLinking:
+    uint64_t linkingLinks = 0;  // cluster links and root pairs refined: cluster_links + root_pairs - culled_pairs
+    uint64_t linkingCalls = 0;  // node pairs decided: cluster_oracle_calls + root_pairs
     std::vector<uint64_t> nodesPerDepth;  // elements per element depth
     std::vector<uint64_t> linksPerDepth;  // links per link depth depth_i + depth_j
 };
+
+// Sets the initial linking's counters of _c_ from its cluster and root-pair counters.
+void CountInitialLinking(Counters &c);
 
 // Drops a histogram's trailing zero bins: every counted histogram ends at its last
 // nonzero one, whichever method counted it.
@@ -68,6 +75,13 @@ struct RunRecord {
     // The eps or --min-area the record was counted at where one count made records of
     // several (run --sweep); unset: the run's options say it. RunToJson reads them.
     std::optional<double> sweptEps, sweptMinArea;
+    double cpuSeconds = 0;  // CPU time of the count, every thread's, in seconds
+    // The initial linking (Counters::linkingLinks): its wall time, the refinement of the
+    // root pairs it hands down left out (unset where the method does not time it apart:
+    // translation, run --sweep), and the bytes of what it builds and keeps (the cluster
+    // hierarchy, its nodes' balls, its links in store mode; 0 without clusters).
+    std::optional<double> linkingSeconds;
+    uint64_t linkingBytes = 0;
 };
 
 // The JSON record of one run: schema version, context, scene and its provenance, the

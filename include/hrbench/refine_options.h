@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include "hrbench/geometry/subdivision.h"
 #include "hrbench/oracles/ff_estimate.h"
@@ -22,6 +23,26 @@ class RadiosityEstimate;  // radiosity_estimate.h
 // the oracle refuses an estimate of the other shape than the scene's.
 using AnyEstimate = std::variant<std::monostate, const RadiosityEstimate<Segment> *,
                                  const RadiosityEstimate<Polygon> *>;
+
+// What a link above the input patches may join under --clusters (`--cluster-bound`;
+// docs/conventions.md#clusters): which node pairs the cluster oracle bounds.
+enum class ClusterBound {
+    Cluster,  // any two nodes, the transfer bounded from both ends' balls and measures
+    Patch,    // a patch and a node: one end of every such link is an input patch
+};
+
+struct ClusterBoundInfo {
+    const char *name;  // "cluster" or "patch"
+    const char *doc;   // one line
+    ClusterBound bound;
+};
+
+// Every cluster bound, the default first: the CLI's choices and capabilities read it.
+const std::vector<ClusterBoundInfo> &ClusterBounds();
+
+// The bound named _name_; throws InputError listing the names.
+ClusterBound ParseClusterBound(const std::string &name);
+std::string ClusterBoundName(ClusterBound bound);
 
 // How refinement treats occlusion (`--visibility`; docs/3d.md).
 enum class VisibilityMode {
@@ -61,6 +82,7 @@ struct RefineOptions {
     FfEstimate ffEstimate = kDefaultFfEstimate;
     // Refine through the cluster hierarchy (clusters.h) instead of every root pair.
     bool clusters = false;
+    ClusterBound clusterBound = ClusterBound::Cluster;  // with clusters: which pairs link
     // Where the run reports its progress (refine.h), if anywhere: not a setting of the run.
     RefineProgress *progress = nullptr;
     // The radiosity the bf oracle reads, not owned: not a setting of the run either.

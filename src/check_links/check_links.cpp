@@ -94,6 +94,7 @@ LinkCheck CheckLinks(const Scene &scene, const RefineOptions &given, const LinkD
         check.fromLinks.elementLinks = resolved.links.size();
         check.fromLinks.clusterLinks = resolved.clusterLinks.size();
     }
+    CountInitialLinking(check.fromLinks);
     // Named pairs, not structured bindings: C++17 lambdas cannot capture those.
     for (const auto &counter : dump.counters) {
         const std::string &key = counter.first;

@@ -187,8 +187,13 @@ class ClusterCoverage {
             // The first link of the pair covers it; a repeat stays unused, an overlap.
             uint32_t k = found->second.front();
             used_[k] = true;
-            if (!conv_.ownOracle && !form.Acceptable(views[x], views[y]))
+            if (!conv_.ownOracle &&
+                !ClusterAccepts(form, options_.clusterBound, views[x], views[y]))
                 v_.Add("cluster-oracle", dump_.clusterLinks[k].line, false, 0, 0, [&] {
+                    if (IsCluster(x) && IsCluster(y) &&
+                        options_.clusterBound == ClusterBound::Patch)
+                        return ClusterLinkName(k) +
+                               " joins two clusters, which --cluster-bound patch never links";
                     return ClusterLinkName(k) + " is refused by the cluster form of the oracle " +
                            Oracle::kInfo.name + " (eps " + FormatDouble(options_.eps) + ")";
                 });
@@ -200,8 +205,7 @@ class ClusterCoverage {
             used_[*inY] = used_[*inX] = true;  // reported here, not again as unused
             return ClusterOverlap(*inY, *inX);
         }
-        bool openX = inX || (!inY && IsCluster(x) &&
-                             (!IsCluster(y) || views[x].measure >= views[y].measure));
+        bool openX = inX || (!inY && OpensFirst(options_.clusterBound, views[x], views[y]));
         uint32_t open = openX ? x : y;
         opened_[ClusterIndex(open)] = true;
         const uint32_t *children = tree_[ClusterIndex(open)].children;

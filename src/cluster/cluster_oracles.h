@@ -47,6 +47,8 @@ class NodeViews {
         return IsCluster(node) ? clusters_[ClusterIndex(node)] : patches_[node];
     }
 
+    size_t Bytes() const { return (patches_.size() + clusters_.size()) * sizeof(View); }
+
   private:
     std::vector<View> patches_, clusters_;
 };
@@ -68,6 +70,29 @@ double ClusterFormFactor(double sourceMeasure, double gap) {
     double f = D == 3 ? a / (kPi * gap * gap + a) : a / std::sqrt(4 * gap * gap + a * a);
     double clamp = std::max(1.0, 2 * f);
     return f * clamp * clamp;
+}
+
+// The decision on node pair (x, y) under _bound_ (`--cluster-bound`): ClusterBound::Patch
+// never links two clusters (refused by the rule alone, without a bound), and any pair it
+// may link is accepted as the cluster form _form_ accepts it.
+template <typename Form, int D>
+bool ClusterAccepts(const Form &form, ClusterBound bound, const ClusterNodeView<D> &x,
+                    const ClusterNodeView<D> &y) {
+    if (bound == ClusterBound::Patch && IsCluster(x.node) && IsCluster(y.node))
+        return false;
+    return form.Acceptable(x, y);
+}
+
+// Whether a refused node pair (x, y), a cluster at one end at least, opens x (else y):
+// the only cluster, or of two clusters under ClusterBound::Cluster the one of the larger
+// measure, so that both ends shrink together, and under ClusterBound::Patch the one of
+// the smaller, so that each patch meets the largest clusters that it may link to (as a
+// point meets a tree's nodes from the top down). Ties open x.
+template <int D>
+bool OpensFirst(ClusterBound bound, const ClusterNodeView<D> &x, const ClusterNodeView<D> &y) {
+    if (!IsCluster(x.node) || !IsCluster(y.node))
+        return IsCluster(x.node);
+    return bound == ClusterBound::Cluster ? x.measure >= y.measure : x.measure <= y.measure;
 }
 
 // The cluster form of _Oracle_ (one of the registry's, for _Shape_); an oracle without

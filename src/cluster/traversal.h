@@ -1,7 +1,7 @@
 // The traversal of the cluster hierarchy that replaces the loop over every root pair
 // under --clusters (docs/conventions.md#clusters): Self(root), each cluster's own
 // pair of children, and Pair(X, Y), which links a node pair its cluster oracle
-// accepts, hands a pair of root patches to the refinement, and otherwise opens the
+// accepts under the run's --cluster-bound, hands a pair of root patches to the refinement, and otherwise opens the
 // cluster of the larger measure. Internal to refine/refine.cpp. Nothing is kept per root pair.
 #pragma once
 
@@ -20,9 +20,10 @@ template <typename Shape, typename Form, typename RootPair>
 class ClusterTraversal {
   public:
     ClusterTraversal(const ClusterTree<Shape> &tree, const NodeViews<Shape> &views,
-                     const Form &form, RootPair &rootPair, std::vector<ClusterLink> *links)
-        : tree_(tree), views_(views), form_(form), rootPair_(rootPair), links_(links),
-          opened_(tree.NumClusters(), false) {}
+                     const Form &form, ClusterBound bound, RootPair &rootPair,
+                     std::vector<ClusterLink> *links)
+        : tree_(tree), views_(views), form_(form), bound_(bound), rootPair_(rootPair),
+          links_(links), opened_(tree.NumClusters(), false) {}
 
     // Traverses the whole hierarchy, adding to the cluster counters of _c_.
     void Run(Counters &c) {
@@ -46,14 +47,13 @@ class ClusterTraversal {
             return x < y ? rootPair_(x, y) : rootPair_(y, x);
         ++counters_->clusterOracleCalls;
         const auto &vx = views_[x], &vy = views_[y];
-        if (form_.Acceptable(vx, vy)) {
+        if (ClusterAccepts(form_, bound_, vx, vy)) {
             ++counters_->clusterLinks;
             if (links_)
                 links_->push_back({x, y});
             return;
         }
-        // Open the cluster of the larger measure (ties: X), or the only cluster.
-        bool openX = IsCluster(x) && (!IsCluster(y) || vx.measure >= vy.measure);
+        bool openX = OpensFirst(bound_, vx, vy);
         uint32_t open = openX ? x : y;
         if (!opened_[ClusterIndex(open)]) {
             opened_[ClusterIndex(open)] = true;
@@ -67,6 +67,7 @@ class ClusterTraversal {
     const ClusterTree<Shape> &tree_;
     const NodeViews<Shape> &views_;
     const Form &form_;
+    ClusterBound bound_;
     RootPair &rootPair_;
     std::vector<ClusterLink> *links_;
     std::vector<bool> opened_;  // per cluster: opened by a refused pair

@@ -98,6 +98,8 @@ json Capabilities() {
         doc["methods"].push_back({{"name", m.name}, {"doc", m.doc}});
     for (const SolveMethodInfo &m : SolveMethods())
         doc["solvers"].push_back({{"name", m.name}, {"doc", m.doc}});
+    for (const ClusterBoundInfo &b : ClusterBounds())
+        doc["cluster_bounds"].push_back({{"name", b.name}, {"doc", b.doc}});
     for (const ClusterTransferInfo &t : ClusterTransfers())
         doc["cluster_transfers"].push_back({{"name", t.name}, {"doc", t.doc}});
     for (const OptionSpec &o : OptionTable())

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <numeric>
 #include <variant>
 
@@ -214,7 +215,8 @@ std::vector<RunRecord> Sweep(const Patches<Shape> &patches,
         linksAt.push_back(d.Values());
     for (const PerValue &d : childrenPerDepth)
         childrenAt.push_back(d.Values());
-    std::vector<RunRecord> records(n, RunRecord{"enumerate", shared, 0, {}, {}});
+    CountInitialLinking(shared);
+    std::vector<RunRecord> records(n, RunRecord{"enumerate", shared, 0, {}, {}, 0, {}, 0});
     for (size_t k = 0; k < n; ++k) {
         (sweepsEps ? records[k].sweptEps : records[k].sweptMinArea) =
             sweepsEps ? perValue[k].eps : perValue[k].minArea;
@@ -271,14 +273,17 @@ std::vector<RunRecord> CountSweep(const Scene &scene, const RefineOptions &optio
     ValidateScene(scene);
 
     auto start = std::chrono::steady_clock::now();
+    std::clock_t cpuStart = std::clock();
     std::vector<RunRecord> sorted = std::visit(
         [&](const auto &patches) { return Sweep(patches, perValue, sweepsEps); }, scene.patches);
     double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    double cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
     std::vector<RunRecord> records(values.size());
     for (size_t k = 0; k < order.size(); ++k) {
         records[order[k]] = std::move(sorted[k]);
         records[order[k]].seconds = seconds / double(order.size());
+        records[order[k]].cpuSeconds = cpuSeconds / double(order.size());
     }
     return records;
 }

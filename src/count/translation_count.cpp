@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <ctime>
 #include <string>
 #include <utility>
 #include <vector>
@@ -261,12 +262,15 @@ TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &opt
     ValidateScene(scene);
     CheckTranslationScope(scene, options);
     auto start = std::chrono::steady_clock::now();
+    std::clock_t cpuStart = std::clock();
     TranslationCount result = scene.Dimension() == 2 ? translation::CountFlatland(scene, options)
                                                      : translation::CountSpace(scene, options);
     result.record.method = "translation";
     result.record.counters.rootPairs = 1;
+    CountInitialLinking(result.record.counters);
     result.record.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.record.cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
     return result;
 }
 

@@ -14,6 +14,11 @@
 
 namespace hrbench {
 
+void CountInitialLinking(Counters &c) {
+    c.linkingLinks = c.clusterLinks + c.rootPairs - c.culledPairs;
+    c.linkingCalls = c.clusterOracleCalls + c.rootPairs;
+}
+
 void DropTrailingZeros(std::vector<uint64_t> &histogram) {
     while (!histogram.empty() && histogram.back() == 0)
         histogram.pop_back();
@@ -53,6 +58,12 @@ const std::vector<CounterInfo> &CounterTable() {
          "cluster oracle calls (oracle_calls includes them)", &C::clusterOracleCalls, nullptr},
         {"opened_clusters", "refine", "clusters",
          "distinct clusters opened by a refused cluster pair", &C::openedClusters, nullptr},
+        {"linking_links", "refine", "links",
+         "links of the initial linking: cluster_links + root_pairs - culled_pairs",
+         &C::linkingLinks, nullptr},
+        {"linking_calls", "refine", "calls",
+         "node pairs the initial linking decides: cluster_oracle_calls + root_pairs",
+         &C::linkingCalls, nullptr},
         {"nodes_per_depth", "tree", "elements", "elements per element depth", nullptr,
          &C::nodesPerDepth},
         {"links_per_depth", "refine", "links", "links per link depth depth_i + depth_j", nullptr,
@@ -119,6 +130,8 @@ json RunToJson(const Scene &scene, const RefineOptions &options, const RunRecord
     out["subdivision"] = SubdivisionName(options.subdivision);
     out["visibility"] = VisibilityName(options.visibility);
     out["clusters"] = options.clusters;
+    out["cluster_bound"] =
+        options.clusters ? json(ClusterBoundName(options.clusterBound)) : json(nullptr);
     out["rays_per_side"] =
         options.visibility == VisibilityMode::None ? json(nullptr) : json(options.raysPerSide);
     for (const CounterInfo &c : CounterTable()) {
@@ -128,6 +141,9 @@ json RunToJson(const Scene &scene, const RefineOptions &options, const RunRecord
             out[c.name] = record.counters.*c.histogram;
     }
     out["seconds"] = record.seconds;
+    out["cpu_seconds"] = record.cpuSeconds;
+    out["linking_seconds"] = record.linkingSeconds ? json(*record.linkingSeconds) : json(nullptr);
+    out["linking_bytes"] = record.linkingBytes;
     return out;
 }
 

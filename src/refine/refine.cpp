@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <functional>
 #include <numeric>
 #include <optional>
@@ -253,6 +254,10 @@ RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const Ref
                              " tasks would exceed the memory budget; raise --max-memory or eps");
     };
     const bool pairsForTasksOnly = PairsForTasksOnly<kStoreLinks>(options);
+    // The initial linking's time: the traversal's, less the refinement it hands down.
+    using Clock = std::chrono::steady_clock;
+    Clock::duration refining{};
+    const Clock::time_point linkingStart = Clock::now();
     traverse([&](uint32_t p, uint32_t q) {
         ++counters.rootPairs;
         if (progress)
@@ -271,8 +276,10 @@ RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const Ref
         }
         Tally before = kernel.tally;
         size_t tasksBefore = pass.tasks.size();
+        Clock::time_point refineStart = Clock::now();
         kernel.Project({p, q, 0, 0}, uint32_t(result.pairs.size()), pass.links, pass.visible,
                        &pass.tasks);
+        refining += Clock::now() - refineStart;
         if (pairsForTasksOnly && pass.tasks.size() == tasksBefore)
             return;
         result.pairs.push_back({p, q, kernel.tally.Links() - before.Links(),
@@ -281,6 +288,8 @@ RefineToTaskDepth(const Patches<Shape> &patches, const Oracle &oracle, const Ref
             pass.pairOrdinal.push_back(counters.rootPairs);
         check(0);
     });
+    result.record.linkingSeconds =
+        std::chrono::duration<double>(Clock::now() - linkingStart - refining).count();
     pass.tally = kernel.tally;
     return pass;
 }
@@ -555,9 +564,11 @@ RootPairTraversal ClusteredRootPairs(const Patches<Shape> &patches, const Refine
             ClusterForm<Oracle> form(options, patches, result.clusters);
             NodeViews<Shape> views(patches, result.clusters);
             ClusterTraversal<Shape, ClusterForm<Oracle>, const RootPairVisit> traversal(
-                result.clusters, views, form, visit,
+                result.clusters, views, form, options.clusterBound, visit,
                 options.storeLinks ? &result.clusterLinks : nullptr);
             traversal.Run(result.record.counters);
+            result.record.linkingBytes = result.clusters.Bytes() + views.Bytes() +
+                                         result.clusterLinks.size() * sizeof(ClusterLink);
         };
     }
 }
@@ -615,19 +626,22 @@ Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options) {
     Refinement<Shape> result{Forest<Shape>({}, SIZE_MAX, options.subdivision),  // set by Dispatch
                              {},
                              {},
-                             {"enumerate", {}, 0, {}, {}},
+                             {"enumerate", {}, 0, {}, {}, 0, {}, 0},
                              {},
                              {},
                              {}};
     auto start = std::chrono::steady_clock::now();
+    std::clock_t cpuStart = std::clock();
     if (options.clusters)
         result.clusters = ClusterTree<Shape>(patches);
     Dispatch(patches, options, SplitBudget<Shape>(EffectiveBudget(options), options), result);
     result.record.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.record.cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
 
     Counters &c = result.record.counters;
     c.maxDepth = c.nodesPerDepth.size() - 1;
+    CountInitialLinking(c);
     return result;
 }
 

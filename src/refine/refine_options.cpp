@@ -9,6 +9,7 @@
 #include "hrbench/oracles/registry.h"
 #include "hrbench/scene.h"
 #include "hrbench/util/error.h"
+#include "util/named.h"
 
 namespace hrbench {
 
@@ -32,6 +33,24 @@ VisibilityMode ParseVisibility(const std::string &name) {
     if (name == "refine")
         return VisibilityMode::Refine;
     throw InputError("unknown visibility mode '" + name + "' (choose none, fraction or refine)");
+}
+
+const std::vector<ClusterBoundInfo> &ClusterBounds() {
+    static const std::vector<ClusterBoundInfo> bounds = {
+        {"cluster", "a link may join two clusters, bounded from both ends' balls",
+         ClusterBound::Cluster},
+        {"patch", "one end of a link above the patches is a patch, bounded from its own ball",
+         ClusterBound::Patch},
+    };
+    return bounds;
+}
+
+ClusterBound ParseClusterBound(const std::string &name) {
+    return FindNamed(ClusterBounds(), name, "cluster bound").bound;
+}
+
+std::string ClusterBoundName(ClusterBound bound) {
+    return NameOf(ClusterBounds(), &ClusterBoundInfo::bound, bound);
 }
 
 void ThrowSafetyDepth(uint64_t p, uint64_t q) {

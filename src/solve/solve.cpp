@@ -324,7 +324,7 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
     std::optional<RadiosityEstimate<Shape>> estimate(std::in_place, std::move(emission));
     bool bf = refine.oracle == "bf";
     int passes = bf ? options.passes.value_or(kDefaultPasses) : 1;
-    double kernelSeconds = 0;
+    double kernelSeconds = 0, kernelCpuSeconds = 0;
 
     for (int pass = 1;; ++pass) {
         // The estimate, with the previous pass's forest, stays in memory all pass long.
@@ -336,7 +336,9 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
         AddTime(result.refine, refineWatch.Elapsed());
         kernelSeconds += refinement.record.seconds;
         result.record = refinement.record;
+        kernelCpuSeconds += refinement.record.cpuSeconds;
         result.record.seconds = kernelSeconds;
+        result.record.cpuSeconds = kernelCpuSeconds;
         result.passes = pass;
         const Counters &counters = refinement.record.counters;
         // Same links and nodes as the pass before: B has settled as far as bf can tell.

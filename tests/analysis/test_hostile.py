@@ -60,10 +60,12 @@ def reproduce_once(tmp_path, claims, engine, capsys, *extra):
 
 
 def one_error_line(err):
+    # The stages' progress lines may come first; the error is one line, the last.
     lines = [line for line in err.strip().splitlines() if not line.startswith("[")]
-    assert len(lines) == 1, err
-    assert lines[0].startswith("error: ") and "Traceback" not in err
-    return lines[0]
+    errors = [line for line in lines if line.startswith("error: ")]
+    assert len(errors) == 1 and lines[-1] == errors[0], err
+    assert "Traceback" not in err
+    return errors[0]
 
 
 # --- Claims files ------------------------------------------------------------------------

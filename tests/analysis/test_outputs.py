@@ -92,9 +92,11 @@ def reproduce_args(claims, engine, results):
 
 
 def one_line(err):
+    # The stages' progress lines may come first; the error is one line, the last.
     lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    return lines[0]
+    assert lines and not any(line.startswith("error: ") for line in lines[:-1]), err
+    assert "Traceback" not in err
+    return lines[-1]
 
 
 CLAIM = """

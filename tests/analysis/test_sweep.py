@@ -209,13 +209,14 @@ def logged_engine(tmp_path, fail_shared=False):
 
 
 def records(store, points):
-    # Every stored record without what differs from run to run (context, time).
+    # Every stored record without what differs from run to run (context, times).
     out = {}
     for p in points:
         stored = store.get(p.key)
         assert stored is not None and stored.ok, stored
         record = json.loads(stored.output)
-        record.pop("context"), record.pop("seconds")
+        for key in ("context", "seconds", "cpu_seconds", "linking_seconds"):
+            record.pop(key)
         out[p.key] = record
     return out
 

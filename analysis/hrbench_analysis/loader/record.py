@@ -23,9 +23,11 @@ COUNTERS = ("nodes", "leaves", "links", "oracle_calls", "max_depth")
 _REQUIRED = COUNTERS
 
 #: Measured top-level fields of a record that are not in the engine's counter table but
-#: that formulas may read like counters: ``patches`` (root patches of the scene, count)
-#: and ``seconds`` (refinement wall time, s).
-MEASURES = ("patches", "seconds")
+#: that formulas may read like counters: ``patches`` (root patches of the scene, count),
+#: ``seconds`` and ``cpu_seconds`` (the refinement's wall and CPU time, s),
+#: ``linking_seconds`` (the initial linking's wall time, s) and ``linking_bytes`` (what
+#: the initial linking keeps, bytes).
+MEASURES = ("patches", "seconds", "cpu_seconds", "linking_seconds", "linking_bytes")
 
 #: Measured fields of an ``hrbench solve --json`` record that the formulas of a claim with
 #: ``command = "solve"`` may read (docs/solve.md): the errors against the dense reference
@@ -45,8 +47,8 @@ SOLVE_MEASURES = ("reference_error_max", "reference_error_mean", "reference_erro
 
 #: The measures that are times (s): they depend on the machine and its load and change
 #: from run to run, where counts and the solution's errors do not.
-TIMES = ("seconds", "seconds_refine", "seconds_coefficients", "seconds_solve",
-         "cpu_seconds_refine", "cpu_seconds_coefficients", "cpu_seconds_solve",
+TIMES = ("seconds", "cpu_seconds", "linking_seconds", "seconds_refine",
+         "seconds_coefficients", "seconds_solve", "cpu_seconds_refine", "cpu_seconds_coefficients", "cpu_seconds_solve",
          "cpu_seconds_reference")
 
 #: Short names a claim formula may use for counters, as in the published statements.
