@@ -31,7 +31,8 @@ const std::set<std::string> kRunContextKeys = {
     "scene_file",      "mesh_file",    "patches",     "dimension",  "eps",
     "oracle",          "ff_estimate",  "method",      "mode",       "min_area",
     "max_depth_limit", "threads",      "subdivision", "visibility", "rays_per_side",
-    "seconds",         "scene_sha256", "clusters"};
+    "seconds",         "scene_sha256", "clusters",    "cluster_bound", "cpu_seconds",
+    "linking_seconds", "linking_bytes"};
 
 }  // namespace
 

@@ -399,6 +399,9 @@ class ClaimData:
         Points not in the store (the sweep did not reach them).
     engine_seconds : float
         Sum of the refinement times reported by the engine (s).
+    alternative : ndarray or None
+        The claim's alternative law of y (key ``alternative``) at every successful
+        point, in the order of `x`; ``None`` without one.
     fitted : ndarray of bool or None
         Which points the fit reads, in the order of `x`: for a claim with the key
         ``plateaus``, one per plateau (:func:`hrbench_analysis.slopes.plateau_ends`); ``None``
@@ -413,6 +416,7 @@ class ClaimData:
     missing: int = 0
     engine_seconds: float = 0.0
     fitted: object = None
+    alternative: object = None
 
 
 def get_claim_data(claim, points, store, counters=None):
@@ -451,6 +455,9 @@ def get_claim_data(claim, points, store, counters=None):
     formulas = [("x", claim.x), ("y", claim.y)]
     if plateaus is not None:
         formulas.append(("plateaus.of", plateaus.of))
+    alternative = getattr(claim, "alternative", None)
+    if alternative is not None:
+        formulas.append(("alternative", alternative))
     for point in points:
         stored = store.get(point.key)
         if stored is None:
@@ -493,15 +500,18 @@ def get_claim_data(claim, points, store, counters=None):
                              "stderr": f"x={x!r}, y={y!r} not positive",
                              "command": command})
             continue
-        rows.append((x, y, point.value, point.series, values.get("plateaus.of")))
+        rows.append((x, y, point.value, point.series, values.get("plateaus.of"),
+                     values.get("alternative")))
     kept = {id(row) for row in _plateau_rows(claim, rows)} if plateaus is not None else None
     rows.sort(key=lambda row: row[:3])
     fitted = None if kept is None else np.array([id(row) in kept for row in rows], dtype=bool)
     arr = np.array([row[:3] for row in rows], dtype=float).reshape(-1, 3)
+    laws = (None if alternative is None else
+            np.array([row[5] for row in rows], dtype=float))
     return ClaimData(value=arr[:, 2], x=arr[:, 0], y=arr[:, 1],
                      series=np.array([row[3] for row in rows], dtype=object),
                      failures=failures, missing=missing, engine_seconds=seconds,
-                     fitted=fitted)
+                     fitted=fitted, alternative=laws)
 
 
 def _plateau_rows(claim, rows):

@@ -70,11 +70,15 @@ class Alternative:
     verdict: str
     low: float
     high: float
+    #: The alternative as a law of the claim's y (key ``alternative``, e.g.
+    #: ``"patches^0.15"``), tilted to by ``y law / x^e``; ``""`` for an exponent of x.
+    law: str = ""
 
     @property
     def text(self):
-        """str: e.g. ``"2.2: refuted [2.181, 2.214]"``."""
-        return f"{self.exponent:g}: {self.verdict} [{self.low:.3f}, {self.high:.3f}]"
+        """str: e.g. ``"2.2: refuted [2.181, 2.214]"``, ``"y ~ patches^0.15: refuted [...]"``."""
+        name = f"y ~ {self.law}" if self.law else f"{self.exponent:g}"
+        return f"{name}: {self.verdict} [{self.low:.3f}, {self.high:.3f}]"
 
 #: The mark of a claim that was not measured (the engine cannot run it); not a verdict.
 SKIPPED = "skipped"
@@ -171,8 +175,9 @@ class Assessment:
             return ("could not have failed on these points: they lie exactly on a power "
                     "law (y / x^e varies by less than 1e-9), an identity of the counting")
         i = self.interval
-        out = [a for a in self.alternatives if not i.low <= a.exponent <= i.high]
-        inside = [a for a in self.alternatives if i.low <= a.exponent <= i.high]
+        powers = [a for a in self.alternatives if not a.law]
+        out = [a for a in powers if not i.low <= a.exponent <= i.high]
+        inside = [a for a in powers if i.low <= a.exponent <= i.high]
         parts = []
         if out:
             parts.append(f"refutes the alternative exponent{'s' if len(out) > 1 else ''} "
@@ -212,7 +217,7 @@ def _verdict_iv(x, y, expected_exponent, tolerance, min_points, min_decades,
 def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
                 min_points=8, min_decades=1.5, window_decades=1.0, theta_band=10.0,
                 step_octaves=1, one_per_step=False, n_boot=2000, seed=None,
-                bound="theta", alternatives=True):
+                bound="theta", alternatives=True, laws=()):
     """Judge whether measured points follow ``y = Theta(x^k)``, or ``y = O(x^k)``.
 
     Parameters
@@ -252,6 +257,9 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
         Bootstrap seed (default :data:`hrbench_analysis.powerlaw.DEFAULT_SEED`).
     alternatives : bool, optional
         Whether to judge the alternatives too (default True; see below).
+    laws : sequence of (str, array_like), optional
+        Further alternatives given as laws of y: a name and the law's value at each point
+        (in the order of `x`), up to a constant factor, judged on ``y law / x^e``.
 
     Returns
     -------
@@ -287,7 +295,9 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
     scatter and staircase, another law), so that the report can say which alternatives
     the claim's test refutes, and whether the claim could have failed. A ``reproduced``
     verdict becomes :data:`UNFALSIFIABLE` when the test also reproduces the points tilted
-    to an alternative, or when the points lie exactly on a power law.
+    to an alternative, or when the points lie exactly on a power law. A law of `laws`
+    is an alternative that is not a power of x, such as ``k^1.15`` where ``O(k log k)``
+    is claimed and x is ``log k``.
     """
     if bound not in ("theta", "upper"):
         raise ValueError(f"bound must be 'theta' or 'upper', not {bound!r}")
@@ -295,6 +305,7 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
                    window_decades=window_decades, theta_band=theta_band,
                    step_octaves=step_octaves, one_per_step=one_per_step, n_boot=n_boot,
                    seed=seed, bound=bound)
+    order = np.argsort(np.asarray(x, dtype=float).ravel(), kind="stable")
     result = _judge(x, y, expected_exponent, tolerance, **options)
     if not alternatives or result.fit is None:
         return result
@@ -308,6 +319,13 @@ def get_verdict(x, y, expected_exponent, tolerance, *, x_min=None, x_max=None,
         low, high = ((other.interval.low, other.interval.high) if other.interval
                      else (math.nan, math.nan))
         result.alternatives.append(Alternative(round(a, 12), other.verdict, low, high))
+    for law, values in laws:
+        shape = np.asarray(values, dtype=float).ravel()[order]
+        tilted = result.y * shape / result.x ** e
+        other = _judge(result.x, tilted, k, tol, **options)
+        low, high = ((other.interval.low, other.interval.high) if other.interval
+                     else (math.nan, math.nan))
+        result.alternatives.append(Alternative(math.nan, other.verdict, low, high, law))
     ratio = result.y[result.in_regime] / result.x[result.in_regime] ** e
     result.exact = bool(ratio.max() / ratio.min() - 1 <= EXACT_SPREAD)
     if result.verdict == "reproduced" and not result.can_fail:
@@ -466,7 +484,7 @@ def assess_claim(claim, data, n_boot=2000):
             window_decades=claim.window_decades, theta_band=claim.theta_band,
             step_octaves=claim.step_octaves,
             one_per_step=getattr(claim, "plateaus", None) is not None, n_boot=n_boot,
-            bound=getattr(claim, "bound", "theta"))
+            bound=getattr(claim, "bound", "theta"), laws=_laws(claim, data, fitted))
     if not getattr(claim, "published", True) and result.interval is not None:
         # Nothing published to judge against: report the fit, and what the hypothesis
         # of the claims file would have been judged.
@@ -501,6 +519,15 @@ def assess_claim(claim, data, n_boot=2000):
         result.notes.append(note)
         result.reason += f"; {note}"
     return result
+
+
+def _laws(claim, data, fitted):
+    # The claim's alternative law of y (key `alternative`) at its fitted points, if any.
+    law = getattr(claim, "alternative", None)
+    values = getattr(data, "alternative", None)
+    if law is None or values is None:
+        return ()
+    return ((law.text, values if fitted is None else values[fitted]),)
 
 
 def skipped_assessment(claim, reason):

@@ -72,11 +72,13 @@ class TestVerdicts:
         assert r["ratio"] == pytest.approx(math.exp(statistics.median(map(math.log, ratios))))
 
     def test_identical_commands_are_no_significant_change(self, capsys):
-        # alpha 0.001: a false alarm on identical commands has probability <= 0.1%.
+        # alpha 0.001: a false alarm on identical commands has probability <= 0.1%. On a
+        # loaded machine the interval may be too wide to call (inconclusive, exit 3):
+        # that is no alarm either; a change in either direction would be one.
         code, r = compare(capsys, "--base", loop(N // 2), "--head", loop(N // 2),
                           "--rounds", "12", "--alpha", "0.001", "--threshold", "0.5")
-        assert code == 0 and r["verdict"] == NO_CHANGE and r["overall"] == "PASS", r
-        assert r["ci_low"] <= 1 <= r["ci_high"]
+        assert (code, r["verdict"]) in ((0, NO_CHANGE), (3, "inconclusive")), r
+        assert r["ci_low"] is None or r["ci_low"] <= 1 <= r["ci_high"], r
 
     def test_cpu_time_of_children_it_waited_for_is_counted(self, capsys):
         # Two loops in background subshells, each waited for: about twice the CPU time of

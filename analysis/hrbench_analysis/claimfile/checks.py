@@ -366,6 +366,8 @@ def check_names(claim, counters, scene_params=()):
     formulas = [("x", claim.x), ("y", claim.y)]
     if claim.plateaus is not None:
         formulas.append(("plateaus.of", claim.plateaus.of))
+    if claim.alternative is not None:
+        formulas.append(("alternative", claim.alternative))
     for key, expr in formulas:
         unknown = expr.names - known
         if unknown:

@@ -370,6 +370,10 @@ class ClaimMeasure:
     chart : str or None
         Name of the report chart the claim is drawn in; claims with the same name share
         one chart. By default claims share a chart when they measure the same x and y.
+    alternative : Expression or None
+        A law of y that the claim's test must refute, up to a constant factor (key
+        ``alternative``): the measured points tilted to it (``y law / x^e``) are judged
+        by the same test (:func:`hrbench_analysis.verdict.get_verdict`).
     plateaus : Plateaus or None
         Fit one point per plateau of a staircase instead of every point (key
         ``plateaus``).
@@ -381,6 +385,7 @@ class ClaimMeasure:
     y_label: str
     chart: object = None
     plateaus: object = None
+    alternative: object = None
 
 
 @dataclass

@@ -225,7 +225,7 @@ def _parse_claim(raw, index, path, loc, source_key, citation, quoted):
         description=raw.get("description", ""), path=str(path),
         line=loc.claim_line(index) or 0,
         key_lines={key: loc.key_line(index, key)
-                   for key in ("x", "y", "eps", *(f"params.{name}" for name in run.params),
+                   for key in ("x", "y", "alternative", "eps", *(f"params.{name}" for name in run.params),
                                *(f"sweep.{mode}" for mode in (*MODES, "range", "grid")
                                  if mode in sweep))},
         range_keys=range_keys)
@@ -405,7 +405,9 @@ def _measure_iv(raw, step_octaves, want, fail):
     # What to measure: x and y (the names they read are checked by check_names), their
     # labels, the chart and the plateaus of a staircase.
     exprs = {}
-    for key in ("x", "y"):
+    for key in ("x", "y", "alternative"):
+        if key == "alternative" and key not in raw:
+            continue
         want(key, "str")
         try:
             exprs[key] = Expression(raw[key])
@@ -422,7 +424,8 @@ def _measure_iv(raw, step_octaves, want, fail):
 
     return ClaimMeasure(
         x=exprs["x"], y=exprs["y"], x_label=raw.get("x_label", raw["x"]),
-        y_label=raw.get("y_label", raw["y"]), chart=raw.get("chart"), plateaus=plateaus)
+        y_label=raw.get("y_label", raw["y"]), chart=raw.get("chart"), plateaus=plateaus,
+        alternative=exprs.get("alternative"))
 
 
 def load_claims_dir(directory):
