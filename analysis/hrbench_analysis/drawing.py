@@ -15,15 +15,20 @@ As in :mod:`hrbench_analysis.plots`, nothing here creates a pyplot figure or pic
 import math
 
 import numpy as np
-from matplotlib.colors import Normalize
+from matplotlib.cm import ScalarMappable
+from matplotlib.colors import ListedColormap, Normalize
 from matplotlib.figure import Figure
-from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
 from .raster import CORNELL_CAMERA, _require_3d, rasterise
 
 __all__ = [
     "default_exposure",
     "srgb_encode",
+    "display_tint",
+    "emitter_label",
     "render_image",
     "render_figure",
     "plot_radiosity_profile",
@@ -37,6 +42,12 @@ MESH_SHADE = 0.3
 
 #: Radiosity value (after exposure) that the default exposure gives the 99th percentile.
 EXPOSURE_TARGET = 0.8
+
+#: Colour of the outline that marks the emitters (the lamp) in a picture.
+EMITTER_MARK = "tab:cyan"
+
+#: Most materials a rendered figure's legend names (the most seen first).
+LEGEND_MATERIALS = 6
 
 
 # ---------------------------------------------------------------------------------------
@@ -59,6 +70,49 @@ def srgb_encode(linear):
     """
     v = np.clip(np.asarray(linear, dtype=float), 0.0, 1.0)
     return np.where(v <= 0.0031308, 12.92 * v, 1.055 * v ** (1 / 2.4) - 0.055)
+
+
+def display_tint(solution):
+    """Each leaf's colour scaled to a mean of 1: the factor on its radiosity per channel.
+
+    The solve is monochrome: off the emitters ``B = rho H``, the reflectance ``rho``
+    being the mean of the material's colour where the scene gives one. A channel of
+    reflectance ``c_k`` under the same irradiance ``H`` sends ``c_k H = B c_k / rho``, so
+    a leaf drawn with ``B`` times its tint shows its material's hue, and the mean of its
+    red, green and blue is its radiosity. A leaf without a colour of its own is grey
+    (the Cornell box's lamp, which shows white).
+
+    Parameters
+    ----------
+    solution : Solution
+
+    Returns
+    -------
+    tint : ndarray of float, shape (n, 3)
+        ``colour / mean(colour)`` per leaf (dimensionless); grey ``(1, 1, 1)`` for a
+        black colour.
+    """
+    mean = solution.colour.mean(axis=1, keepdims=True)
+    safe = np.where(mean > 0, mean, 1.0)
+    return np.where(mean > 0, solution.colour / safe, 1.0)
+
+
+def emitter_label(solution, leaves):
+    """A legend label for the emitters among `leaves` (indices), or None if none emits.
+
+    Returns
+    -------
+    label : str or None
+        E.g. ``"emitter (lamp), E = 11 units of emission"``, with the range of E where
+        the emitters differ.
+    """
+    emission = solution.emission[np.asarray(leaves, dtype=np.int64)]
+    emission = emission[emission > 0]
+    if not emission.size:
+        return None
+    low, high = float(emission.min()), float(emission.max())
+    value = f"E = {low:.3g}" if np.isclose(low, high) else f"E = {low:.3g} to {high:.3g}"
+    return f"emitter (lamp), {value} units of emission"
 
 
 def default_exposure(solution, ids):
@@ -88,7 +142,7 @@ def default_exposure(solution, ids):
 
 def render_image(solution, *, camera=CORNELL_CAMERA, size=(512, 512), mesh=False,
                  exposure=None):
-    """Render a 3D solution: each leaf in its colour times its radiosity.
+    """Render a 3D solution: each leaf in its material's hue at its radiosity.
 
     Parameters
     ----------
@@ -109,7 +163,8 @@ def render_image(solution, *, camera=CORNELL_CAMERA, size=(512, 512), mesh=False
     Returns
     -------
     image : ndarray of float, shape (height, width, 3)
-        sRGB display values in [0, 1]: ``srgb_encode(colour * radiosity * exposure)``,
+        sRGB display values in [0, 1]:
+        ``srgb_encode(display_tint * radiosity * exposure)`` (:func:`display_tint`),
         black where no leaf is seen.
 
     Raises
@@ -117,6 +172,11 @@ def render_image(solution, *, camera=CORNELL_CAMERA, size=(512, 512), mesh=False
     ValueError
         For a 2D solution, or an exposure that is not a positive finite number.
     """
+    return _render(solution, camera, size, mesh, exposure)[0]
+
+
+def _render(solution, camera, size, mesh, exposure):
+    # render_image's image, with the leaf seen at each pixel and the exposure taken.
     ids, _ = rasterise(solution, camera=camera, size=size)
     if exposure is None:
         exposure = default_exposure(solution, ids)
@@ -126,19 +186,19 @@ def render_image(solution, *, camera=CORNELL_CAMERA, size=(512, 512), mesh=False
     seen = ids >= 0
     linear = np.zeros(ids.shape + (3,))
     leaf = ids[seen]
-    linear[seen] = solution.colour[leaf] * (solution.radiosity[leaf] * exposure)[:, None]
+    linear[seen] = display_tint(solution)[leaf] * (solution.radiosity[leaf] * exposure)[:, None]
     image = srgb_encode(linear)
     if mesh:
         edge = np.zeros(ids.shape, dtype=bool)
         edge[:, :-1] |= ids[:, :-1] != ids[:, 1:]
         edge[:-1, :] |= ids[:-1, :] != ids[1:, :]
         image[edge] *= MESH_SHADE
-    return image
+    return image, ids, exposure
 
 
 def render_figure(solution, *, mesh=False, title="", camera=CORNELL_CAMERA, size=(512, 512),
                   exposure=None):
-    """A figure of the rendered image, for the report.
+    """A figure of the rendered image, for the report, with what its colours mean.
 
     Parameters
     ----------
@@ -154,11 +214,22 @@ def render_figure(solution, *, mesh=False, title="", camera=CORNELL_CAMERA, size
     Returns
     -------
     fig : matplotlib.figure.Figure
-        One Axes with the image at one figure pixel per image pixel (100 dpi), no ticks.
+        The image (first Axes, no ticks, about one figure pixel per image pixel at 100
+        dpi) with a colour bar of the radiosity B: the grey a surface of grey colour
+        shows at B (a coloured one shows its hue at the same mean of red, green and
+        blue), extended where brighter leaves are seen. The emitters seen are outlined
+        in :data:`EMITTER_MARK`; a legend below names them and the materials seen
+        (their colour and reflectance, at most :data:`LEGEND_MATERIALS`, the most seen
+        first).
     """
-    image = render_image(solution, camera=camera, size=size, mesh=mesh, exposure=exposure)
+    image, ids, exposure = _render(solution, camera, size, mesh, exposure)
     height, width = image.shape[:2]
-    fig = Figure(figsize=(max(width / 100, 2.0), max(height / 100, 2.0) + 0.4 * bool(title)),
+    leaves, pixels = np.unique(ids[ids >= 0], return_counts=True)
+    materials = _materials_seen(solution, leaves, pixels)
+    lamp = emitter_label(solution, leaves)
+    rows = -(-(len(materials) + bool(lamp)) // 2)
+    fig = Figure(figsize=(max(width / 100, 2.0) + 1.2,
+                          max(height / 100, 2.0) + 0.4 * bool(title) + 0.25 * rows + 0.1),
                  layout="constrained")
     ax = fig.add_subplot()
     ax.imshow(image, interpolation="nearest")
@@ -166,7 +237,38 @@ def render_figure(solution, *, mesh=False, title="", camera=CORNELL_CAMERA, size
     ax.set_yticks([])
     if title:
         ax.set_title(title, fontsize=10)
+    # The grey ramp as render_image draws it: B * exposure through the sRGB curve.
+    ramp = ListedColormap(np.repeat(srgb_encode(np.linspace(0, 1, 256))[:, None], 3, axis=1))
+    brighter = bool(leaves.size) and solution.radiosity[leaves].max() * exposure > 1
+    bar = fig.colorbar(ScalarMappable(Normalize(0.0, 1.0 / exposure), ramp), ax=ax,
+                       shrink=0.8, extend="max" if brighter else "neither")
+    bar.set_label("radiosity B (units of emission)")
+    handles = [Patch(facecolor=srgb_encode(colour), edgecolor="0.5",
+                     label=f"reflectance {rho:.2f}, RGB {' '.join(f'{c:.2f}' for c in colour)}")
+               for colour, rho in materials]
+    if lamp:
+        emitting = (ids >= 0) & (solution.emission[np.maximum(ids, 0)] > 0)
+        ax.contour(emitting.astype(float), levels=[0.5], colors=[EMITTER_MARK],
+                   linewidths=1.5)
+        handles.append(Line2D([], [], color=EMITTER_MARK, lw=1.5,
+                              label=f"{lamp} (outlined)"))
+    if handles:
+        fig.legend(handles=handles, loc="outside lower center", ncols=2, fontsize=8,
+                   title="hue: the surface's colour; brightness: its radiosity",
+                   title_fontsize=8)
     return fig
+
+
+def _materials_seen(solution, leaves, pixels):
+    """The distinct (colour, reflectance) of the non-emitting `leaves`, most pixels first."""
+    area = {}
+    for leaf, count in zip(leaves, pixels, strict=True):
+        if solution.emission[leaf] == 0:
+            key = (tuple(float(c) for c in solution.colour[leaf]),
+                   float(solution.reflectance[leaf]))
+            area[key] = area.get(key, 0) + int(count)
+    ranked = sorted(area, key=lambda key: -area[key])
+    return ranked[:LEGEND_MATERIALS]
 
 
 # ---------------------------------------------------------------------------------------
@@ -320,7 +422,9 @@ def plot_solution_3d(ax, solution, *, cmap="inferno", norm=None, edges=True, fac
     -------
     collection : mpl_toolkits.mplot3d.art3d.Poly3DCollection
         Pass it to ``Figure.colorbar`` for the scale. The axes span the corners' box
-        with equal scale on x, y and z (scene units).
+        with equal scale on x, y and z (scene units). The emitting leaves are outlined
+        in :data:`EMITTER_MARK` over everything, whichever way they face, by a line
+        collection labelled with :func:`emitter_label` (``ax.legend()`` names it).
 
     Notes
     -----
@@ -342,6 +446,15 @@ def plot_solution_3d(ax, solution, *, cmap="inferno", norm=None, edges=True, fac
         edgecolor=(0, 0, 0, 0.25) if edges else "face", linewidth=0.2 if edges else 0)
     collection.set_array(solution.radiosity[shown])
     ax.add_collection3d(collection)
+    # The lamp of a room seen from above faces away and is left out; a reader still
+    # looks for it, so it is outlined on top (drawn in the order added, not by depth).
+    lamps = np.flatnonzero(solution.emission > 0)
+    if lamps.size:
+        rings = [np.vstack([p, p[:1]]) for p in
+                 (solution.corners[i, :solution.n_corners[i]] for i in lamps)]
+        ax.add_collection3d(Line3DCollection(rings, colors=EMITTER_MARK, linewidths=1.5,
+                                             label=emitter_label(solution, lamps)))
+        ax.computed_zorder = False
     low = np.nanmin(solution.corners, axis=(0, 1))
     high = np.nanmax(solution.corners, axis=(0, 1))
     # A flat scene keeps a thin box: mplot3d cannot scale an axis of zero extent.

@@ -219,9 +219,13 @@ def plot_slopes(ax, local=None, windows=None, *, expected=None, tolerance=None,
     ax.set_ylabel("local exponent d log y / d log x (dimensionless)")
 
 
-def plot_ratio(ax, x, ratio, *, in_regime=None, band=None, x_label="x",
+def plot_ratio(ax, x, ratio, *, in_regime=None, band=None, max_band=None, x_label="x",
                ratio_label="y / x^k"):
     """Draw the Theta check: the ratio ``y / x^k`` against x.
+
+    Every element is named in the legend: the ratio's points in the regime (filled) and
+    outside it (hollow), and the band of the regime's points, two dashed lines at their
+    smallest and largest ratio.
 
     Parameters
     ----------
@@ -232,6 +236,9 @@ def plot_ratio(ax, x, ratio, *, in_regime=None, band=None, x_label="x",
         Points in the regime are drawn filled, the others hollow.
     band : float, optional
         The band ``max/min`` over the regime, shown in the legend.
+    max_band : float, optional
+        The widest band that counts as bounded (the check's ``max_band``), shown in the
+        legend.
     x_label : str, optional
         Label of the x axis, with its unit.
     ratio_label : str, optional
@@ -245,13 +252,17 @@ def plot_ratio(ax, x, ratio, *, in_regime=None, band=None, x_label="x",
     x = np.asarray(x, dtype=float)
     ratio = np.asarray(ratio, dtype=float)
     mask = np.ones(x.size, dtype=bool) if in_regime is None else np.asarray(in_regime, bool)
-    label = "ratio in the regime" + ("" if band is None else f" (max/min {band:.2f})")
-    ax.plot(x[mask], ratio[mask], "o", ms=4, color="C2", label=label)
+    ax.plot(x[mask], ratio[mask], "o", ms=4, color="C2", label="ratio in the regime")
     if (~mask).any():
         ax.plot(x[~mask], ratio[~mask], "o", ms=4, mfc="none", color="C2",
-                label="outside the regime")
+                label="ratio outside the regime")
     if mask.any():
-        ax.axhline(ratio[mask].max(), color="0.5", lw=0.8, ls="--")
+        label = "the regime's band (min, max)"
+        if band is not None:
+            label += f": max/min {band:.2f}"
+        if max_band is not None:
+            label += f", bounded if at most {max_band:g}"
+        ax.axhline(ratio[mask].max(), color="0.5", lw=0.8, ls="--", label=label)
         ax.axhline(ratio[mask].min(), color="0.5", lw=0.8, ls="--")
     ax.set_xscale("log")
     if ratio.max() > 10 * ratio.min():

@@ -180,6 +180,8 @@ def _render_main(argv):
         bar = fig.colorbar(collection, ax=ax, shrink=0.7,
                            extend="max" if solution.radiosity.max() > top else "neither")
         bar.set_label("radiosity B (units of emission)")
+        if solution.emission.any():
+            ax.legend(loc="upper left", fontsize=8)
     ax.set_title(title, fontsize=10)
     write_files([*([(args.csv, csv_bytes)] if args.csv else []), (args.out, figure_png(fig))])
     print(f"{args.out}: {title}")

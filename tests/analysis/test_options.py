@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 from hrbench_analysis import __version__
 from hrbench_analysis.claimfile import ClaimsFileError, SweepRange, load_claims, missing_capability
 from hrbench_analysis.engine import engine_version, format_number, get_capabilities, option_argv
-from hrbench_analysis.plots import PowerLawSeries, plot_power_law_comparison
+from hrbench_analysis.plots import PowerLawSeries, plot_power_law_comparison, plot_ratio
 from hrbench_analysis.reproduce import check_claims, main
 from hrbench_analysis.store import ResultStore
 from hrbench_analysis.store_points import PointKey, StoredPoint
@@ -229,6 +229,30 @@ def test_options_are_shown_in_the_report(tmp_path, fake_hrbench, capsys):
     assert "options `--method translation --threads 2`" in md
     obj = json.loads((results / "claims.json").read_text())["claims"][0]
     assert obj["options"] == {"method": "translation", "threads": 2}
+
+
+def test_theta_panel_names_the_points_and_the_band_in_its_legend():
+    x = np.logspace(1, 4, 12)
+    ratio = 2 + 0.3 * np.sin(np.arange(12))
+    regime = x > 30
+    band = ratio[regime].max() / ratio[regime].min()
+    ax = Figure().add_subplot()
+    plot_ratio(ax, x, ratio, in_regime=regime, band=band, max_band=10, ratio_label="L / N^2")
+    labels = [t.get_text() for t in ax.legend().get_texts()]
+    assert labels == ["ratio in the regime", "ratio outside the regime",
+                      f"the regime's band (min, max): max/min {band:.2f}, bounded if at "
+                      "most 10"]
+    # The band's two dashed lines lie at the regime's extreme ratios, one of them named.
+    dashed = [line for line in ax.get_lines() if line.get_linestyle() == "--"]
+    assert sorted(line.get_ydata()[0] for line in dashed) == pytest.approx(
+        [ratio[regime].min(), ratio[regime].max()])
+    assert sum(not line.get_label().startswith("_") for line in dashed) == 1
+    # Without the check's numbers the band is still named; without points outside the
+    # regime, they are not.
+    ax = Figure().add_subplot()
+    plot_ratio(ax, x, ratio)
+    assert [t.get_text() for t in ax.legend().get_texts()] == [
+        "ratio in the regime", "the regime's band (min, max)"]
 
 
 def test_comparison_plot_draws_series_and_reference_slopes():

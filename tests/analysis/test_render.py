@@ -5,11 +5,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from matplotlib.colors import to_rgb
 from matplotlib.figure import Figure
 from matplotlib.image import imread
 
 from hrbench_analysis.drawing import (
+    EMITTER_MARK,
+    LEGEND_MATERIALS,
     MESH_SHADE,
+    display_tint,
+    emitter_label,
     plot_radiosity_profile,
     plot_solution_3d,
     radiosity_scale,
@@ -45,6 +50,12 @@ def pixel_of(x, y, z, size=SIZE):
 
 def srgb(v):
     return 12.92 * v if v <= 0.0031308 else 1.055 * v ** (1 / 2.4) - 0.055
+
+
+def shown(colour, level):
+    """The display value of a leaf of `colour` at radiosity times exposure `level`."""
+    mean = sum(colour) / 3
+    return [srgb(min(c / mean * level, 1.0)) for c in colour]
 
 
 def leaf_3d(element, corners, *, colour=(1.0, 1.0, 1.0), b=1.0, emission=0.0, root=None,
@@ -184,11 +195,11 @@ def two_squares(tmp_path, near_first):
 @pytest.mark.parametrize("near_first", [False, True])
 def test_z_buffer_shows_the_nearer_square(tmp_path, near_first):
     sol = two_squares(tmp_path, near_first)
-    image = render_image(sol, camera=CAMERA, size=SIZE, exposure=1.0)
+    image = render_image(sol, camera=CAMERA, size=SIZE, exposure=0.5)
     assert image.shape == (SIZE[1], SIZE[0], 3)
     assert image.min() >= 0 and image.max() <= 1
-    near_colour = [srgb(v) for v in NEAR["colour"]]
-    far_colour = [srgb(v) for v in FAR["colour"]]
+    near_colour = shown(NEAR["colour"], 0.5)
+    far_colour = shown(FAR["colour"], 0.5)
     # On the near square, in front of the far one.
     overlap = pixel_of(0.5, 0.0, -1.0)
     assert image[overlap] == pytest.approx(near_colour)
@@ -228,17 +239,35 @@ def test_an_emitter_wins_a_tie_with_a_coplanar_surface(tmp_path, lamp_first):
 
 
 def test_exposure_and_srgb_on_one_pixel(tmp_path):
-    rows = [leaf_3d(0, square(-1, 1, -1, 1, 0), colour=(0.5, 0.25, 0.001), b=2.0)]
+    # Colour mean 0.3: the tint colour / 0.3 is (2, 0.996, 0.004), the hue kept and the
+    # mean of the channels the radiosity.
+    rows = [leaf_3d(0, square(-1, 1, -1, 1, 0), colour=(0.6, 0.2988, 0.0012), b=2.0)]
     sol = read_solution(write(tmp_path, HEADER_3D, rows))
-    image = render_image(sol, camera=CAMERA, size=SIZE, exposure=0.5)
-    # colour * B * exposure = (0.5, 0.25, 0.001), then the piecewise sRGB curve by hand:
-    # 1.055 * 0.5^(1/2.4) - 0.055, 1.055 * 0.25^(1/2.4) - 0.055, 12.92 * 0.001.
-    assert image[pixel_of(0, 0, 0)] == pytest.approx([0.735357, 0.537099, 0.01292], abs=1e-6)
+    image = render_image(sol, camera=CAMERA, size=SIZE, exposure=0.125)
+    # tint * B * exposure = (0.5, 0.249, 0.001), then the piecewise sRGB curve by hand:
+    # 1.055 * 0.5^(1/2.4) - 0.055, 1.055 * 0.249^(1/2.4) - 0.055, 12.92 * 0.001.
+    assert image[pixel_of(0, 0, 0)] == pytest.approx(
+        [0.735357, 1.055 * 0.249 ** (1 / 2.4) - 0.055, 0.01292], abs=1e-6)
     # Over-exposed: clipped to white before the transfer curve.
     image = render_image(sol, camera=CAMERA, size=SIZE, exposure=4.0)
-    assert image[pixel_of(0, 0, 0)] == pytest.approx([1.0, 1.0, srgb(0.008)])
+    assert image[pixel_of(0, 0, 0)] == pytest.approx([1.0, 1.0, srgb(0.032)])
     with pytest.raises(ValueError, match="exposure"):
         render_image(sol, camera=CAMERA, size=SIZE, exposure=0.0)
+
+
+def test_a_leaf_keeps_its_hue_and_its_channels_average_its_radiosity(tmp_path):
+    # A red and a grey leaf at the same radiosity: as bright on average, in their hues;
+    # a black colour is drawn grey.
+    red, grey, black = (0.6, 0.06, 0.09), (0.4, 0.4, 0.4), (0.0, 0.0, 0.0)
+    rows = [leaf_3d(0, square(0.2, 1, -1, 1, 0), colour=red, b=1.0),
+            leaf_3d(1, square(-1, -0.2, -1, 0, 0), colour=grey, b=1.0),
+            leaf_3d(2, square(-1, -0.2, 0, 1, 0), colour=black, b=1.0)]
+    sol = read_solution(write(tmp_path, HEADER_3D, rows))
+    np.testing.assert_allclose(display_tint(sol), [[2.4, 0.24, 0.36], [1, 1, 1], [1, 1, 1]])
+    image = render_image(sol, camera=CAMERA, size=SIZE, exposure=0.3)
+    assert image[pixel_of(0.6, 0, 0)] == pytest.approx([srgb(0.72), srgb(0.072), srgb(0.108)])
+    assert image[pixel_of(-0.6, -0.5, 0)] == pytest.approx([srgb(0.3)] * 3)
+    assert image[pixel_of(-0.6, 0.5, 0)] == pytest.approx([srgb(0.3)] * 3)
 
 
 def test_default_exposure_maps_visible_non_emitters_to_0_8(tmp_path):
@@ -331,16 +360,66 @@ def test_render_refuses_2d(tmp_path):
 
 def test_render_figure(tmp_path):
     sol = two_squares(tmp_path, near_first=False)
-    fig = render_figure(sol, mesh=True, title="two squares")
+    fig = render_figure(sol, mesh=True, title="two squares", camera=CAMERA)
     assert isinstance(fig, Figure)
-    (ax,) = fig.axes
+    ax, bar = fig.axes
     (im,) = ax.get_images()
     assert im.get_array().shape == (512, 512, 3)
     assert list(ax.get_xticks()) == [] and list(ax.get_yticks()) == []
     assert ax.get_title() == "two squares"
+    # A colour bar of the radiosity, its grey the one a grey leaf shows at each value.
+    assert bar.get_ylabel() == "radiosity B (units of emission)"
+    scale = bar._colorbar.mappable  # the Colorbar of its Axes
+    top = scale.norm.vmax
+    assert scale.to_rgba(top / 4)[:3] == pytest.approx([srgb(0.25)] * 3, abs=0.01)
+    assert scale.to_rgba(top)[:3] == pytest.approx([1, 1, 1])
+    # The legend names each material seen (no emitter here): hue, then brightness.
+    (legend,) = fig.legends
+    labels = [t.get_text() for t in legend.get_texts()]
+    # The far square, larger on screen, first.
+    assert labels == ["reflectance 0.50, RGB 0.20 0.40 0.80",
+                      "reflectance 0.50, RGB 0.90 0.60 0.10"]
+    assert "hue" in legend.get_title().get_text()
     buf = io.BytesIO()
     fig.savefig(buf, format="png")
     assert buf.getvalue().startswith(b"\x89PNG")
+
+
+def test_render_figure_outlines_the_lamp_and_extends_the_bar(tmp_path):
+    # A grey ceiling at B = 1 around a lamp at B = 50: the lamp off the top of the bar,
+    # outlined and named with its emission.
+    rows = [leaf_3d(0, square(-1, 1, -1, 1, 0), colour=(0.5, 0.5, 0.5), b=1.0),
+            leaf_3d(1, square(-0.3, 0.3, -0.3, 0.3, 0), b=50.0, emission=50.0)]
+    sol = read_solution(write(tmp_path, HEADER_3D, rows))
+    fig = render_figure(sol, camera=CAMERA, size=SIZE)
+    ax, bar = fig.axes
+    assert bar.get_ylabel() == "radiosity B (units of emission)"
+    # The default exposure maps the ceiling's B = 1 to 0.8: the bar tops at 1.25.
+    assert bar.get_ylim()[1] == pytest.approx(1.25)
+    assert bar._colorbar.extend == "max"  # the Colorbar of its Axes
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert labels == ["reflectance 0.50, RGB 0.50 0.50 0.50",
+                      "emitter (lamp), E = 50 units of emission (outlined)"]
+    assert emitter_label(sol, [0]) is None
+    # The outline: one contour around the lamp's pixels, in the emitter's mark.
+    (contour,) = [c for c in ax.get_children() if hasattr(c, "levels")]
+    assert contour.get_edgecolor()[0][:3] == pytest.approx(to_rgb(EMITTER_MARK))
+    path = np.concatenate([p.vertices for p in contour.get_paths()])
+    ids, _ = rasterise(sol, camera=CAMERA, size=SIZE)
+    rows_, cols = np.nonzero(ids == 1)
+    assert path[:, 0].min() == pytest.approx(cols.min() - 0.5, abs=0.6)
+    assert path[:, 1].max() == pytest.approx(rows_.max() + 0.5, abs=0.6)
+
+
+def test_render_figure_names_the_most_seen_materials_only(tmp_path):
+    # More materials than the legend holds: the largest on screen are named.
+    rows = [leaf_3d(k, square(-1 + 0.2 * k, -0.8 + 0.2 * k, -1, -1 + 0.03 * k * k, 0),
+                    colour=(0.1 * k, 0.05, 0.05)) for k in range(1, 9)]
+    sol = read_solution(write(tmp_path, HEADER_3D, rows))
+    fig = render_figure(sol, camera=CAMERA, size=SIZE)
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert len(labels) == LEGEND_MATERIALS
+    assert labels[0].endswith("RGB 0.80 0.05 0.05")   # the tallest leaf
 
 
 # ---------------------------------------------------------------------------------------
@@ -455,6 +534,34 @@ def test_plot_solution_3d_colours_by_radiosity_and_culls_back_faces(tmp_path):
     assert list(from_below.get_array()) == [0.75]
 
 
+def test_plot_solution_3d_outlines_the_lamp_even_facing_away(tmp_path):
+    # A floor facing up and a lamp above it facing down, seen from above: the lamp is
+    # culled but outlined, and the legend names it.
+    path = tmp_path / "s.csv"
+    path.write_text("\n".join([HEADER_3D,
+                               leaf_3d(0, square(0, 2, 0, 1, 0), b=0.25),
+                               leaf_3d(1, square(0.5, 1, 0.25, 0.75, 1)[::-1], b=7.0,
+                                       emission=7.0)]))
+    solution = read_solution(path)
+    fig = Figure()
+    ax = fig.add_subplot(projection="3d")
+    shown = plot_solution_3d(ax, solution, facing=(0.0, 0.0, 1.0))
+    assert list(shown.get_array()) == [0.25]
+    (outline,) = [c for c in ax.collections if c is not shown]
+    assert outline.get_label() == "emitter (lamp), E = 7 units of emission"
+    assert outline.get_color()[0][:3] == pytest.approx(to_rgb(EMITTER_MARK))
+    fig.draw_without_rendering()  # projects the 3D lines to the screen
+    (ring,) = outline.get_segments()
+    assert len(ring) == 5 and ring[0] == pytest.approx(ring[-1])  # four corners, closed
+    (text,) = ax.legend().get_texts()
+    assert text.get_text() == outline.get_label()
+    # Without an emitter there is nothing to outline.
+    ax = Figure().add_subplot(projection="3d")
+    plot_solution_3d(ax, read_solution(write(tmp_path, HEADER_3D, [leaf_3d(0, square(
+        0, 1, 0, 1, 0))], "dark.csv")))
+    assert len(ax.collections) == 1
+
+
 @pytest.mark.parametrize("elev, azim, up", [(30, -60, "z"), (15, 155, "y"), (-20, 40, "x"),
                                             (0, 180, "y")])
 def test_view_direction_is_mplot3d_s_line_of_sight(elev, azim, up):
@@ -513,6 +620,43 @@ def test_render_the_cornell_box_from_its_open_side(tmp_path, capsys):
     assert code == 0, err
     assert imread(out).shape == (750, 900, 4)
     assert printed.startswith(f"{out}: cornell, garmann, eps 0.5: ")
+
+
+@needs_engine
+def test_the_cornell_box_shows_its_lamp_brightest_and_its_walls_red_and_green(tmp_path):
+    # The family's own scene through the engine: its materials reach the picture.
+    from hrbench_analysis.solution import solve_to_csv
+
+    path = tmp_path / "cornell.csv"
+    solve_to_csv(str(HRBENCH), "cornell", {}, 0.5, "garmann", {}, path, min_area=0.05)
+    sol = read_solution(path)
+    x, y, z = sol.centre.T
+    lamp = (np.isclose(y, 0.5488) & (0.213 < x) & (x < 0.343) & (0.227 < z) & (z < 0.332))
+    assert lamp.any() and (sol.emission[lamp] > 0).all() and (sol.emission[~lamp] == 0).all()
+    size = (128, 128)
+    image = render_image(sol, size=size)
+    ids, _ = rasterise(sol, size=size)
+    seen = ids >= 0
+    at_lamp = seen & lamp[np.maximum(ids, 0)]
+    assert at_lamp.sum() > 10
+    # The lamp is white, and no other surface is as bright on average.
+    brightness = image.mean(axis=2)
+    np.testing.assert_allclose(image[at_lamp], 1.0)
+    assert brightness[seen & ~at_lamp].max() < 1 - 1e-6
+    # The left wall (x = 0.55 m) is red, the right one (x = 0) green: on every pixel its
+    # own channel at least 1.5 times the others (display values: sRGB narrows ratios).
+    red = seen & (x > 0.54)[np.maximum(ids, 0)]
+    green = seen & (x < 0.01)[np.maximum(ids, 0)]
+    assert red.sum() > 100 and green.sum() > 100
+    r, g, b = image[red].T
+    assert (r > 1.5 * g).all() and (r > 1.5 * b).all()
+    r, g, b = image[green].T
+    assert (g > 1.5 * r).all() and (g > 1.5 * b).all()
+    # The report's figure outlines the lamp and names it with its emission.
+    fig = render_figure(sol, size=size)
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert "emitter (lamp), E = 11 units of emission (outlined)" in labels
+    assert any(label.startswith("reflectance 0.25, RGB 0.63 0.07 0.05") for label in labels)
 
 
 @needs_engine

@@ -15,6 +15,7 @@ from hrbench_analysis.report import (
     ClaimOutcome,
     format_claims_table,
     get_claims_table,
+    get_figures,
     print_claims_table,
     write_report,
 )
@@ -268,3 +269,18 @@ def test_report_has_contents_anchors_links_tally_and_groups(tmp_path, outcomes):
         "id='run'") < page.index("id='claims'") < page.index("id='group-seed'")
     assert page.count(TIMED_NOTE) == 1
     assert f"title='{GARMANN}'" in page
+
+
+def test_theta_panels_name_their_band_and_its_bound(outcomes):
+    # Each claim's right panel: its legend names the points and the band, with the
+    # bound its claim judges the band against; the caption says what the dashes are.
+    panels = {f.claims: f for f in get_figures(outcomes) if f.name.startswith("slopes")}
+    c4 = panels[("C4",)]
+    ax = c4.figure.axes[1]
+    assert ax.get_title().startswith("C4: Theta check")
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert labels[0] == "ratio in the regime"
+    assert re.fullmatch(r"the regime's band \(min, max\): max/min \d+\.\d\d, bounded if at "
+                        r"most 10", labels[-1]), labels
+    assert "The dashed lines bound the regime's ratios" in c4.caption
+    assert "max/min is at most 10" in c4.caption

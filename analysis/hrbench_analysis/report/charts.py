@@ -155,18 +155,26 @@ def get_figures(outcomes, links=None, links_title=""):
         ax1.grid(True, alpha=0.3)
         ax1.legend(fontsize=8)
         ratio = a.y / a.x ** c.expected_exponent
+        judged = getattr(c, "bound", "theta") == "theta"  # an upper bound has no band
         ratio_label = f"{_group(c.y.text)} / {_power(c.x.text, c.expected_exponent)}"
         plot_ratio(ax2, a.x, ratio, in_regime=a.in_regime,
-                   band=a.theta.band if a.theta else None, x_label=c.x_label,
-                   ratio_label=ratio_label)
+                   band=a.theta.band if a.theta else None,
+                   max_band=a.theta.max_band if a.theta and judged else None,
+                   x_label=c.x_label, ratio_label=ratio_label)
         ax2.set_title(f"{c.id}: Theta check, {ratio_label}")
         ax2.grid(True, alpha=0.3)
         ax2.legend(fontsize=8)
         caption = ("Left: exponent between neighbouring points (grey; binary subdivision "
                    "makes counts step functions, so these oscillate) and exponent fitted "
                    "over sliding one-decade windows (blue), against the claimed exponent "
-                   "and its tolerance (red). Right: the ratio y/x^k; the claim "
-                   "y = Theta(x^k) holds when it stays between two constants (dashed).")
+                   "and its tolerance (red). Right: the ratio y/x^k (filled in the "
+                   "regime, hollow outside it); the claim y = Theta(x^k) holds when it "
+                   "stays between two constants. The dashed lines bound the regime's "
+                   "ratios: "
+                   + (f"the check takes that band as bounded when max/min is at most "
+                      f"{c.theta_band:g} and the ratio's trend at most {c.tolerance:g} "
+                      "per decade." if judged else
+                      "an upper bound O(x^k) is not judged on them."))
         figures.append(ReportFigure(slopes_names[c.id],
                                     f"{c.id}: local exponents and Theta check", caption, fig,
                                     (c.id,)))
