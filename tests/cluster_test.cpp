@@ -230,6 +230,80 @@ TEST_CASE("The clustered refinement of four plates, by hand", "[clusters]") {
     }
 }
 
+TEST_CASE("The initial linking of four plates, by hand, under either cluster bound",
+          "[clusters]") {
+    Scene scene = FourPlates();
+    auto run = [&](double eps, ClusterBound bound) {
+        RefineOptions o = Clustered(eps);
+        o.clusterBound = bound;
+        return Refine<Segment>(scene, o);
+    };
+    SECTION("without clusters: every root pair, the rows' two culled") {
+        RefineOptions o = Clustered(0.5);
+        o.clusters = false;
+        const Counters c = Refine<Segment>(scene, o).record.counters;
+        CHECK(c.linkingLinks == 4);  // 6 root pairs less 2 culled
+        CHECK(c.linkingCalls == 6);
+    }
+    SECTION("cluster, eps 0.5: the columns link, and each column's own pair") {
+        const Counters c = run(0.5, ClusterBound::Cluster).record.counters;
+        CHECK(c.linkingLinks == 3);  // {C1, C2}, (0, 1), (2, 3)
+        CHECK(c.linkingCalls == 3);  // one cluster call, two root pairs
+    }
+    SECTION("patch, eps 0.5: the columns are opened by the rule, each patch links the other") {
+        // Two clusters never link: refused without a bound, the smaller (ties: X) opens;
+        // patch-column gap 15.0906, 2 <= 0.5 * 15.0906: both accept.
+        Refinement<Segment> r = run(0.5, ClusterBound::Patch);
+        const Counters &c = r.record.counters;
+        REQUIRE(r.clusterLinks.size() == 2);
+        CHECK((r.clusterLinks[0].a == 0 && r.clusterLinks[0].b == ClusterNode(2)));
+        CHECK((r.clusterLinks[1].a == 1 && r.clusterLinks[1].b == ClusterNode(2)));
+        CHECK(c.clusterOracleCalls == 3);
+        CHECK(c.openedClusters == 1);
+        CHECK(c.linkingLinks == 4);
+        CHECK(c.linkingCalls == 5);
+        CheckCounters(c, 4);
+    }
+    SECTION("patch, eps 0.1: the patch-column pairs refuse too, as under cluster") {
+        const Counters p = run(0.1, ClusterBound::Patch).record.counters;
+        const Counters q = run(0.1, ClusterBound::Cluster).record.counters;
+        CHECK(CounterDifferences(p, q) == "");
+        CHECK(p.linkingLinks == 4);  // 6 root pairs less 2 culled
+        CHECK(p.linkingCalls == 9);
+    }
+}
+
+TEST_CASE("Under --cluster-bound patch every link above the patches has a patch at one end",
+          "[clusters]") {
+    Scene flat = MakeScene("random", {{"n", 60}, {"seed", 4}, {"size", 30}});
+    Scene space = MakeScene("random3d", {{"n", 40}, {"seed", 4}, {"size", 10}});
+    for (double eps : {0.05, 0.3}) {
+        RefineOptions o = Clustered(eps);
+        o.clusterBound = ClusterBound::Patch;
+        Refinement<Segment> r = Refine<Segment>(flat, o);
+        Refinement<Polygon> s = Refine<Polygon>(space, o);
+        for (const ClusterLink &l : r.clusterLinks)
+            CHECK((!IsCluster(l.a) || !IsCluster(l.b)));
+        for (const ClusterLink &l : s.clusterLinks)
+            CHECK((!IsCluster(l.a) || !IsCluster(l.b)));
+        CheckCounters(r.record.counters, 60);
+        CheckCounters(s.record.counters, 40);
+        CheckTiling(flat, r, o, true);
+        CheckTiling(space, s, o, true);
+        for (const Counters &c : {r.record.counters, s.record.counters}) {
+            CHECK(c.linkingLinks == c.clusterLinks + c.rootPairs - c.culledPairs);
+            CHECK(c.linkingCalls == c.clusterOracleCalls + c.rootPairs);
+        }
+        // The same on three threads, count-only too.
+        for (bool store : {true, false}) {
+            RefineOptions t = o;
+            t.threads = 3, t.storeLinks = store;
+            CHECK(CounterDifferences(r.record.counters, Refine<Segment>(flat, t).record.counters) ==
+                  "");
+        }
+    }
+}
+
 TEST_CASE("A scene of one or two patches has no cluster pair", "[clusters]") {
     Scene two = MakeScene("parallel", {{"l", 1}, {"d", 1}});
     Refinement<Segment> r = Refine<Segment>(two, Clustered(0.5));

@@ -303,6 +303,20 @@ def test_every_shipped_claim_carries_its_kind_and_reading():
     assert kinds["HSA-precision-centre-cosine"] == "derived"
     assert all(kinds[f"SAG-{f}-plain"] == "derived"
                for f in ("array", "soup", "enclosure", "array3d", "soup3d", "sphere"))
+    # Exact by construction: a measurement, never a verdict on a source.
+    assert kinds["HSA-lin-3d"] == "derived"
+    # Smits et al. bound the initial linking: the all-links fits are measurements, and
+    # each bounding method's linking claims read the abstract's own quantity.
+    assert all(kinds[f"SAG-{f}{q}"] == "derived" for f in ("array", "soup", "sphere")
+               for q in ("", "-calls"))
+    claims = {c.id: c for c in load_claims_dir(CLAIMS_DIR)}
+    for f in ("array", "enclosure", "sphere", "soup"):
+        for bound, suffix, law in (("cluster", "", None), ("patch", "-patch", "patches ** 1.15")):
+            for q, y in (("", "linking_links"), ("-calls", "linking_calls")):
+                c = claims[f"SAG-{f}-linking{suffix}{q}"]
+                assert c.kind == "reading" and c.bound == "upper" and c.y.text == y
+                assert c.options.get("cluster_bound", "cluster") == bound
+                assert (c.alternative.text if c.alternative else None) == law
 
 
 def test_kind_defaults_and_its_checks(tmp_path, data_dir):

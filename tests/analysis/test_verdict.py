@@ -123,3 +123,25 @@ def test_unknown_bound_is_refused():
     x = np.logspace(0, 3, 20)
     with pytest.raises(ValueError, match="bound"):
         get_verdict(x, x, 1.0, 0.1, bound="lower")
+
+
+def test_an_alternative_law_is_judged_on_the_points_tilted_to_it():
+    # y = k log k (with a scatter of counts) for k from 1e4 to 1e8: O(x), x = k log k,
+    # with 1 + 0.03 holds, and the same points tilted to the law k^1.15 (exponent about
+    # 1.15 / (1 + 1 / ln k) against x) grow faster than the bound.
+    k = np.geomspace(1e4, 1e8, 20)
+    x, y = k * np.log(k), 11.5 * k * np.log(k) * wobble(k.size)
+    a = get_verdict(x, y, 1.0, 0.03, bound="upper", laws=[("patches ** 1.15", k ** 1.15)])
+    assert a.verdict == "reproduced" and a.can_fail
+    law = a.alternatives[-1]
+    assert law.law == "patches ** 1.15" and np.isnan(law.exponent)
+    assert law.verdict == "refuted" and law.low > 1.03
+    assert "y ~ patches ** 1.15: refuted" in a.refutes_text
+    # Points that follow the law itself are refuted by the claim's own test.
+    b = get_verdict(x, k ** 1.15, 1.0, 0.03, bound="upper")
+    assert b.verdict == "refuted", b.reason
+    # Given in another order than x's, the law's values follow their points.
+    order = np.arange(k.size)[::-1]
+    c = get_verdict(x[order], y[order], 1.0, 0.03, bound="upper",
+                    laws=[("patches ** 1.15", (k ** 1.15)[order])])
+    assert c.alternatives[-1].low == pytest.approx(law.low)
