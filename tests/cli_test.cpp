@@ -27,10 +27,10 @@ const std::string kData = HRBENCH_TEST_DATA;
 
 // The keys of a run record that describe the run rather than count it (record.h).
 const std::set<std::string> kRunContextKeys = {
-    "schema_version",  "version",      "context",     "scene",      "params",
-    "scene_file",      "mesh_file",    "patches",     "dimension",  "eps",
-    "oracle",          "ff_estimate",  "method",      "mode",       "min_area",
-    "max_depth_limit", "threads",      "subdivision", "visibility", "rays_per_side",
+    "schema_version",  "version",      "context",     "scene",         "params",
+    "scene_file",      "mesh_file",    "patches",     "dimension",     "eps",
+    "oracle",          "ff_estimate",  "method",      "mode",          "min_area",
+    "max_depth_limit", "threads",      "subdivision", "visibility",    "rays_per_side",
     "seconds",         "scene_sha256", "clusters",    "cluster_bound", "cpu_seconds",
     "linking_seconds", "linking_bytes"};
 

@@ -230,8 +230,7 @@ TEST_CASE("The clustered refinement of four plates, by hand", "[clusters]") {
     }
 }
 
-TEST_CASE("The initial linking of four plates, by hand, under either cluster bound",
-          "[clusters]") {
+TEST_CASE("The initial linking of four plates, by hand, under either cluster bound", "[clusters]") {
     Scene scene = FourPlates();
     auto run = [&](double eps, ClusterBound bound) {
         RefineOptions o = Clustered(eps);

@@ -34,15 +34,16 @@ struct Counters {
     uint64_t visibilityQueries = 0;  // element pairs whose visible fraction was estimated
     uint64_t occludedPairs = 0;      // element pairs found fully occluded, never linked
     // --clusters only (0 without; docs/conventions.md#clusters):
-    uint64_t clusterNodes = 0;            // clusters in the hierarchy
-    uint64_t clusterLinks = 0;            // links with a cluster at one end at least
-    uint64_t elementLinks = 0;            // links between elements (links = these + clusterLinks)
-    uint64_t clusterOracleCalls = 0;      // cluster oracle calls (oracleCalls includes them)
-    uint64_t openedClusters = 0;          // distinct clusters opened by a refused cluster pair
+    uint64_t clusterNodes = 0;        // clusters in the hierarchy
+    uint64_t clusterLinks = 0;        // links with a cluster at one end at least
+    uint64_t elementLinks = 0;        // links between elements (links = these + clusterLinks)
+    uint64_t clusterOracleCalls = 0;  // cluster oracle calls (oracleCalls includes them)
+    uint64_t openedClusters = 0;      // distinct clusters opened by a refused cluster pair
     // The initial linking, everything decided above the input patches (with or without
     // --clusters; docs/conventions.md#initial-linking), set by CountInitialLinking:
-    uint64_t linkingLinks = 0;  // cluster links and root pairs refined: cluster_links + root_pairs - culled_pairs
-    uint64_t linkingCalls = 0;  // node pairs decided: cluster_oracle_calls + root_pairs
+    uint64_t linkingLinks =
+        0;  // cluster links and root pairs refined: cluster_links + root_pairs - culled_pairs
+    uint64_t linkingCalls = 0;            // node pairs decided: cluster_oracle_calls + root_pairs
     std::vector<uint64_t> nodesPerDepth;  // elements per element depth
     std::vector<uint64_t> linksPerDepth;  // links per link depth depth_i + depth_j
 };

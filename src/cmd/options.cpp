@@ -230,7 +230,8 @@ const std::vector<OptionSpec> &OptionTable() {
          ChoiceNames(ClusterBounds()),
          {"run", "links", "check-links", "solve"},
          "with --clusters, which node pairs a link above the patches may\njoin "
-         "(docs/conventions.md#clusters):\n" + ChoiceDoc(ClusterBounds()),
+         "(docs/conventions.md#clusters):\n" +
+             ChoiceDoc(ClusterBounds()),
          [](Options &o, S v) { o.refine.clusterBound = ParseClusterBound(v); }},
         {"threads",
          "--threads",
@@ -552,7 +553,8 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
             "--clusters refines by enumeration, which --method translation does not: drop one "
             "of them");
     if (seen.count("--cluster-bound") && !o.refine.clusters)
-        throw InputError("--cluster-bound says which pairs a cluster link may join: add --clusters");
+        throw InputError(
+            "--cluster-bound says which pairs a cluster link may join: add --clusters");
     if (seen.count("--cluster-transfer") && !o.refine.clusters)
         throw InputError("--cluster-transfer is how light crosses cluster links: add --clusters");
     if (o.linkFormFactors) {

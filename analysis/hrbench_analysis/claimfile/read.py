@@ -225,7 +225,8 @@ def _parse_claim(raw, index, path, loc, source_key, citation, quoted):
         description=raw.get("description", ""), path=str(path),
         line=loc.claim_line(index) or 0,
         key_lines={key: loc.key_line(index, key)
-                   for key in ("x", "y", "alternative", "eps", *(f"params.{name}" for name in run.params),
+                   for key in ("x", "y", "alternative", "eps",
+                               *(f"params.{name}" for name in run.params),
                                *(f"sweep.{mode}" for mode in (*MODES, "range", "grid")
                                  if mode in sweep))},
         range_keys=range_keys)

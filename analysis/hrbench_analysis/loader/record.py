@@ -48,8 +48,8 @@ SOLVE_MEASURES = ("reference_error_max", "reference_error_mean", "reference_erro
 #: The measures that are times (s): they depend on the machine and its load and change
 #: from run to run, where counts and the solution's errors do not.
 TIMES = ("seconds", "cpu_seconds", "linking_seconds", "seconds_refine",
-         "seconds_coefficients", "seconds_solve", "cpu_seconds_refine", "cpu_seconds_coefficients", "cpu_seconds_solve",
-         "cpu_seconds_reference")
+         "seconds_coefficients", "seconds_solve", "cpu_seconds_refine",
+         "cpu_seconds_coefficients", "cpu_seconds_solve", "cpu_seconds_reference")
 
 #: Short names a claim formula may use for counters, as in the published statements.
 ALIASES = {"N": "nodes", "L": "links"}
