@@ -16,6 +16,7 @@ from hrbench_analysis.claimfile import load_claims_dir
 from hrbench_analysis.engine import engine_version, get_capabilities
 from hrbench_analysis.loader import (
     COUNTERS,
+    MEASURES,
     SCHEMA_VERSION,
     ResultFormatError,
     parse_run_json,
@@ -117,7 +118,8 @@ def test_engine_capabilities_describe_its_run_records():
     for name in caps.histogram_counters:
         assert isinstance(raw[name], list), name
     result = parse_run_json(proc.stdout, counters=caps.scalar_counters)
-    assert set(result.counters) == {*caps.scalar_counters, "patches", "seconds"}
+    # The counters, and the measures: patches, the times and the linking's bytes.
+    assert set(result.counters) == {*caps.scalar_counters, *MEASURES}
     # Every shipped claim names an oracle and formula names this engine offers.
     errors, _ = check_claims(load_claims_dir(CLAIMS_DIR), "full", caps)
     assert errors == []
