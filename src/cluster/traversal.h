@@ -1,9 +1,9 @@
 // The traversal of the cluster hierarchy that replaces the loop over every root pair
 // under --clusters (docs/conventions.md#clusters): Self(root), each cluster's own
-// pair of children, and Pair(X, Y), which links a node pair its cluster oracle
-// accepts under the run's --cluster-bound, hands a pair of root patches to the refinement, and
-// otherwise opens the cluster of the larger measure. Internal to refine/refine.cpp. Nothing is kept
-// per root pair.
+// pair of children, and Pair(X, Y), which links a node pair that the run's
+// --cluster-bound and its cluster oracle accept, hands a pair of root patches to the
+// refinement, and otherwise opens a cluster (OpensFirst). Internal to refine/refine.cpp.
+// Nothing is kept per root pair.
 #pragma once
 
 #include <cstdint>
