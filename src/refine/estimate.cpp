@@ -147,6 +147,14 @@ RunEstimate EstimateRun(const Scene &scene, const RefineOptions &options,
     pilot.storeLinks = true;  // bounded by its budget; the counts are count-only's
     pilot.memoryBudget = std::min(kPilotBytes, EffectiveBudget(options));
     pilot.progress = nullptr;
+    if (double(scene.NumPatches()) * ElementBytes(scene) >= double(pilot.memoryBudget)) {
+        // The root elements alone outgrow every pilot (a mesh of millions of patches):
+        // no estimate, without trying; the run's own budget still stops it in time.
+        RunEstimate e;
+        e.basis = "none: the patches' root elements alone outgrow a pilot's " +
+                  Shown(double(kPilotBytes) / (1 << 20)) + " MiB";
+        return e;
+    }
     std::optional<Pilot> last, previous;
     // Go finer while a pilot fits and its scaled estimate fails the caps; where the first
     // pilot outgrows its budget, coarser until one fits (up to eps 4^kMaxCoarser times
