@@ -53,8 +53,9 @@ apt_locked() {
       return 1
     fi
     if [ -z "$waited" ]; then
+      # On standard error: the install's standard output is thrown away.
       echo "setup: waiting up to ${lock_limit} s (HRBENCH_APT_LOCK_TIMEOUT) for the" \
-           "package lock $what"
+           "package lock $what" >&2
       waited=1
     fi
     sleep 2
@@ -64,8 +65,9 @@ if ((${#missing[@]})); then
   echo "setup: installing ${missing[*]}"
   sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
   apt_locked $sudo apt-get update -qq
+  # No wait of apt's own (it would wait in silence, without our limit): apt_locked waits.
   apt_locked $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
-    --no-install-recommends "${missing[@]}" >/dev/null
+    -o DPkg::Lock::Timeout=0 --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
 # The venv is rebuilt only when the requirements change.
