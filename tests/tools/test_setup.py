@@ -10,7 +10,8 @@ from conftest import ROOT
 def fake_repo(tmp_path, locked_tries):
     # A copy of setup.sh in a repository whose venv is up to date (a stand-in python),
     # with dpkg-query saying one package is missing, and an apt-get whose install finds
-    # the dpkg lock held `locked_tries` times (-1: always), as apt says it.
+    # the dpkg lock held `locked_tries` times (-1: always), as apt says it (and a sudo
+    # that runs it, where the tests do not run as root).
     repo = tmp_path / "repo"
     (repo / "scripts").mkdir(parents=True)
     shutil.copy(os.path.join(ROOT, "scripts", "setup.sh"), repo / "scripts" / "setup.sh")
@@ -24,6 +25,8 @@ def fake_repo(tmp_path, locked_tries):
     bin_.mkdir()
     scripts = {
         repo / ".venv" / "bin" / "python": "exit 0\n",
+        # Not root: setup calls sudo, which would look apt-get up in its own PATH.
+        bin_ / "sudo": 'exec "$@"\n',
         bin_ / "dpkg-query": '[ "$3" = clang-format ] && exit 1\necho "install ok installed"\n',
         bin_ / "apt-get": (
             '[ "$1" = update ] && exit 0\n'
