@@ -41,9 +41,8 @@ struct Counters {
     uint64_t openedClusters = 0;      // distinct clusters opened by a refused cluster pair
     // The initial linking, everything decided above the input patches (with or without
     // --clusters; docs/conventions.md#initial-linking), set by CountInitialLinking:
-    uint64_t linkingLinks =
-        0;  // cluster links and root pairs refined: cluster_links + root_pairs - culled_pairs
-    uint64_t linkingCalls = 0;            // node pairs decided: cluster_oracle_calls + root_pairs
+    uint64_t linkingLinks = 0;            // cluster_links + root_pairs - culled_pairs
+    uint64_t linkingCalls = 0;            // cluster_oracle_calls + root_pairs
     std::vector<uint64_t> nodesPerDepth;  // elements per element depth
     std::vector<uint64_t> linksPerDepth;  // links per link depth depth_i + depth_j
 };

@@ -1,8 +1,6 @@
 #include "count/sweep_count.h"
 
 #include <algorithm>
-#include <chrono>
-#include <ctime>
 #include <numeric>
 #include <variant>
 
@@ -11,6 +9,7 @@
 #include "hrbench/util/error.h"
 #include "refine/decisions.h"
 #include "util/format.h"
+#include "util/stopwatch.h"
 #include "visibility/culling.h"
 #include "visibility/visibility.h"
 
@@ -272,13 +271,10 @@ std::vector<RunRecord> CountSweep(const Scene &scene, const RefineOptions &optio
     }
     ValidateScene(scene);
 
-    auto start = std::chrono::steady_clock::now();
-    std::clock_t cpuStart = std::clock();
+    Stopwatch watch;
     std::vector<RunRecord> sorted = std::visit(
         [&](const auto &patches) { return Sweep(patches, perValue, sweepsEps); }, scene.patches);
-    double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    double cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
+    double seconds = watch.WallSeconds(), cpuSeconds = watch.CpuSeconds();
     std::vector<RunRecord> records(values.size());
     for (size_t k = 0; k < order.size(); ++k) {
         records[order[k]] = std::move(sorted[k]);

@@ -1,10 +1,8 @@
 #include "count/translation_count.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <ctime>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,6 +11,7 @@
 #include "hrbench/util/error.h"
 #include "translation_internal.h"
 #include "util/format.h"
+#include "util/stopwatch.h"
 
 namespace hrbench::translation {
 
@@ -261,16 +260,14 @@ TranslationCount CountByTranslation(const Scene &scene, const RefineOptions &opt
     ValidateOptions(options, scene.Dimension());
     ValidateScene(scene);
     CheckTranslationScope(scene, options);
-    auto start = std::chrono::steady_clock::now();
-    std::clock_t cpuStart = std::clock();
+    Stopwatch watch;
     TranslationCount result = scene.Dimension() == 2 ? translation::CountFlatland(scene, options)
                                                      : translation::CountSpace(scene, options);
     result.record.method = "translation";
     result.record.counters.rootPairs = 1;
     CountInitialLinking(result.record.counters);
-    result.record.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    result.record.cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
+    result.record.seconds = watch.WallSeconds();
+    result.record.cpuSeconds = watch.CpuSeconds();
     return result;
 }
 

@@ -5,7 +5,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <functional>
 #include <numeric>
 #include <optional>
@@ -16,6 +15,7 @@
 #include "hrbench/util/error.h"
 #include "refine/kernel.h"
 #include "util/parallel_for.h"
+#include "util/stopwatch.h"
 #include "visibility/culling.h"
 
 namespace hrbench {
@@ -630,14 +630,12 @@ Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options) {
                              {},
                              {},
                              {}};
-    auto start = std::chrono::steady_clock::now();
-    std::clock_t cpuStart = std::clock();
+    Stopwatch watch;
     if (options.clusters)
         result.clusters = ClusterTree<Shape>(patches);
     Dispatch(patches, options, SplitBudget<Shape>(EffectiveBudget(options), options), result);
-    result.record.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    result.record.cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
+    result.record.seconds = watch.WallSeconds();
+    result.record.cpuSeconds = watch.CpuSeconds();
 
     Counters &c = result.record.counters;
     c.maxDepth = c.nodesPerDepth.size() - 1;

@@ -120,7 +120,7 @@ UniformSolution SolveUniformOf(const Patches<Shape> &patches, int depth,
         solution.emittedPower += E(a) * area;
         solution.absorbedPower += (1 - rho(a)) * H(a) * area;
     }
-    solution.time = watch.Elapsed();
+    solution.time = Elapsed(watch);
     return solution;
 }
 

@@ -247,7 +247,7 @@ void SolveLinks(const Patches<Shape> &patches, const Refinement<Shape> &refineme
             ? std::vector<double>(refinement.forest.Size(), 1.0)
             : ConsistencyScales(patches, refinement.forest, refinement.links, coefficients, refine,
                                 clusters ? &clusterCoefficients : nullptr);
-    AddTime(result.coefficients, coefficientWatch.Elapsed());
+    AddTime(result.coefficients, Elapsed(coefficientWatch));
 
     // Each pass solves from B = E: only the last pass's solution is reported.
     result.leaves.clear();
@@ -261,7 +261,7 @@ void SolveLinks(const Patches<Shape> &patches, const Refinement<Shape> &refineme
         if (radiosity)
             *radiosity = solver.Radiosity();
     }
-    AddTime(result.solve, solveWatch.Elapsed());
+    AddTime(result.solve, Elapsed(solveWatch));
 }
 
 }  // namespace
@@ -333,7 +333,7 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
             passOptions.estimate = &*estimate;
         Stopwatch refineWatch;
         Refinement<Shape> refinement = Refine<Shape>(scene, passOptions);
-        AddTime(result.refine, refineWatch.Elapsed());
+        AddTime(result.refine, Elapsed(refineWatch));
         kernelSeconds += refinement.record.seconds;
         result.record = refinement.record;
         kernelCpuSeconds += refinement.record.cpuSeconds;

@@ -12,6 +12,7 @@
 
 #include "hrbench/forest.h"
 #include "hrbench/solve.h"
+#include "util/stopwatch.h"
 
 namespace hrbench {
 
@@ -22,24 +23,10 @@ inline std::string Short(double value) {
     return text;
 }
 
-inline double CpuSeconds() {
-    timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+// The wall and CPU time of _watch_ so far, as a stage's time.
+inline StageTime Elapsed(const Stopwatch &watch) {
+    return {watch.WallSeconds(), watch.CpuSeconds()};
 }
-
-// Wall and process CPU time since construction.
-class Stopwatch {
-  public:
-    StageTime Elapsed() const {
-        return {std::chrono::duration<double>(Clock::now() - wall_).count(), CpuSeconds() - cpu_};
-    }
-
-  private:
-    using Clock = std::chrono::steady_clock;
-    Clock::time_point wall_ = Clock::now();
-    double cpu_ = CpuSeconds();
-};
 
 // Sums the stages' times over passes and solves.
 inline void AddTime(StageTime &sum, const StageTime &t) { sum.wall += t.wall, sum.cpu += t.cpu; }
