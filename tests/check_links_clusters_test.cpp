@@ -40,16 +40,18 @@ hrbench::Scene FourPlates() {
                                                s(21, 10, 20, 10)}};
 }
 
-hrbench::RefineOptions Clustered(double eps) {
+hrbench::RefineOptions Clustered(double eps,
+                                 hrbench::ClusterBound bound = hrbench::ClusterBound::Cluster) {
     hrbench::RefineOptions o;
     o.eps = eps;
     o.clusters = true;
+    o.clusterBound = bound;
     return o;
 }
 
 // hrbench's own dump of the four plates at _eps_, as text.
-std::string OwnDump(double eps) {
-    hrbench::RefineOptions o = Clustered(eps);
+std::string OwnDump(double eps, hrbench::ClusterBound bound = hrbench::ClusterBound::Cluster) {
+    hrbench::RefineOptions o = Clustered(eps, bound);
     o.storeLinks = true;
     std::ostringstream out;
     hrbench::WriteLinkDump(
@@ -70,10 +72,11 @@ std::string Edit(const std::string &dump, const std::set<std::string> &drop,
 
 // The categories of the violations of _text_ checked at _eps_ (none when it passes).
 std::vector<std::string> Categories(const std::string &text, double eps,
-                                    std::string *first = nullptr) {
+                                    std::string *first = nullptr,
+                                    hrbench::ClusterBound bound = hrbench::ClusterBound::Cluster) {
     hrbench::LinkDump dump = Parse(text);
     try {
-        hrbench::CheckLinks(FourPlates(), Clustered(eps), dump);
+        hrbench::CheckLinks(FourPlates(), Clustered(eps, bound), dump);
     } catch (const hrbench::LinkViolation &v) {
         CHECK(v.ExitCode() == hrbench::kExitViolation);
         REQUIRE(v.summary);
@@ -218,6 +221,22 @@ TEST_CASE("check-links --clusters on the four plates: each violation", "[check-l
               std::vector<std::string>{"link-within-cluster"});
         CHECK_THAT(first, Catch::Contains("C2 C0 (cluster C2 lies in cluster C0)"));
     }
+}
+
+TEST_CASE("check-links --clusters judges a dump under its --cluster-bound",
+          "[check-links][clusters]") {
+    // At eps 0.5 the cluster bound links the columns {C1, C2}; the patch bound links each
+    // patch of the left column with the right one (tests/cluster_test.cpp, by hand).
+    const auto patch = hrbench::ClusterBound::Patch;
+    std::string columns = OwnDump(0.5), patches = OwnDump(0.5, patch);
+    CHECK(columns.find("\nC1 C2\n") != std::string::npos);
+    CHECK(patches.find("\n0 C2\n") != std::string::npos);
+    CHECK(Categories(columns, 0.5).empty());
+    CHECK(Categories(patches, 0.5, nullptr, patch).empty());
+    std::string first;
+    CHECK(Categories(columns, 0.5, &first, patch) == std::vector<std::string>{"cluster-oracle"});
+    CHECK_THAT(first, Catch::Contains("joins two clusters, which --cluster-bound patch never "
+                                      "links"));
 }
 
 TEST_CASE("check-links --clusters on the command line: exit codes and refusals",
