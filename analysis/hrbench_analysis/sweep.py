@@ -406,6 +406,9 @@ class ClaimData:
         Which points the fit reads, in the order of `x`: for a claim with the key
         ``plateaus``, one per plateau (:func:`hrbench_analysis.slopes.plateau_ends`); ``None``
         for every point.
+
+    With the key ``increments`` the points are the increments of the measured ones
+    (:func:`octave_increments`), and so are `value` and `alternative`.
     """
 
     value: np.ndarray
@@ -502,6 +505,9 @@ def get_claim_data(claim, points, store, counters=None):
             continue
         rows.append((x, y, point.value, point.series, values.get("plateaus.of"),
                      values.get("alternative")))
+    if getattr(claim, "increments", None):
+        rows, dropped = octave_increments(rows, claim.increments)
+        failures += dropped
     kept = {id(row) for row in _plateau_rows(claim, rows)} if plateaus is not None else None
     rows.sort(key=lambda row: row[:3])
     fitted = None if kept is None else np.array([id(row) in kept for row in rows], dtype=bool)
@@ -512,6 +518,73 @@ def get_claim_data(claim, points, store, counters=None):
                      series=np.array([row[3] for row in rows], dtype=object),
                      failures=failures, missing=missing, engine_seconds=seconds,
                      fitted=fitted, alternative=laws)
+
+
+#: How far (octaves) from its place its partner of :func:`octave_increments` may lie:
+#: half an octave, so that a sweep of more than one point an octave always has one.
+INCREMENT_SLACK_OCTAVES = 0.5
+
+
+def octave_increments(rows, octaves):
+    """The growth of y per e-fold of x over a whole number of octaves, point by point.
+
+    Parameters
+    ----------
+    rows : list of tuple
+        ``(x, y, value, series, plateau, law)`` per measured point; `law` may be ``None``.
+    octaves : int
+        How far apart the two points of an increment lie (octaves of x).
+
+    Returns
+    -------
+    rows : list of tuple
+        Per point ``i`` of each series whose partner ``j`` (the point with ``x_j``
+        nearest ``2^octaves x_i`` in octaves, no farther than
+        :data:`INCREMENT_SLACK_OCTAVES`)
+        exists: ``(sqrt(x_i x_j), (y_j - y_i) / ln(x_j / x_i), sqrt(value_i value_j),
+        series, None, (law_j - law_i) / ln(x_j / x_i))``.
+    dropped : list of dict
+        Increments that are not positive (y did not grow over the octave), which a
+        log-log fit cannot read, as failures ``{"value", "exit_code", "stderr",
+        "command"}``.
+
+    Notes
+    -----
+    ``y = a ln x + b`` has the increment ``a`` at every x, whatever ``b``. A count
+    ``L = a x ln x + b x`` is ``O(x log x)``; with ``y = L / x`` its increments are
+    ``O(1)``, and a power law fitted to them separates it from ``L ~ x^(1+p)``
+    (increments ``~ x^p``), where the exponent of ``L`` itself against ``x ln x``
+    carries the lower-order term ``b x`` as a drift of about ``-b / (a ln^2 x)``.
+    Increments over an octave, not between neighbours, compare points of the same phase
+    of a binary staircase.
+
+    Examples
+    --------
+    >>> import math
+    >>> rows = [(k, 3 * math.log(k) - 7, k, "", None, None) for k in (8, 12, 16, 24, 32)]
+    >>> [(round(x, 3), round(y, 12)) for x, y, *_ in octave_increments(rows, 1)[0]]
+    [(11.314, 3.0), (16.971, 3.0), (22.627, 3.0)]
+    """
+    out, dropped = [], []
+    for series in dict.fromkeys(row[3] for row in rows):
+        part = sorted((row for row in rows if row[3] == series), key=lambda row: row[0])
+        xs = np.log2([row[0] for row in part])
+        for i, row in enumerate(part):
+            j = int(np.argmin(np.abs(xs - xs[i] - octaves)))
+            if abs(xs[j] - xs[i] - octaves) > INCREMENT_SLACK_OCTAVES:
+                continue
+            other = part[j]
+            span = math.log(other[0] / row[0])
+            rise = (other[1] - row[1]) / span
+            value = math.sqrt(row[2] * other[2])
+            if not rise > 0:
+                dropped.append({"value": value, "exit_code": 0, "command": "",
+                                "stderr": f"the increment of y from x={row[0]:g} to "
+                                          f"x={other[0]:g} is not positive ({rise:g})"})
+                continue
+            law = None if row[5] is None else (other[5] - row[5]) / span
+            out.append((math.sqrt(row[0] * other[0]), rise, value, series, None, law))
+    return out, dropped
 
 
 def _plateau_rows(claim, rows):

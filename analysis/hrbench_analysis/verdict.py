@@ -508,6 +508,13 @@ def assess_claim(claim, data, n_boot=2000):
                 f"{claim.plateaus.keep} of each: {x.size} of {data.x.size} points")
         result.notes.append(note)
         result.reason += f"; {note}"
+    octaves = getattr(claim, "increments", None)
+    if octaves:
+        note = (f"fitted the increments of {claim.y.text} per e-fold of {claim.x.text}, "
+                f"{octaves} octave{'s' if octaves > 1 else ''} of {claim.x.text} apart "
+                "(key increments)")
+        result.notes.append(note)
+        result.reason += f"; {note}"
     if data.failures:
         codes = sorted({f["exit_code"] for f in data.failures})
         note = (f"{len(data.failures)} point(s) failed (exit code "

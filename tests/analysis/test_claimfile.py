@@ -310,13 +310,18 @@ def test_every_shipped_claim_carries_its_kind_and_reading():
     assert all(kinds[f"SAG-{f}{q}"] == "derived" for f in ("array", "soup", "sphere")
                for q in ("", "-calls"))
     claims = {c.id: c for c in load_claims_dir(CLAIMS_DIR)}
+    # O(k) against k; O(k log k) on the increments of the linking per patch, k^1.15 the
+    # law its test must refute.
     for f in ("array", "enclosure", "sphere", "soup"):
-        for bound, suffix, law in (("cluster", "", None), ("patch", "-patch", "patches ** 1.15")):
+        for bound, suffix, law, per in (("cluster", "", None, ""),
+                                        ("patch", "-patch", "patches ** 0.15", " / patches")):
             for q, y in (("", "linking_links"), ("-calls", "linking_calls")):
                 c = claims[f"SAG-{f}-linking{suffix}{q}"]
-                assert c.kind == "reading" and c.bound == "upper" and c.y.text == y
+                assert c.kind == "reading" and c.bound == "upper" and c.y.text == y + per
                 assert c.options.get("cluster_bound", "cluster") == bound
                 assert (c.alternative.text if c.alternative else None) == law
+                assert c.increments == (2 if law else None)
+                assert c.expected_exponent == (0 if law else 1)
 
 
 def test_kind_defaults_and_its_checks(tmp_path, data_dir):

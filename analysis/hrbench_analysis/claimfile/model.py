@@ -377,6 +377,11 @@ class ClaimMeasure:
     plateaus : Plateaus or None
         Fit one point per plateau of a staircase instead of every point (key
         ``plateaus``).
+    increments : int or None
+        Fit the growth of y per e-fold of x between points this many octaves of x apart
+        instead of y (key ``increments``,
+        :func:`hrbench_analysis.sweep.octave_increments`): with ``y = count / x``,
+        ``count = O(x log x)`` is ``O(1)`` in the increments.
     """
 
     x: Expression
@@ -386,6 +391,7 @@ class ClaimMeasure:
     chart: object = None
     plateaus: object = None
     alternative: object = None
+    increments: object = None
 
 
 @dataclass

@@ -423,10 +423,19 @@ def _measure_iv(raw, step_octaves, want, fail):
         plateaus = _plateaus_iv(want("plateaus", "table"),
                                 step_octaves, fail)
 
+    increments = raw.get("increments")
+    if increments is not None and not (isinstance(increments, int)
+                                       and not isinstance(increments, bool)
+                                       and 1 <= increments <= 16):
+        fail(f"key 'increments' must be a whole number of octaves from 1 to 16, got "
+             f"{increments!r}", "increments")
+    if increments is not None and plateaus is not None:
+        fail("keys 'increments' and 'plateaus' exclude each other: the increments pair "
+             "points an octave apart, the plateaus keep one point a step", "increments")
     return ClaimMeasure(
         x=exprs["x"], y=exprs["y"], x_label=raw.get("x_label", raw["x"]),
         y_label=raw.get("y_label", raw["y"]), chart=raw.get("chart"), plateaus=plateaus,
-        alternative=exprs.get("alternative"))
+        alternative=exprs.get("alternative"), increments=increments)
 
 
 def load_claims_dir(directory):

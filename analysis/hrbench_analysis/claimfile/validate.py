@@ -29,7 +29,7 @@ _CLAIM_KEYS = {
     "expected_to_hold", "min_points", "min_decades", "window_decades", "theta_band",
     "min_area", "max_depth", "eps", "options", "chart", "step_octaves", "mesh", "command",
     "published", "plateaus", "bound", "kind", "words", "words_at", "quantity",
-    "interval_note", "alternative", *MODES,
+    "interval_note", "alternative", "increments", *MODES,
 }
 #: What a claim may state of its power law (key ``bound``): Theta, or an upper bound O.
 BOUNDS = ("theta", "upper")
