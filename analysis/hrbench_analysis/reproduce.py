@@ -346,8 +346,17 @@ def _sweep(args, setup):
         points = {c.id: expand_claim(c, args.mode, setup.engine, setup.version,
                                      setup.capabilities)
                   for c in setup.claims if c.id not in setup.skipped}
+        # The scenes the engine reports (scene_sha256) are checked against hrbench's,
+        # unless the engine is that hrbench: each claim's first point before the sweep,
+        # so that another geometry is refused after one run a claim, then every point.
+        (reference, same), digests = reference_engine(setup.engine), {}
         try:
             with open_scheduler(args.scheduler, args.jobs) as scheduler:
+                if not same and reference is not None:
+                    refusals = _first_scenes(args, setup, points, store, scheduler,
+                                             reference, digests)
+                    if refusals:
+                        return None, {}, refusals
                 summary = run_points([p for ps in points.values() for p in ps], store,
                                      scheduler=scheduler, timeout=args.run_timeout)
         except KeyboardInterrupt as exc:
@@ -355,15 +364,42 @@ def _sweep(args, setup):
                   "run again to resume", file=sys.stderr)
             return interrupt_exit_code(exc)
         measured, refusals = {}, []
-        # The scenes the engine reports (scene_sha256) are checked against hrbench's,
-        # unless the engine is that hrbench (a run of hrbench per scene: a stage).
-        (reference, same), digests = reference_engine(setup.engine), {}
         with contextlib.ExitStack() as stage:
             if not same:
                 stage.enter_context(Stage("checking the engine's scenes against hrbench's"))
             _judge_scenes(args, setup, points, store, reference, same, digests, measured,
                           refusals)
+        if not same and reference is not None and not refusals:
+            print(f"scenes: {_agreeing(digests)}", file=sys.stderr)
     return summary, measured, refusals
+
+
+def _first_scenes(args, setup, points, store, scheduler, reference, digests):
+    # Run each claim's first point and compare its scene with hrbench's: the error
+    # lines of the claims whose engine refined other patches.
+    first = {c: ps[:1] for c, ps in points.items() if ps}
+    run_points([p for ps in first.values() for p in ps], store, scheduler=scheduler,
+               timeout=args.run_timeout, progress=None)
+    refusals = []
+    for c in setup.claims:
+        if c.id in first:
+            line, _ = scene_mismatch(c, args.mode, first[c.id], store, reference, digests)
+            if line is not None:
+                refusals.append(f"{line} (checked before the sweep, on the claim's first "
+                                "point)")
+    return refusals
+
+
+def _agreeing(digests):
+    # One line on the scenes compared: how many agreed, or that none was reported.
+    agreed = sum(len(d) == 64 for d in digests.values())
+    if not digests:
+        return ("the engine reports no scene_sha256: its scenes are not checked against "
+                "hrbench's (docs/engine-contract.md#scene-identity)")
+    return (f"the engine's scene_sha256 agrees with hrbench's for {agreed} scene"
+            f"{'' if agreed == 1 else 's'}"
+            + (f" ({len(digests) - agreed} not checked: hrbench cannot save them)"
+               if agreed < len(digests) else ""))
 
 
 def _judge_scenes(args, setup, points, store, reference, same, digests, measured, refusals):

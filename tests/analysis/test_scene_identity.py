@@ -2,6 +2,7 @@
 (docs/engine-contract.md#scene-identity). hrbench is build/hrbench under the repository root."""
 
 import json
+import sqlite3
 import subprocess
 from pathlib import Path
 
@@ -41,7 +42,9 @@ def test_the_documented_digest_agrees_with_hrbench(tmp_path, data_dir, fake_hrbe
     code, out, err = reproduce(tmp_path, data_dir, fake_hrbench, capsys)
     assert code == 0, err
     assert "S-short" in out
-    assert "scene_sha256" not in err
+    assert "error" not in err
+    # The agreement is said, not left to be inferred from silence.
+    assert "scenes: the engine's scene_sha256 agrees with hrbench's for 1 scene\n" in err
 
 
 def test_a_run_on_other_geometry_is_refused(tmp_path, data_dir, fake_hrbench, capsys,
@@ -55,6 +58,19 @@ def test_a_run_on_other_geometry_is_refused(tmp_path, data_dir, fake_hrbench, ca
     assert (f"claim 'S-short': the engine refined other patches than hrbench for parallel d=1 "
             f"l=8 (first at eps=0.5): scene_sha256 {'0' * 64} (engine) differs from "
             f"{expected} (hrbench build/hrbench save)") in line[0]
+    # Refused before the sweep: the claim's first point ran, none of its 7 others.
+    assert line[0].endswith("(checked before the sweep, on the claim's first point)")
+    assert "points" not in err
+    with sqlite3.connect(tmp_path / "results" / "hrbench.sqlite") as db:
+        assert db.execute("SELECT count(*) FROM points").fetchone() == (1,)
+
+
+def test_an_engine_without_digests_is_said_to_go_unchecked(tmp_path, data_dir, fake_hrbench,
+                                                           capsys):
+    code, _, err = reproduce(tmp_path, data_dir, fake_hrbench, capsys)
+    assert code == 0, err
+    assert ("scenes: the engine reports no scene_sha256: its scenes are not checked against "
+            "hrbench's") in err
 
 
 def test_without_hrbench_the_check_is_skipped_with_a_warning(tmp_path, data_dir, fake_hrbench,
