@@ -538,14 +538,13 @@ def octave_increments(rows, octaves):
     Returns
     -------
     rows : list of tuple
-        Per point ``i`` of each series whose partner ``j`` (the point with ``x_j``
-        nearest ``2^octaves x_i`` in octaves, no farther than
-        :data:`INCREMENT_SLACK_OCTAVES`)
-        exists: ``(sqrt(x_i x_j), (y_j - y_i) / ln(x_j / x_i), sqrt(value_i value_j),
-        series, None, (law_j - law_i) / ln(x_j / x_i))``.
+        Per point ``i`` of each series whose partner ``j`` exists (the point with
+        ``x_j`` nearest ``2^octaves x_i`` in octaves, no farther than
+        :data:`INCREMENT_SLACK_OCTAVES`): ``(sqrt(x_i x_j), (y_j - y_i) / ln(x_j / x_i),
+        sqrt(value_i value_j), series, None, (law_j - law_i) / ln(x_j / x_i))``.
     dropped : list of dict
-        Increments that are not positive (y did not grow over the octave), which a
-        log-log fit cannot read, as failures ``{"value", "exit_code", "stderr",
+        Increments that are not positive (y did not grow between the two points), which
+        a log-log fit cannot read, as failures ``{"value", "exit_code", "stderr",
         "command"}``.
 
     Notes
@@ -555,8 +554,8 @@ def octave_increments(rows, octaves):
     ``O(1)``, and a power law fitted to them separates it from ``L ~ x^(1+p)``
     (increments ``~ x^p``), where the exponent of ``L`` itself against ``x ln x``
     carries the lower-order term ``b x`` as a drift of about ``-b / (a ln^2 x)``.
-    Increments over an octave, not between neighbours, compare points of the same phase
-    of a binary staircase.
+    Increments over whole octaves, not between neighbours, compare points of the same
+    phase of a binary staircase where the sweep holds ``x`` and ``2 x`` (binary digits).
 
     Examples
     --------

@@ -14,7 +14,8 @@ from hrbench_analysis.verdict import get_verdict
 
 def rows_of(x, y, law=None, series=""):
     law = [None] * len(x) if law is None else law
-    return [(float(a), float(b), float(a), series, None, c) for a, b, c in zip(x, y, law)]
+    return [(float(a), float(b), float(a), series, None, c)
+            for a, b, c in zip(x, y, law, strict=True)]
 
 
 def test_increments_hand_computed():

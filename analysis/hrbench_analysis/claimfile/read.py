@@ -431,7 +431,7 @@ def _measure_iv(raw, step_octaves, want, fail):
              f"{increments!r}", "increments")
     if increments is not None and plateaus is not None:
         fail("keys 'increments' and 'plateaus' exclude each other: the increments pair "
-             "points an octave apart, the plateaus keep one point a step", "increments")
+             "points octaves apart, the plateaus keep one point a step", "increments")
     return ClaimMeasure(
         x=exprs["x"], y=exprs["y"], x_label=raw.get("x_label", raw["x"]),
         y_label=raw.get("y_label", raw["y"]), chart=raw.get("chart"), plateaus=plateaus,
