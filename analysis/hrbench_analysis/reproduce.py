@@ -347,18 +347,22 @@ def _sweep(args, setup):
                                      setup.capabilities)
                   for c in setup.claims if c.id not in setup.skipped}
         # The scenes the engine reports (scene_sha256) are checked against hrbench's,
-        # unless the engine is that hrbench: each claim's first point before the sweep,
-        # so that another geometry is refused after one run a claim, then every point.
+        # unless the engine is that hrbench: each claim's first point as soon as it is
+        # stored (first points run first), so that another geometry stops the sweep
+        # after a run, then every point after the sweep.
         (reference, same), digests = reference_engine(setup.engine), {}
+        check = (None if same or reference is None else
+                 _FirstScenes(args.mode, setup.claims, points, store, reference, digests))
         try:
+            if check is not None:
+                check.cached()
             with open_scheduler(args.scheduler, args.jobs) as scheduler:
-                if not same and reference is not None:
-                    refusals = _first_scenes(args, setup, points, store, scheduler,
-                                             reference, digests)
-                    if refusals:
-                        return None, {}, refusals
                 summary = run_points([p for ps in points.values() for p in ps], store,
-                                     scheduler=scheduler, timeout=args.run_timeout)
+                                     scheduler=scheduler, timeout=args.run_timeout,
+                                     first=() if check is None else check.claims,
+                                     on_stored=check)
+        except _SceneRefused as exc:
+            return None, {}, [str(exc)]
         except KeyboardInterrupt as exc:
             print(f"\ninterrupted: finished points are kept in {store.path}; "
                   "run again to resume", file=sys.stderr)
@@ -374,20 +378,39 @@ def _sweep(args, setup):
     return summary, measured, refusals
 
 
-def _first_scenes(args, setup, points, store, scheduler, reference, digests):
-    # Run each claim's first point and compare its scene with hrbench's: the error
-    # lines of the claims whose engine refined other patches.
-    first = {c: ps[:1] for c, ps in points.items() if ps}
-    run_points([p for ps in first.values() for p in ps], store, scheduler=scheduler,
-               timeout=args.run_timeout, progress=None)
-    refusals = []
-    for c in setup.claims:
-        if c.id in first:
-            line, _ = scene_mismatch(c, args.mode, first[c.id], store, reference, digests)
+class _SceneRefused(Exception):
+    # A claim's first point was refined on other patches than hrbench's: its error line.
+    pass
+
+
+class _FirstScenes:
+    # Each claim's first point, checked against hrbench's scene once stored: called by
+    # run_points with every point it stores (a cached one, by cached(), before).
+
+    def __init__(self, mode, claims, points, store, reference, digests):
+        self.mode, self.store, self.reference, self.digests = mode, store, reference, digests
+        self.points = {c.id: points[c.id] for c in claims if points.get(c.id)}
+        self.claims = {}
+        for c in claims:
+            if c.id in self.points:
+                self.claims.setdefault(self.points[c.id][0].key, []).append(c)
+
+    def cached(self):
+        for key in self.claims:
+            if self.store.is_final(key):
+                self._check(key)
+
+    def __call__(self, stored):
+        if stored.key in self.claims and stored.ok:
+            self._check(stored.key)
+
+    def _check(self, key):
+        for c in self.claims[key]:
+            line, _ = scene_mismatch(c, self.mode, self.points[c.id][:1], self.store,
+                                     self.reference, self.digests)
             if line is not None:
-                refusals.append(f"{line} (checked before the sweep, on the claim's first "
-                                "point)")
-    return refusals
+                raise _SceneRefused(f"{line}; found on the claim's first point, which the "
+                                    "sweep ran first, and the sweep stopped there")
 
 
 def _agreeing(digests):

@@ -201,7 +201,7 @@ def _point_text(key):
 
 
 def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
-               scheduler=None, timeout=None):
+               scheduler=None, timeout=None, first=(), on_stored=None):
     """Run every point that the store does not hold yet, in parallel.
 
     Parameters
@@ -225,6 +225,12 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
         Seconds each engine run may take (``--run-timeout``; default: no limit). A run
         past it is ended with its child processes and stored as a failure that the next
         sweep runs again.
+    first : collection of PointKey, optional
+        Points to start before the others, whatever their cost.
+    on_stored : callable, optional
+        Called with each :class:`StoredPoint` this sweep runs, once it is stored; an
+        exception it raises ends the sweep as an interrupt does (no new run starts, the
+        runs under way are ended with their children) and propagates.
 
     Returns
     -------
@@ -260,6 +266,7 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
     ran = failed = 0
     if todo:
         todo = order_by_cost(todo, store.known_seconds())
+        todo = [p for p in todo if p.key in first] + [p for p in todo if p.key not in first]
         own = scheduler is None
         if own:
             scheduler = open_scheduler(LOCAL, jobs or os.cpu_count() or 1)
@@ -317,6 +324,8 @@ def run_points(points, store, jobs=None, progress=sys.stderr, poll=POLL_SECONDS,
                             bar.done += 1
                             bar.running = [p.key for ps in running.values() for p in ps]
                             bar.update(failed=not result.ok)
+                            if on_stored is not None:
+                                on_stored(result)
                     if running and time.monotonic() - renewed >= LEASE_RENEW:
                         store.renew()
                         renewed = time.monotonic()
