@@ -529,9 +529,10 @@ def get_claim_data(claim, points, store, counters=None):
                      fitted=fitted, alternative=laws)
 
 
-#: How far (octaves) from its place its partner of :func:`octave_increments` may lie:
-#: half an octave, so that a sweep of more than one point an octave always has one.
-INCREMENT_SLACK_OCTAVES = 0.5
+#: How far (octaves) from its place its partner of :func:`octave_increments` may lie: a
+#: quarter octave, so that on a sweep of 2 binary digits (``x`` and ``1.5 x`` an octave)
+#: ``2^j`` never pairs with ``1.5 * 2^(j + 1)``, across the staircase's phases.
+INCREMENT_SLACK_OCTAVES = 0.25
 
 
 def octave_increments(rows, octaves):

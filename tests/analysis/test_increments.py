@@ -23,16 +23,16 @@ def test_increments_hand_computed():
     x = [8, 12, 16, 24, 32, 64]
     got, dropped = octave_increments(rows_of(x, [3 * math.log(v) - 7 for v in x]), 1)
     assert dropped == []
-    # 8 -> 16, 12 -> 24, 16 -> 32, 32 -> 64, and 24 -> 64: 64 lies 0.42 octave past 48,
-    # 32 0.58 short of it; 64 has no partner.
+    # 8 -> 16, 12 -> 24, 16 -> 32, 32 -> 64; 24 has none: 64 lies 0.42 octave past 48,
+    # more than a quarter octave (a pair across the phases of a binary staircase).
     assert [(round(r[0], 6), round(r[1], 12)) for r in got] == [
-        (round(math.sqrt(v * w), 6), 3.0) for v, w in
-        ((8, 16), (12, 24), (16, 32), (24, 64), (32, 64))]
-    # Two octaves apart: 8 -> 32, 12 -> 64 (0.42 octave past 48), 16 -> 64; 24 has none
-    # (64 lies 0.58 octave short of 96).
+        (round(math.sqrt(v * w), 6), 3.0) for v, w in ((8, 16), (12, 24), (16, 32), (32, 64))]
+    # Two octaves apart: 8 -> 32, 16 -> 64; 12 has none (64 lies 0.42 octave past 48).
     got, _ = octave_increments(rows_of(x, [2 * math.log(v) for v in x]), 2)
-    assert [(round(r[0], 6), round(r[1], 12)) for r in got] == [
-        (16.0, 2.0), (round(math.sqrt(768), 6), 2.0), (32.0, 2.0)]
+    assert [(r[0], round(r[1], 12)) for r in got] == [(16.0, 2.0), (32.0, 2.0)]
+    # Within a quarter octave the nearest is taken: 10 -> 21 (0.07 octave past 20).
+    got, _ = octave_increments(rows_of([10, 21], [1, 2]), 1)
+    assert [round(r[1], 12) for r in got] == [round(1 / math.log(2.1), 12)]
 
 
 def test_increments_take_the_law_along_and_keep_series_apart():
