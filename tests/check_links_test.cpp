@@ -3,12 +3,15 @@
 // missing, an overlapping and an unacceptable link, each with its line and exit code 4.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <set>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <sys/stat.h>
 
@@ -488,6 +491,59 @@ TEST_CASE("check-links sums up every violation by category, in text and JSON", "
     CHECK(j["root_pairs"][0]["pair"] == nlohmann::json({0, 1}));
     CHECK(j["root_pairs"][0]["count"] == 1);
     CHECK_THAT(all.err, Catch::Contains("the first of 2 violations"));
+}
+
+TEST_CASE("check-links judges --ff-estimate against the oracle in force, the dump's first",
+          "[check-links]") {
+    const std::string scene = "parallel l=4 d=1 --eps 0.05 ";
+    std::string own = Scratch("hanrahan.dump");
+    REQUIRE(Cli("links " + scene +
+                "--oracle hanrahan --ff-estimate solid-angle --format probe "
+                "--out " +
+                own)
+                .exitCode == 0);
+    // The same links, in a dump whose conventions line names the oracle.
+    std::string text = ReadFile(own);
+    std::string dump = WriteScratch("named.dump", "hrbench-link-dump 2\nconventions "
+                                                  "oracle=hanrahan\n" +
+                                                      text.substr(text.find('\n') + 1));
+    // The dump says oracle=hanrahan: --ff-estimate applies, though --oracle is not given.
+    CliResult r = Cli("check-links " + scene + "--ff-estimate solid-angle --links " + dump);
+    INFO(r.err);
+    CHECK(r.exitCode == 0);
+    // Without an oracle in the dump, --oracle's (here the default, garmann) is in force.
+    CheckError("check-links " + scene + "--ff-estimate solid-angle --links " + own, 2,
+               "--ff-estimate applies to the oracles hanrahan and bf only, not to garmann");
+    CheckError("check-links " + scene + "--oracle garmann --ff-estimate solid-angle --links " + own,
+               2, "--ff-estimate applies to the oracles hanrahan and bf only, not to garmann");
+}
+
+TEST_CASE("check-links --all writes every violation, one line each, in the dump's order",
+          "[check-links]") {
+    // Each of the four links given twice: four overlaps, of which --summary keeps 3.
+    std::string text = "hrbench-link-dump 2\ndecide 0 1 split 0\ndecide 0/0 1 split 1\n"
+                       "decide 0/0 1/0 accept\ndecide 0/0 1/1 accept\ndecide 0/1 1 split 1\n"
+                       "decide 0/1 1/0 accept\ndecide 0/1 1/1 accept\n";
+    for (const char *link : {"0/0 1/0", "0/0 1/1", "0/1 1/0", "0/1 1/1"})
+        text += std::string(link) + "\n" + link + "\n";
+    std::string path = WriteScratch("d_twice.dump", text);
+    CliResult every = Cli(kSmall + path + " --all");
+    INFO(every.out << every.err);
+    CHECK(every.exitCode == hrbench::kExitViolation);
+    std::istringstream lines(every.out);
+    std::vector<std::string> got;
+    for (std::string line; std::getline(lines, line);)
+        got.push_back(line);
+    REQUIRE(got.size() == 4);
+    for (size_t i = 0; i < got.size(); ++i)
+        CHECK_THAT(got[i], Catch::StartsWith(path + ":" + std::to_string(10 + 2 * i) +
+                                             ": overlapping links: "));
+    CHECK_THAT(every.err, Catch::Contains("the first of 4 violations; --summary or --json lists "
+                                          "them, --all every one"));
+    CliResult summary = Cli(kSmall + path + " --summary");
+    CHECK_THAT(summary.out, Catch::Contains("overlapping-link (overlapping links): 4"));
+    CHECK_THAT(summary.out, !Catch::Contains(":16: overlapping"));
+    CHECK(Cli(kSmall + path + " --all --json").exitCode == hrbench::kExitInput);
 }
 
 TEST_CASE("version 2 dumps: the probe's records and malformed ones", "[check-links]") {

@@ -41,6 +41,7 @@ struct LinkConventions {
 struct CheckLinksOptions {
     std::string conventions;  // --conventions: "hrbench" or "KEY=VALUE,..."
     bool oracleGiven = false, ffEstimateGiven = false;  // --oracle, --ff-estimate given
+    std::ostream *every = nullptr;  // --all: each violation's message, a line, as found
 };
 
 // Every violation of one dump, by category and by root pair: counts and the first few

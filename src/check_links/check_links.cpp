@@ -72,7 +72,7 @@ LinkCheck CheckLinks(const Scene &scene, const RefineOptions &given, const LinkD
     ValidateScene(scene, false);
     ValidateOptions(counting, scene.Dimension());
     const Scene &checked = scene;
-    Violations violations(dump.name);
+    Violations violations(dump.name, extra.every);
     // A version 1 dump is read ordered and has no unlinks: checked as it is, uncopied.
     std::optional<LinkDump> copy;
     if (dump.version >= 2)
@@ -137,7 +137,7 @@ LinkCheck CheckLinks(const Scene &scene, const RefineOptions &given, const LinkD
         std::string message = summary->firstMessage;
         if (summary->total > 1)
             message += " (the first of " + std::to_string(summary->total) +
-                       " violations; --summary or --json lists them)";
+                       " violations; --summary or --json lists them, --all every one)";
         throw LinkViolation(message, summary, std::make_shared<LinkCheck>(check));
     }
     return check;

@@ -106,6 +106,11 @@ LinkConventions ResolveConventions(const LinkDump &dump, const CheckLinksOptions
                              " disagrees with the dump's oracle=" + name);
         options.oracle = name;
     }
+    // --ff-estimate is judged against the oracle in force: the dump's, else --oracle's.
+    if (extra.ffEstimateGiven && !c.ownOracle && !FindOracle(options.oracle).Reads("ff_estimate"))
+        throw InputError("--ff-estimate applies to the oracles " +
+                         JoinedNames(OraclesReading("ff_estimate")) + " only, not to " +
+                         options.oracle + (keys.count("oracle") ? ", the dump's oracle" : ""));
     if (keys.count("ff_estimate")) {
         const std::string &name = keys["ff_estimate"];
         FfEstimate estimate = ParseFfEstimate(name);

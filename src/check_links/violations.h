@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,12 +42,15 @@ inline const std::vector<std::pair<std::string, std::string>> &Categories() {
 }
 
 // Collects violations with bounded memory: counts, the first few messages of each
-// category and the counts of the first root pairs.
+// category and the counts of the first root pairs; and, given a stream, writes every
+// message to it as it comes (check-links --all).
 class Violations {
   public:
     static constexpr size_t kFirst = 3, kPairs = 100;
 
-    explicit Violations(const std::string &file) { summary_.file = file; }
+    explicit Violations(const std::string &file, std::ostream *every = nullptr) : every_(every) {
+        summary_.file = file;
+    }
 
     // A violation of _category_; _line_ 0 for none, _p_ and _q_ its root pair (or
     // direction) when _hasPair_; _what_ the message after the label (built only if kept).
@@ -65,9 +69,11 @@ class Violations {
             summary_.categories.push_back({category, label, 0, {}});
             c = &summary_.categories.back();
         }
-        if (c->first.size() < kFirst || summary_.total == 0) {
+        if (c->first.size() < kFirst || summary_.total == 0 || every_) {
             std::string message = summary_.file + (line ? ":" + std::to_string(line) : "") + ": " +
                                   c->label + ": " + std::string(what());
+            if (every_)
+                *every_ << message << '\n';
             if (summary_.total == 0)
                 summary_.firstMessage = message;
             if (c->first.size() < kFirst)
@@ -89,6 +95,7 @@ class Violations {
 
   private:
     LinkSummary summary_;
+    std::ostream *every_;
 };
 
 }  // namespace hrbench

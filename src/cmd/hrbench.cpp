@@ -102,7 +102,8 @@ int CheckLinksCommand(const Scene &scene, const Options &o) {
     std::istringstream text(ReadRegularFile(o.linksFile, "link dump", o.maxInputBytes));
     LinkDump dump =
         ReadLinkDump(text, o.linksFile, SubdivisionArity(o.refine.subdivision), scene.NumPatches());
-    CheckLinksOptions extra{o.linkConventions, o.oracleGiven, o.ffEstimateGiven};
+    CheckLinksOptions extra{o.linkConventions, o.oracleGiven, o.ffEstimateGiven,
+                            o.linkAll ? &std::cout : nullptr};
     try {
         LinkCheck check = CheckLinks(scene, o.refine, dump, extra);
         if (o.json)

@@ -76,14 +76,6 @@ std::string ChoiceDoc(const Table &table) {
     return doc;
 }
 
-// "a, b and c".
-std::string JoinedNames(const std::vector<std::string> &names) {
-    std::string text;
-    for (size_t k = 0; k < names.size(); ++k)
-        text += (k == 0 ? "" : k + 1 == names.size() ? " and " : ", ") + names[k];
-    return text;
-}
-
 // Why _flag_ does not apply to _command_, where more can be said than that.
 std::string NotApplicable(const std::string &flag, const std::string &command) {
     if (command == "solve" && flag == "--count-only")
@@ -371,6 +363,15 @@ const std::vector<OptionSpec> &OptionTable() {
          {"check-links"},
          "list every violation by category and root pair on stdout",
          [](Options &o, S) { o.linkSummary = true; }},
+        {"all",
+         "--all",
+         "",
+         {},
+         {"check-links"},
+         "write every violation on stdout, one line each, as it is found\n(memory bounded "
+         "whatever their number; --summary keeps the first 3\nof each category)",
+         [](Options &o, S) { o.linkAll = true; },
+         {{"json", "streams lines, not one JSON object"}}},
         {"tolerance",
          "--tolerance",
          "T",
@@ -567,7 +568,11 @@ Options ParseCommandLine(const std::vector<std::string> &args) {
     }
     if (refines && !o.eps)
         throw InputError(o.command + " needs --eps");
-    if (seen.count("--ff-estimate") && !FindOracle(o.refine.oracle).Reads("ff_estimate"))
+    // check-links judges --ff-estimate against the dump's oracle when --oracle is not given
+    // (ResolveConventions).
+    bool dumpOracle = o.command == "check-links" && !seen.count("--oracle");
+    if (seen.count("--ff-estimate") && !dumpOracle &&
+        !FindOracle(o.refine.oracle).Reads("ff_estimate"))
         throw InputError("--ff-estimate applies to the oracles " +
                          JoinedNames(OraclesReading("ff_estimate")) + " only, not to " +
                          o.refine.oracle);

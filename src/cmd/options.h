@@ -30,6 +30,7 @@ struct Options {
     std::optional<double> tolerance;                    // --tolerance as given (solve, dump-paths)
     std::string linkConventions;                        // check-links --conventions
     bool linkSummary = false;                           // check-links --summary
+    bool linkAll = false;                               // check-links --all
     bool oracleGiven = false, ffEstimateGiven = false;  // --oracle, --ff-estimate given
     std::optional<double> eps;
     RefineOptions refine;

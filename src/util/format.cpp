@@ -30,4 +30,11 @@ std::string FormatDouble(double value) {
     return buffer;
 }
 
+std::string JoinedNames(const std::vector<std::string> &names) {
+    std::string text;
+    for (size_t k = 0; k < names.size(); ++k)
+        text += (k == 0 ? "" : k + 1 == names.size() ? " and " : ", ") + names[k];
+    return text;
+}
+
 }  // namespace hrbench
