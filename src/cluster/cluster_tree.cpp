@@ -68,7 +68,7 @@ ClusterTree<Shape>::ClusterTree(const hrbench::Patches<Shape> &patches)
     // of a new cluster under _parent_, numbered in preorder; returns the cluster.
     auto build = [&](auto &&self, uint32_t begin, uint32_t end, uint32_t parent) -> uint32_t {
         const uint32_t c = uint32_t(clusters_.size());
-        clusters_.push_back({Vector<D>::Zero(), 0, 0, 0, {0, 0}, 0, 0, 0});  // set below
+        clusters_.push_back({Vector<D>::Zero(), 0, 0, {0, 0}, 0, 0, 0});  // set below
         Box<D> box;
         for (uint32_t k = begin; k < end; ++k)
             box.Add(centroid[order_[k]]);
@@ -98,14 +98,10 @@ ClusterTree<Shape>::ClusterTree(const hrbench::Patches<Shape> &patches)
         cluster.center = ball.center;
         cluster.radius = ball.radius;
         cluster.measure = 0;
-        cluster.maxMeasure = 0;
         for (int s = 0; s < 2; ++s) {
             uint32_t child = children[s];
-            double measure = IsCluster(child) ? clusters_[ClusterIndex(child)].measure
-                                              : patches[child].shape.Measure();
-            double max = IsCluster(child) ? clusters_[ClusterIndex(child)].maxMeasure : measure;
-            cluster.measure += measure;
-            cluster.maxMeasure = std::max(cluster.maxMeasure, max);
+            cluster.measure += IsCluster(child) ? clusters_[ClusterIndex(child)].measure
+                                                : patches[child].shape.Measure();
         }
         cluster.children[0] = children[0], cluster.children[1] = children[1];
         cluster.parent = parent;
