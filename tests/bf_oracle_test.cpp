@@ -157,7 +157,8 @@ TEST_CASE("bf accepts a pair whose elements do not emit at once, however close",
 
     SECTION("a run where nothing emits is refused") {
         CHECK_THROWS_AS(CentreBF<Segment>(0.1, FacingSegments(0, 0)), InputError);
-        CHECK_THROWS_WITH(Refine(SceneOf(FacingSquares(0, 0)), BF(0.1)),
+        Scene dark = SceneOf(FacingSquares(0, 0));
+        CHECK_THROWS_WITH(Refine(dark, BF(0.1)),
                           Catch::StartsWith("the bf oracle needs an emitter: "));
     }
 }

@@ -54,8 +54,9 @@ std::string OwnDump(double eps, hrbench::ClusterBound bound = hrbench::ClusterBo
     hrbench::RefineOptions o = Clustered(eps, bound);
     o.storeLinks = true;
     std::ostringstream out;
-    hrbench::WriteLinkDump(
-        hrbench::AnyRefinement(hrbench::Refine<hrbench::Segment>(FourPlates(), o)), out);
+    hrbench::Scene scene = FourPlates();
+    hrbench::WriteLinkDump(hrbench::AnyRefinement(hrbench::Refine<hrbench::Segment>(scene, o)),
+                           out);
     return out.str();
 }
 
@@ -199,9 +200,9 @@ TEST_CASE("check-links --clusters on the four plates: each violation", "[check-l
         plain.clusters = false;
         plain.storeLinks = true;
         std::ostringstream unclustered;
+        hrbench::Scene scene = FourPlates();
         hrbench::WriteLinkDump(
-            hrbench::AnyRefinement(hrbench::Refine<hrbench::Segment>(FourPlates(), plain)),
-            unclustered);
+            hrbench::AnyRefinement(hrbench::Refine<hrbench::Segment>(scene, plain)), unclustered);
         CHECK(Categories(Edit(unclustered.str(), {}), 0.5, &first) ==
               std::vector<std::string>{"counter-mismatch"});
         CHECK_THAT(first, Catch::Contains("counts: the links give links"));

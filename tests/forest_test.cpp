@@ -17,8 +17,11 @@ Patches<Polygon> SquareAndTriangle() {
     return {{UnitSquare(), {}}, {Polygon::Triangle({0, 0, 1}, {0, 1, 1}, {1, 0, 1}), {}}};
 }
 
-Patches<Segment> TwoSegments() {
-    return {{{Vec2(0, 0), Vec2(8, 0)}, {}}, {{Vec2(8, 1), Vec2(0, 1)}, {}}};
+// Kept for the whole test run: a forest reads its roots' shapes from its patches.
+const Patches<Segment> &TwoSegments() {
+    static const Patches<Segment> patches = {{{Vec2(0, 0), Vec2(8, 0)}, {}},
+                                             {{Vec2(8, 1), Vec2(0, 1)}, {}}};
+    return patches;
 }
 
 // Descends through the first child of _e_ until the forest refuses; returns the depth
@@ -198,17 +201,16 @@ TEMPLATE_TEST_CASE("A forest refuses to grow past its memory budget, naming the 
 TEST_CASE("A forest refuses elements too small for double precision to split", "[forest]") {
     SECTION("a segment far from the origin for its size") {
         // [1, 2] halved towards 1: [1, 1 + 2^-52] has a midpoint that rounds to 1.
-        Forest<Segment> f(Patches<Segment>{{{Vec2(1, 0), Vec2(2, 0)}, {}}}, 1000,
-                          Subdivision::Binary);
+        Patches<Segment> patches{{{Vec2(1, 0), Vec2(2, 0)}, {}}};
+        Forest<Segment> f(patches, 1000, Subdivision::Binary);
         auto [depth, message] = DescendUntilRefused(f, 0);
         CHECK(depth == 52);
         CHECK_THAT(message, Catch::Contains("too small for double precision"));
         CHECK_THAT(message, Catch::Contains("--min-area"));
     }
     SECTION("a polygon far from the origin for its size") {
-        Forest<Polygon> f(
-            Patches<Polygon>{{Polygon::Quad({1, 1, 0}, {2, 1, 0}, {2, 2, 0}, {1, 2, 0}), {}}}, 1000,
-            Subdivision::Binary);
+        Patches<Polygon> patches{{Polygon::Quad({1, 1, 0}, {2, 1, 0}, {2, 2, 0}, {1, 2, 0}), {}}};
+        Forest<Polygon> f(patches, 1000, Subdivision::Binary);
         auto [depth, message] = DescendUntilRefused(f, 0);
         CHECK(depth > 90);  // both sides halve about 52 times
         CHECK(depth < 300);

@@ -157,8 +157,8 @@ TEST_CASE("The worked example of docs/conventions.md gives its published counts"
 TEST_CASE("Small cases give the counts computed by hand", "[refine]") {
     SECTION("a pair acceptable at once is one link and one oracle call") {
         // l = d = 1: max(1, 1) <= 1 * 1 holds with equality, and ties are acceptable.
-        Refinement<Segment> r =
-            Refine<Segment>(MakeScene("parallel", {{"l", 1}, {"d", 1}}), Options(1));
+        Scene scene = MakeScene("parallel", {{"l", 1}, {"d", 1}});
+        Refinement<Segment> r = Refine<Segment>(scene, Options(1));
         CHECK(r.record.counters.links == 1);
         CHECK(r.record.counters.oracleCalls == 1);
         CHECK(r.record.counters.nodes == 2);
@@ -169,8 +169,8 @@ TEST_CASE("Small cases give the counts computed by hand", "[refine]") {
         // eps = 0.5: (P,Q) fails (1 > 0.5 * 1); P splits (tie). (P0,Q): 1 > 0.5*sqrt(1.0625)
         // -> Q splits; (P0,Q0): 0.5 <= 0.5*sqrt(1.25); (P0,Q1): 0.5 <= 0.5*1 (tie).
         // (P1,Q) fails likewise and reuses Q's children: (P1,Q0) tie, (P1,Q1) accepted.
-        Refinement<Segment> r =
-            Refine<Segment>(MakeScene("parallel", {{"l", 1}, {"d", 1}}), Options(0.5));
+        Scene scene = MakeScene("parallel", {{"l", 1}, {"d", 1}});
+        Refinement<Segment> r = Refine<Segment>(scene, Options(0.5));
         CHECK(r.record.counters.links == 4);
         CHECK(r.record.counters.oracleCalls == 7);
         CHECK(r.record.counters.nodes == 6);
@@ -179,7 +179,8 @@ TEST_CASE("Small cases give the counts computed by hand", "[refine]") {
         CHECK(r.record.counters.linksPerDepth == std::vector<uint64_t>{0, 0, 4});
     }
     SECTION("collinear patches are culled and never refined") {
-        Refinement<Segment> r = Refine<Segment>(MakeScene("array", {{"k", 3}}), Options(0.5));
+        Scene scene = MakeScene("array", {{"k", 3}});
+        Refinement<Segment> r = Refine<Segment>(scene, Options(0.5));
         // 6 plates: the 3 + 3 pairs within a row are collinear, 9 pairs face each other.
         CHECK(r.record.counters.rootPairs == 15);
         CHECK(r.record.counters.culledPairs == 6);
@@ -222,18 +223,20 @@ TEST_CASE("Two unit squares at distance 1 give the hand-computed 3D counts", "[3
 }
 
 TEST_CASE("Refine dispatches on the shape of the scene's patches", "[refine]") {
-    AnyRefinement flat = Refine(MakeScene("parallel", {{"l", 1}, {"d", 1}}), Options(0.5));
+    Scene flatScene = MakeScene("parallel", {{"l", 1}, {"d", 1}});
+    AnyRefinement flat = Refine(flatScene, Options(0.5));
     REQUIRE(std::holds_alternative<Refinement<Segment>>(flat));
     const RunRecord &flatRecord = std::get<Refinement<Segment>>(flat).record;
     CHECK(flatRecord.method == "enumerate");
     CHECK(flatRecord.counters.links == 4);
     CHECK(flatRecord.seconds >= 0);
-    AnyRefinement space = Refine(MakeScene("parallel3d", {}), Options3D(0.5));
+    Scene spaceScene = MakeScene("parallel3d", {});
+    AnyRefinement space = Refine(spaceScene, Options3D(0.5));
     REQUIRE(std::holds_alternative<Refinement<Polygon>>(space));
     CHECK(std::get<Refinement<Polygon>>(space).record.counters.links == 4);
-    CHECK_THROWS_WITH(Refine<Polygon>(MakeScene("parallel", {}), Options(0.5)),
+    CHECK_THROWS_WITH(Refine<Polygon>(flatScene, Options(0.5)),
                       Catch::Contains("does not hold polygons"));
-    CHECK_THROWS_AS(Refine<Segment>(MakeScene("parallel3d", {}), Options(0.5)), InputError);
+    CHECK_THROWS_AS(Refine<Segment>(spaceScene, Options(0.5)), InputError);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -667,8 +670,9 @@ TEST_CASE("An occluder reduces the links of the plates with visibility fraction"
           "[3d][visibility][refine]") {
     RefineOptions o = Options3D(0.02);
     o.visibility = VisibilityMode::Fraction;
-    Refinement<Polygon> open = Refine<Polygon>(MakeScene("parallel3d", {}), o);
-    Refinement<Polygon> blocked = Refine<Polygon>(MakeScene("occluded3d", {}), o);
+    Scene plates = MakeScene("parallel3d", {}), occluded = MakeScene("occluded3d", {});
+    Refinement<Polygon> open = Refine<Polygon>(plates, o);
+    Refinement<Polygon> blocked = Refine<Polygon>(occluded, o);
     uint64_t plateLinks = 0;
     for (const Link &link : blocked.links)
         plateLinks += blocked.forest[link.i].root == 0 && blocked.forest[link.j].root == 1;
@@ -737,7 +741,8 @@ TEST_CASE("The Cornell box refines with a recursion limit, and occlusion removes
 TEST_CASE("An OBJ mesh refines as the family it copies", "[3d][mesh][refine]") {
     Scene mesh = LoadMesh(std::string(HRBENCH_TEST_DATA) + "/two_plates.obj");
     Refinement<Polygon> a = Refine<Polygon>(mesh, Options3D(0.03));
-    Refinement<Polygon> b = Refine<Polygon>(MakeScene("parallel3d", {}), Options3D(0.03));
+    Scene family = MakeScene("parallel3d", {});
+    Refinement<Polygon> b = Refine<Polygon>(family, Options3D(0.03));
     CHECK(a.record.counters.links == b.record.counters.links);
     CHECK(a.record.counters.nodes == b.record.counters.nodes);
     CHECK(a.record.counters.oracleCalls == b.record.counters.oracleCalls);
@@ -755,18 +760,21 @@ TEST_CASE("Refinement that cannot terminate is an error, not a hang", "[refine][
     SECTION("a recursion limit makes touching patches terminate") {
         RefineOptions o = Options(0.5);
         o.minArea = 1e-3;
-        Refinement<Segment> r = Refine<Segment>(MakeScene("perpendicular", {{"gap", 0}}), o);
+        Scene touching = MakeScene("perpendicular", {{"gap", 0}});
+        Refinement<Segment> r = Refine<Segment>(touching, o);
         CHECK(r.record.counters.forcedLinks > 0);
     }
     SECTION("a --min-area too small for the safety depth names the pair") {
         RefineOptions o = Options(0.5);
         o.minArea = 1e-300;
-        CHECK_THROWS_AS(Refine(MakeScene("perpendicular", {{"gap", 0}}), o), LimitError);
+        Scene touching = MakeScene("perpendicular", {{"gap", 0}});
+        CHECK_THROWS_AS(Refine(touching, o), LimitError);
     }
     SECTION("a memory budget too small for the links stops the run") {
         RefineOptions o = Options(0.01);
         o.memoryBudget = 1 << 20;
-        CHECK_THROWS_AS(Refine(MakeScene("parallel", {{"l", 1024}}), o), LimitError);
+        Scene scene = MakeScene("parallel", {{"l", 1024}});
+        CHECK_THROWS_AS(Refine(scene, o), LimitError);
     }
 }
 
@@ -866,8 +874,8 @@ TEST_CASE("Bad 3D refinement options are input errors naming the flag", "[3d][re
     CHECK_THROWS_WITH(Refine(scene3, o), Catch::Contains("--rays-per-side"));
     o = Options3D(0.1, "garmann", Subdivision::Quadtree);
     CHECK_THROWS_WITH(Refine(scene2, o), Catch::Contains("--subdivision quadtree"));
-    CHECK_THROWS_WITH(Refine(MakeScene("perpendicular3d", {{"gap", 0}}), Options3D(0.1)),
-                      Catch::Contains("touch"));
+    Scene touching = MakeScene("perpendicular3d", {{"gap", 0}});
+    CHECK_THROWS_WITH(Refine(touching, Options3D(0.1)), Catch::Contains("touch"));
 }
 
 TEST_CASE("Options are checked against the scene's dimension and the oracle registry",
@@ -886,6 +894,6 @@ TEST_CASE("Options are checked against the scene's dimension and the oracle regi
     o = Options(0.5, "magic");
     CHECK_THROWS_WITH(ValidateOptions(o, 2),
                       "unknown oracle 'magic' (choose one of: garmann, hanrahan, bf)");
-    CHECK_THROWS_WITH(Refine(MakeScene("parallel", {}), o),
-                      Catch::Contains("unknown oracle 'magic'"));
+    Scene scene = MakeScene("parallel", {});
+    CHECK_THROWS_WITH(Refine(scene, o), Catch::Contains("unknown oracle 'magic'"));
 }

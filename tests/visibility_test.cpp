@@ -181,8 +181,8 @@ TEST_CASE("Samples kept from the last query are those a fresh query takes", "[vi
     CHECK(seen.size() >= 3);  // the pairs differ, so stale samples would show
 
     // Another forest, whose elements 0 and 1 lie elsewhere, is not served from the first.
-    Forest<Polygon> other(MakeScene("parallel3d", {{"ox", 1.5}}).Get<Polygon>(), 1000,
-                          Subdivision::Binary);
+    Scene moved = MakeScene("parallel3d", {{"ox", 1.5}});
+    Forest<Polygon> other(moved.Get<Polygon>(), 1000, Subdivision::Binary);
     SampledVisibility<Polygon> fresh(occluders, 3, VisibilityMode::Fraction);
     double elsewhere = fresh.Fraction(other, 0, 1, freshTally);
     REQUIRE(elsewhere != kept.Fraction(forest, 0, 1, keptTally));

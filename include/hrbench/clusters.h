@@ -39,18 +39,19 @@ struct Ball {
 template <typename Shape>
 Ball<Shape::kDimension> PatchBall(const Patches<Shape> &patches, uint32_t p);
 
-// A cluster: what the cluster oracles read, and where its patches are.
+// A cluster: what the cluster oracles read, and where its patches are (64 bytes in 3D:
+// the tree holds one per patch, less one).
 template <int D>
 struct Cluster {
     Vector<D> center;      // centre of the bounding ball
     double radius;         // radius of the bounding ball (every corner of its patches inside)
     double measure;        // A_C: the sum of its patches' lengths (2D) or areas (3D)
-    double maxMeasure;     // the largest of its patches' measures
     uint32_t children[2];  // nodes (above): two clusters, two patches, or one of each
     uint32_t parent;       // cluster index of the parent; the root's is itself
     // Its patches are ClusterTree::Patches()[begin, end): every cluster covers a range.
     uint32_t begin, end;
 };
+static_assert(sizeof(Cluster<3>) == 64, "a cluster is 64 bytes in 3D");
 
 // The hierarchy over the root patches of one scene. With k >= 2 patches it holds k - 1
 // clusters, cluster 0 the root; with one patch, none.

@@ -83,8 +83,14 @@ class Forest {
     // Creates one root element per patch; elements 0..n-1 are the roots. _maxElements_
     // bounds the arena (a memory budget): growing past it throws LimitError. A finite
     // bound is reserved as address space where that is free (ReservationsAreFree()),
-    // so that growing to it moves nothing.
+    // so that growing to it moves nothing. The roots' shapes are read from _patches_,
+    // not copied (a copy took 104 bytes a polygon, 208 MB for 2M triangles, and as
+    // much again in each worker's copy of the forest): the patches must outlive the
+    // forest and its copies, in place. A temporary would not, and is refused.
     Forest(const Patches<Shape> &patches, size_t maxElements, Subdivision mode);
+    Forest(const Patches<Shape> &&, size_t, Subdivision) = delete;
+    // A forest of no patches, for a result that a run sets later.
+    explicit Forest(Subdivision mode) : Forest(kNoPatches, SIZE_MAX, mode) {}
 
     // The hot data of element _i_.
     const ElementType &operator[](uint32_t i) const { return hot_[i]; }
@@ -125,7 +131,7 @@ class Forest {
     // it is the same shape, bit for bit, every time. Costs Depth(i) subdivisions;
     // ShapeCursor (below) makes the shapes of nearby elements in a few.
     Shape ShapeOf(uint32_t i) const;
-    const Shape &RootShape(uint32_t root) const { return rootShapes_[root]; }
+    const Shape &RootShape(uint32_t root) const { return (*patches_)[root].shape; }
     // The shape of every element, in id order, made in one pass over the sibling groups
     // in the order they were made: for work that needs the shapes of many elements.
     std::vector<Shape> AllShapes() const;
@@ -139,11 +145,10 @@ class Forest {
     uint64_t Position(uint32_t i) const;
 
     // Bytes the trees hold (their arrays' elements, not the address space reserved
-    // beyond them).
+    // beyond them, nor the patches).
     size_t Bytes() const {
-        return (rootShapes_.size() + recentShapes_.size()) * sizeof(Shape) +
-               hot_.size() * sizeof(ElementType) + depth_.size() +
-               splitElement_.size() * sizeof(uint32_t);
+        return recentShapes_.size() * sizeof(Shape) + hot_.size() * sizeof(ElementType) +
+               depth_.size() + splitElement_.size() * sizeof(uint32_t);
     }
 
     // Counters of the trees: elements per depth, elements without children.
@@ -157,7 +162,8 @@ class Forest {
     size_t maxElements_;
     Subdivision mode_;
     int arity_;
-    std::vector<Shape> rootShapes_;
+    const Patches<Shape> *patches_;  // the roots' shapes
+    static inline const Patches<Shape> kNoPatches{};
     ReservedArray<ElementType> hot_;
     ReservedArray<uint8_t> depth_;
     // Per sibling group g (elements numRoots + g * arity onwards, in the order they were

@@ -75,12 +75,17 @@ using AnyRefinement = std::variant<Refinement<Segment>, Refinement<Polygon>>;
 
 // Refines every root pair of _scene_, whichever its shape. Throws InputError for an
 // invalid scene or options, or touching patches without a recursion limit; LimitError
-// when the safety depth or the memory budget is reached.
+// when the safety depth or the memory budget is reached. The refinement's forest reads
+// its roots' shapes from the scene's patches: the scene must outlive the refinement
+// (a temporary is refused).
 AnyRefinement Refine(const Scene &scene, const RefineOptions &options);
+AnyRefinement Refine(const Scene &&, const RefineOptions &) = delete;
 
 // The same for a scene known to hold _Shape_ patches (InputError otherwise).
 template <typename Shape>
 Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options);
+template <typename Shape>
+Refinement<Shape> Refine(const Scene &&, const RefineOptions &) = delete;
 
 extern template Refinement<Segment> Refine(const Scene &, const RefineOptions &);
 extern template Refinement<Polygon> Refine(const Scene &, const RefineOptions &);

@@ -68,7 +68,7 @@ ClusterTree<Shape>::ClusterTree(const hrbench::Patches<Shape> &patches)
     // of a new cluster under _parent_, numbered in preorder; returns the cluster.
     auto build = [&](auto &&self, uint32_t begin, uint32_t end, uint32_t parent) -> uint32_t {
         const uint32_t c = uint32_t(clusters_.size());
-        clusters_.push_back({Vector<D>::Zero(), 0, 0, 0, {0, 0}, 0, 0, 0});  // set below
+        clusters_.push_back({Vector<D>::Zero(), 0, 0, {0, 0}, 0, 0, 0});  // set below
         Box<D> box;
         for (uint32_t k = begin; k < end; ++k)
             box.Add(centroid[order_[k]]);
@@ -77,11 +77,16 @@ ClusterTree<Shape>::ClusterTree(const hrbench::Patches<Shape> &patches)
         for (int a = 1; a < D; ++a)
             if (extent[a] > extent[axis])
                 axis = a;
-        std::sort(order_.begin() + begin, order_.begin() + end, [&](uint32_t x, uint32_t y) {
-            double cx = centroid[x][axis], cy = centroid[y][axis];
-            return cx < cy || (cx == cy && x < y);
-        });
+        // The first half in the order below, a strict total one, goes left: partitioning
+        // at the median picks the same patches as sorting the range would, and each half
+        // is partitioned again below, down to single patches, so that order_ comes out
+        // as sorting at every level leaves it, in linear rather than n log n time a level.
         const uint32_t mid = begin + (end - begin) / 2;
+        std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                         [&](uint32_t x, uint32_t y) {
+                             double cx = centroid[x][axis], cy = centroid[y][axis];
+                             return cx < cy || (cx == cy && x < y);
+                         });
         uint32_t children[2];
         const uint32_t ranges[2][2] = {{begin, mid}, {mid, end}};
         for (int s = 0; s < 2; ++s) {
@@ -98,14 +103,10 @@ ClusterTree<Shape>::ClusterTree(const hrbench::Patches<Shape> &patches)
         cluster.center = ball.center;
         cluster.radius = ball.radius;
         cluster.measure = 0;
-        cluster.maxMeasure = 0;
         for (int s = 0; s < 2; ++s) {
             uint32_t child = children[s];
-            double measure = IsCluster(child) ? clusters_[ClusterIndex(child)].measure
-                                              : patches[child].shape.Measure();
-            double max = IsCluster(child) ? clusters_[ClusterIndex(child)].maxMeasure : measure;
-            cluster.measure += measure;
-            cluster.maxMeasure = std::max(cluster.maxMeasure, max);
+            cluster.measure += IsCluster(child) ? clusters_[ClusterIndex(child)].measure
+                                                : patches[child].shape.Measure();
         }
         cluster.children[0] = children[0], cluster.children[1] = children[1];
         cluster.parent = parent;

@@ -28,7 +28,7 @@ double SquaredSizeBound(double size) {
 template <typename Shape>
 Forest<Shape>::Forest(const Patches<Shape> &patches, size_t maxElements, Subdivision mode)
     : numRoots_(patches.size()), maxElements_(maxElements), mode_(mode),
-      arity_(SubdivisionArity(mode)) {
+      arity_(SubdivisionArity(mode)), patches_(&patches) {
     if (numRoots_ >= (size_t(1) << 31))
         throw InputError("scene has too many patches");
     if (maxElements < SIZE_MAX) {
@@ -36,11 +36,9 @@ Forest<Shape>::Forest(const Patches<Shape> &patches, size_t maxElements, Subdivi
         hot_.ReserveUpFront(n), depth_.ReserveUpFront(n);
         splitElement_.ReserveUpFront(n / arity_ + 1);
     }
-    rootShapes_.reserve(numRoots_);
     for (const Patch<Shape> &patch : patches) {
         const Shape &s = patch.shape;
         hot_.push_back({s.Centroid(), s.SquaredMeasure(), kNoChildren, uint32_t(hot_.size())});
-        rootShapes_.push_back(s);
         depth_.push_back(0);
     }
 }
@@ -82,14 +80,15 @@ const Shape &ShapeCursor<Shape>::ShapeOf(const Forest<Shape> &forest, uint32_t e
 template <typename Shape>
 Shape Forest<Shape>::ShapeOf(uint32_t i) const {
     if (i < numRoots_)
-        return rootShapes_[i];
+        return RootShape(i);
     return ShapeCursor<Shape>().ShapeOf(*this, i);
 }
 
 template <typename Shape>
 std::vector<Shape> Forest<Shape>::AllShapes() const {
     std::vector<Shape> shapes(Size());
-    std::copy(rootShapes_.begin(), rootShapes_.end(), shapes.begin());
+    for (uint32_t root = 0; root < numRoots_; ++root)
+        shapes[root] = RootShape(root);
     std::array<Shape, 4> children;
     for (size_t g = 0; g < splitElement_.size(); ++g) {
         shapes[splitElement_[g]].Subdivide(mode_, children);
@@ -108,7 +107,7 @@ uint32_t Forest<Shape>::Subdivide(uint32_t i) {
     // Split element _i_ and check that double precision still resolves its children.
     uint32_t first = uint32_t(hot_.size());
     bool recent = first - i <= kRecent;
-    const Shape &shape = i < numRoots_ ? rootShapes_[i]
+    const Shape &shape = i < numRoots_ ? RootShape(i)
                          : recent      ? recentShapes_[i % kRecent]
                                        : cursor_.ShapeOf(*this, i);
     std::array<Shape, 4> children;

@@ -623,7 +623,7 @@ Refinement<Shape> Refine(const Scene &scene, const RefineOptions &options) {
     ValidateScene(scene);
     const Patches<Shape> &patches = scene.Get<Shape>();
 
-    Refinement<Shape> result{Forest<Shape>({}, SIZE_MAX, options.subdivision),  // set by Dispatch
+    Refinement<Shape> result{Forest<Shape>(options.subdivision),  // set by Dispatch
                              {},
                              {},
                              {"enumerate", {}, 0, {}, {}, 0, {}, 0},

@@ -35,15 +35,34 @@ PairRelation ClassifyPair(const Segment &p, const Segment &q) {
 
 static Kernel::Point_3 ToPoint(const Vec3 &v) { return {v.x(), v.y(), v.z()}; }
 
+// Whether corner _v_ is one of the first three corners of _patch_, coordinate for
+// coordinate: its orientation against their plane is then exactly zero, which the
+// predicate's floating-point filter cannot tell, so that it falls back on exact
+// arithmetic (neighbours of a mesh share corners: most of a mesh's culling time).
+static bool IsPlaneCorner(const Polygon &patch, const Vec3 &v) {
+    return v == patch.v[0] || v == patch.v[1] || v == patch.v[2];
+}
+
 // True when no corner of _other_ lies strictly in front of the plane of _patch_:
 // orientation(v0, v1, v2, c) is POSITIVE exactly when c is on the side of the front
 // normal (v1 - v0) x (v2 - v0).
 static bool WhollyBehindOrIn(const Polygon &patch, const Polygon &other) {
     auto a = ToPoint(patch.v[0]), b = ToPoint(patch.v[1]), c = ToPoint(patch.v[2]);
     for (int k = 0; k < other.n; ++k)
-        if (CGAL::orientation(a, b, c, ToPoint(other.v[k])) == CGAL::POSITIVE)
+        if (!IsPlaneCorner(patch, other.v[k]) &&
+            CGAL::orientation(a, b, c, ToPoint(other.v[k])) == CGAL::POSITIVE)
             return false;
     return true;
+}
+
+// Whether the polygons have a corner in common, coordinate for coordinate: their closed
+// triangles then intersect, which do_intersect finds only in exact arithmetic.
+static bool ShareCorner(const Polygon &p, const Polygon &q) {
+    for (int i = 0; i < p.n; ++i)
+        for (int j = 0; j < q.n; ++j)
+            if (p.v[size_t(i)] == q.v[size_t(j)])
+                return true;
+    return false;
 }
 
 // A polygon as one or two triangles (a quad split along v0 v2).
@@ -58,6 +77,8 @@ static int Triangles(const Polygon &p, Kernel::Triangle_3 out[2]) {
 PairRelation ClassifyPair(const Polygon &p, const Polygon &q) {
     if (WhollyBehindOrIn(p, q) || WhollyBehindOrIn(q, p))
         return PairRelation::Culled;
+    if (ShareCorner(p, q))
+        return PairRelation::Touching;
     Kernel::Triangle_3 tp[2], tq[2];
     int np = Triangles(p, tp), nq = Triangles(q, tq);
     for (int a = 0; a < np; ++a)
