@@ -281,18 +281,22 @@ bool IsClosedOf(const Patches<Polygon> &patches) {
     auto key = [](const Vec3 &a, const Vec3 &b) {
         return Key{a.x(), a.y(), a.z(), b.x(), b.y(), b.z()};
     };
-    // Every directed edge, with its patch.
-    std::map<Key, uint32_t> edges;
+    // Every directed edge with its patch, sorted.
+    std::vector<std::pair<Key, uint32_t>> edges;
     for (uint32_t r = 0; r < patches.size(); ++r) {
         const Polygon &p = patches[r].shape;
         for (int k = 0; k < p.n; ++k)
-            if (!edges.emplace(key(p.v[k], p.v[(k + 1) % p.n]), r).second)
-                return false;  // run the same way twice
+            edges.push_back({key(p.v[k], p.v[(k + 1) % p.n]), r});
     }
+    std::sort(edges.begin(), edges.end());
+    for (size_t e = 1; e < edges.size(); ++e)
+        if (edges[e].first == edges[e - 1].first)
+            return false;  // run the same way twice
     Parts parts(patches.size());
     for (const auto &[edge, r] : edges) {
-        auto back = edges.find(Key{edge[3], edge[4], edge[5], edge[0], edge[1], edge[2]});
-        if (back == edges.end() || back->second == r)
+        Key reverse{edge[3], edge[4], edge[5], edge[0], edge[1], edge[2]};
+        auto back = std::lower_bound(edges.begin(), edges.end(), std::pair<Key, uint32_t>{reverse, 0});
+        if (back == edges.end() || back->first != reverse || back->second == r)
             return false;
         parts.Join(r, back->second);
     }
