@@ -371,19 +371,22 @@ TEST_CASE("Through clusters, energy balances in closed scenes and the radiosity 
         }
     };
     SECTION("2D enclosure") {
-        // Measured: projected 3.44e-5, 0.000116, 0.00058; isotropic 0.00134, 0.00474, 0.0306.
+        // Measured (the reciprocal scale): projected 2.6e-8, 0.000116, 0.00058; isotropic
+        // 2.6e-8, 0.00476, 0.0306 (the imbalance is the tolerance's).
         check(LitEnclosure(256, 0.7), Refining(0.1, 0.005),
-              {{kProjected, 5.2e-5, 0.00018, 0.00087}, {kIsotropic, 0.002, 0.0071, 0.046}});
+              {{kProjected, 5e-8, 0.00018, 0.00087}, {kIsotropic, 5e-8, 0.0071, 0.046}});
     }
     SECTION("closed cube, 6 x 6 quads a face") {
-        // Measured: projected 0.0197, 0.00555, 0.00897; isotropic 0.0843, 0.0177, 0.0667.
+        // Measured (the reciprocal scale): projected 3.7e-9, 0.00506, 0.00831; isotropic
+        // 3.7e-9, 0.0213, 0.0709.
         check(GridBox(6, 0.6), Refining(0.2, 0.04),
-              {{kProjected, 0.03, 0.0083, 0.0135}, {kIsotropic, 0.13, 0.027, 0.1}});
+              {{kProjected, 1e-8, 0.0076, 0.0125}, {kIsotropic, 1e-8, 0.032, 0.1}});
     }
     SECTION("closed sphere, 8 bands of 16 faces") {
-        // Measured: projected 0.0063, 0.00132, 0.00251; isotropic 0.261, 0.0315, 0.0909.
+        // Measured (the reciprocal scale): projected 2.2e-9, 0.00099, 0.00186; isotropic
+        // 2.2e-9, 0.0336, 0.0808.
         check(Sphere(8, 0.6), Refining(0.2, 0.04),
-              {{kProjected, 0.0095, 0.002, 0.0038}, {kIsotropic, 0.39, 0.047, 0.14}});
+              {{kProjected, 1e-8, 0.0015, 0.0028}, {kIsotropic, 1e-8, 0.05, 0.12}});
     }
 }
 
