@@ -294,13 +294,19 @@ class HierarchySolver {
     std::vector<double> clusterIrradiance_;  // by root patch
 };
 
-// The bytes the cluster links of _refinement_ add to the solver's.
+// The bytes the cluster links of _refinement_ add to the solver's; with _reciprocal_
+// (the reciprocal scale may apply), also its arrays: the targets, d, the Sinkhorn
+// iteration's two vectors and what the leaves send, twice (a double each per element).
 template <typename Shape>
-size_t ClusterBytes(const Refinement<Shape> &refinement) {
+size_t ClusterBytes(const Refinement<Shape> &refinement, bool reciprocal) {
     size_t clusters = refinement.clusters.NumClusters();
-    return clusters == 0 ? 0
-                         : ClusterTransfer<Shape>::Bytes(clusters, refinement.forest.NumRoots(),
-                                                         refinement.clusterLinks.size());
+    if (clusters == 0)
+        return 0;
+    return ClusterTransfer<Shape>::Bytes(clusters, refinement.forest.NumRoots(),
+                                         refinement.clusterLinks.size()) +
+           (reciprocal && !refinement.clusterLinks.empty()
+                ? 6 * sizeof(double) * refinement.forest.Size()
+                : 0);
 }
 
 // One solve of _refinement_'s links into _result_, in the units of _unitMaterials_: the
@@ -462,7 +468,8 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
                                 refinement.pairs.capacity() * sizeof(PairTally)
                           : 0;
         size_t budget = EffectiveBudget(passOptions);
-        if (HierarchySolver<Shape>::Bytes(links, elements) + ClusterBytes(refinement) >
+        if (HierarchySolver<Shape>::Bytes(links, elements) +
+                ClusterBytes(refinement, !options.plainGather) >
             budget - std::min(budget, used))
             throw LimitError("solving " + std::to_string(links) + " links and " +
                              std::to_string(elements) +
