@@ -225,8 +225,8 @@ class HierarchySolver {
     // --plain-gather); a leaf's radiosity is E + rho H; an inner
     // element's the area-weighted mean of its children's. Tracks the largest change of
     // a leaf's radiosity and the largest leaf radiosity.
-    void PushPull(size_t r, std::vector<double> &out, std::vector<double> &sentOut,
-                  double &change, double &largest) {
+    void PushPull(size_t r, std::vector<double> &out, std::vector<double> &sentOut, double &change,
+                  double &largest) {
         for (size_t k = treeStart_[r]; k < treeStart_[r + 1]; ++k) {
             uint32_t e = order_[k];
             uint32_t parent = forest_.Parent(e);

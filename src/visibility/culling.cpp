@@ -295,7 +295,8 @@ bool IsClosedOf(const Patches<Polygon> &patches) {
     Parts parts(patches.size());
     for (const auto &[edge, r] : edges) {
         Key reverse{edge[3], edge[4], edge[5], edge[0], edge[1], edge[2]};
-        auto back = std::lower_bound(edges.begin(), edges.end(), std::pair<Key, uint32_t>{reverse, 0});
+        auto back =
+            std::lower_bound(edges.begin(), edges.end(), std::pair<Key, uint32_t>{reverse, 0});
         if (back == edges.end() || back->first != reverse || back->second == r)
             return false;
         parts.Join(r, back->second);
