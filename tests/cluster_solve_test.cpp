@@ -742,6 +742,19 @@ TEST_CASE("Through clusters, the reciprocal scale makes each leaf's row exact an
         CHECK(t.absorbedPower == s.absorbedPower);
         CHECK(t.reciprocalSteps == s.reciprocalSteps);
     }
+    SECTION("the closed occluded box with uniform emission has B = E / (1 - rho) = 2") {
+        // Every row goes to 1, so a uniform B is reproduced exactly, occluders and all.
+        RefineOptions refine = Refining(0.2, 0.02, true);
+        refine.visibility = VisibilityMode::Fraction;
+        Scene scene = BoxWithTetrahedron(6, 0.5, 0.25);
+        for (auto &patch : scene.Get<Polygon>())
+            patch.material = {0.5, 1};
+        SolveResult s = Solve(scene, refine, Solving(1e-12));
+        CHECK(s.gather == "reciprocal");
+        for (const ElementRadiosity &leaf : s.leaves)
+            CHECK(leaf.radiosity == Approx(2).epsilon(1e-9));
+        CHECK(Imbalance(s) < 1e-9);
+    }
     SECTION("an open box, occluded, its rows unknown, stays plain") {
         RefineOptions refine = Refining(0.2, 0.02, true);
         refine.visibility = VisibilityMode::Fraction;
