@@ -168,6 +168,20 @@ extern template std::vector<double> ConsistencyScales(const Patches<Polygon> &,
                                                       const RefineOptions &,
                                                       const std::vector<double> *);
 
+// Each leaf's exact form factor to every other root patch, sum over r of
+// FormFactor(x, r), by element id (0 for inner elements, and for the leaves that
+// _wanted_, by id, leaves out), on _threads_ threads.
+template <typename Shape>
+std::vector<double> LeafFormFactorSums(const Patches<Shape> &patches, const Forest<Shape> &forest,
+                                       int threads, const std::vector<char> *wanted = nullptr);
+
+extern template std::vector<double> LeafFormFactorSums(const Patches<Segment> &,
+                                                       const Forest<Segment> &, int,
+                                                       const std::vector<char> *);
+extern template std::vector<double> LeafFormFactorSums(const Patches<Polygon> &,
+                                                       const Forest<Polygon> &, int,
+                                                       const std::vector<char> *);
+
 // One element of a solution: a leaf of the hierarchy, or an element of a uniform mesh.
 struct ElementRadiosity {
     uint32_t element;   // id in its forest
@@ -255,6 +269,13 @@ struct SolveResult {
     std::optional<ReferenceComparison> comparison;
     LinkFormFactors linkFormFactors;         // of the last pass's links
     std::optional<ClusterFigures> clusters;  // when the refinement has a cluster tree
+    // The gather of the last pass: "plain" (HSA91's), "consistent" (the leaves scaled to
+    // their exact form factor sums) or "reciprocal" (with cluster links: the leaves'
+    // rows scaled to them both ways, docs/solve.md, Clusters), with the reciprocal
+    // scale's steps and the largest relative error of a leaf's row it left.
+    std::string gather;
+    int reciprocalSteps = 0;
+    double reciprocalError = 0;
     // EnergyBalanceWarning's line: occlusion ignored where the scene has some, or more
     // energy absorbed than the discretisation explains; "" otherwise.
     std::string energyWarning;

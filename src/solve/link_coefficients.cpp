@@ -122,21 +122,41 @@ ConsistencyScales(const Patches<Shape> &patches, const Forest<Shape> &forest,
     for (uint32_t e = 0; e < n; ++e)
         if (forest.Parent(e) != e)
             chain[e] += chain[forest.Parent(e)];
+    std::vector<char> wanted(n);
+    for (uint32_t e = 0; e < n; ++e)
+        wanted[e] = chain[e] > 0;
+    std::vector<double> exact = LeafFormFactorSums(patches, forest, options.threads, &wanted);
+    for (uint32_t e = 0; e < n; ++e)
+        if (forest[e].firstChild == kNoChildren && chain[e] > 0)
+            scale[e] = exact[e] / chain[e];
+    return scale;
+}
+
+template <typename Shape>
+std::vector<double> LeafFormFactorSums(const Patches<Shape> &patches, const Forest<Shape> &forest,
+                                       int threads, const std::vector<char> *wanted) {
+    size_t n = forest.Size();
+    std::vector<double> sums(n, 0.0);
     ParallelFor(
-        n, 64, options.threads, [] { return 0; },
+        n, 64, threads, [] { return 0; },
         [&](int, size_t k) {
             uint32_t e = uint32_t(k);
-            if (forest[e].firstChild != kNoChildren || !(chain[e] > 0))
+            if (forest[e].firstChild != kNoChildren || (wanted && !(*wanted)[e]))
                 return;
             Shape shape = forest.ShapeOf(e);  // made down from the root: once, not per patch
             double exact = 0;
             for (size_t r = 0; r < patches.size(); ++r)
                 if (r != forest[e].root)
                     exact += FormFactor(shape, patches[r].shape);
-            scale[e] = exact / chain[e];
+            sums[e] = exact;
         });
-    return scale;
+    return sums;
 }
+
+template std::vector<double> LeafFormFactorSums(const Patches<Segment> &, const Forest<Segment> &,
+                                                int, const std::vector<char> *);
+template std::vector<double> LeafFormFactorSums(const Patches<Polygon> &, const Forest<Polygon> &,
+                                                int, const std::vector<char> *);
 
 template std::vector<double> ConsistencyScales(const Patches<Segment> &, const Forest<Segment> &,
                                                const LinkBuffer &,

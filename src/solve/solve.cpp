@@ -88,28 +88,70 @@ class HierarchySolver {
     // Every element's radiosity by id, inner elements the pulled means of their leaves.
     const std::vector<double> &Radiosity() const { return radiosity_; }
 
+    // The reciprocal scale (docs/solve.md, Clusters): the scale d of every leaf, by id (1
+    // for inner elements), such that the leaves' coefficients, each taken as d_i K_ij d_j,
+    // sum to _target_ (by id) in every leaf's row, found by the symmetric Sinkhorn
+    // iteration d_i <- sqrt(d_i t_i / (K d)_i), each step one gather of d over every link.
+    // Stops when every row is within kReciprocalTolerance of its target, or after
+    // kReciprocalSteps steps; _steps_ and _error_ say where it stopped. A leaf whose row
+    // or target is 0 keeps d = 1. The solve then scales each leaf's gathered irradiance
+    // and its radiosity as gathered from by d: A_i d_i K_ij d_j is symmetric, so the
+    // power that goes over every link is the same both ways.
+    void ReciprocalScale(const std::vector<double> &target, int &steps, double &error) {
+        std::vector<double> d(n_, 1.0), x, y(n_);
+        gathered_.assign(n_, 0);
+        for (steps = 0;; ++steps) {
+            x = d;
+            Multiply(x, y);
+            error = 0;
+            for (uint32_t e = 0; e < n_; ++e)
+                if (forest_[e].firstChild == kNoChildren && target[e] > 0 && y[e] > 0)
+                    error = std::max(error, std::abs(d[e] * y[e] / target[e] - 1));
+            if (error < kReciprocalTolerance || steps >= kReciprocalSteps)
+                break;
+            for (uint32_t e = 0; e < n_; ++e)
+                if (forest_[e].firstChild == kNoChildren && target[e] > 0 && y[e] > 0)
+                    d[e] = std::sqrt(d[e] * target[e] / y[e]);
+        }
+        scale_ = d;
+        emit_ = std::move(d);
+    }
+
+    static constexpr double kReciprocalTolerance = 1e-10;
+    static constexpr int kReciprocalSteps = 1000;
+
     // Iterates until the residual is below the tolerance; LimitError after
     // options.maxIterations sweeps, or if the radiosity overflows.
     void Run(const SolveOptions &options, SolveResult &result) {
         radiosity_ = emission_;  // the pulled means of E are E: it is uniform per root
-        std::vector<double> next(n_);
+        std::vector<double> next(n_), sentNext;
+        if (!emit_.empty()) {  // what the elements send: d B at the leaves, pulled
+            sent_.resize(n_), sentNext.resize(n_);
+            for (uint32_t e = 0; e < n_; ++e)
+                sent_[e] = emit_[e] * emission_[e];
+            for (size_t r = 0; r < forest_.NumRoots(); ++r)
+                Pull(r, sent_);
+        }
         gathered_.assign(n_, 0), irradiance_.assign(n_, 0);
         bool jacobi = options.method == SolveMethod::Jacobi;
         for (int k = 1;; ++k) {
             double change = 0, largest = 0;
             std::vector<double> &out = jacobi ? next : radiosity_;
+            std::vector<double> &sentOut = jacobi ? sentNext : sent_;
+            const std::vector<double> &source = emit_.empty() ? radiosity_ : sent_;
             // The cluster links first, from the radiosity of the sweep before, either method.
             if (clusters_)
-                clusters_->Gather(radiosity_, clusterIrradiance_);
+                clusters_->Gather(source, clusterIrradiance_);
             for (size_t r = 0; r < forest_.NumRoots(); ++r) {
-                Gather(r);
+                Gather(r, source);
                 if (!jacobi)
-                    PushPull(r, out, change, largest);
+                    PushPull(r, out, sentOut, change, largest);
             }
             if (jacobi) {
                 for (size_t r = 0; r < forest_.NumRoots(); ++r)
-                    PushPull(r, out, change, largest);
+                    PushPull(r, out, sentOut, change, largest);
                 radiosity_.swap(next);
+                sent_.swap(sentNext);
             }
             result.iterations = k;
             result.residual = largest > 0 ? change / largest : 0;
@@ -132,14 +174,50 @@ class HierarchySolver {
         double coefficient;
     };
 
-    // Gathering for root patch _r_: each element sums F B over its half-links.
-    void Gather(size_t r) {
+    // Gathering for root patch _r_: each element sums F B over its half-links, B read
+    // from _source_ by id.
+    void Gather(size_t r, const std::vector<double> &source) {
         for (size_t k = treeStart_[r]; k < treeStart_[r + 1]; ++k)
             gathered_[order_[k]] = 0;
         for (size_t h = start_[r]; h < start_[r + 1]; ++h)
-            gathered_[half_[h].to] += half_[h].coefficient * radiosity_[half_[h].from];
+            gathered_[half_[h].to] += half_[h].coefficient * source[half_[h].from];
         if (clusters_)  // the root's element id is its patch index
             gathered_[r] += clusterIrradiance_[r];
+    }
+
+    // Every inner element of root patch _r_'s tree takes the area-weighted mean of its
+    // children's _values_.
+    void Pull(size_t r, std::vector<double> &values) const {
+        for (size_t k = treeStart_[r + 1]; k-- > treeStart_[r];) {
+            uint32_t e = order_[k];
+            uint32_t first = forest_[e].firstChild;
+            if (first == kNoChildren)
+                continue;
+            double power = 0, area = 0;
+            for (int c = 0; c < forest_.Arity(); ++c) {
+                power += area_[first + c] * values[first + c];
+                area += area_[first + c];
+            }
+            values[e] = power / area;
+        }
+    }
+
+    // y = K x over the leaves, both by id: the leaves of _x_ are pulled up their trees
+    // (its inner elements overwritten), gathered over every link and cluster link, and
+    // pushed down, without scale.
+    void Multiply(std::vector<double> &x, std::vector<double> &y) {
+        for (size_t r = 0; r < forest_.NumRoots(); ++r)
+            Pull(r, x);
+        if (clusters_)
+            clusters_->Gather(x, clusterIrradiance_);
+        for (size_t r = 0; r < forest_.NumRoots(); ++r) {
+            Gather(r, x);
+            for (size_t k = treeStart_[r]; k < treeStart_[r + 1]; ++k) {
+                uint32_t e = order_[k];
+                uint32_t parent = forest_.Parent(e);
+                y[e] = gathered_[e] + (parent == e ? 0 : y[parent]);
+            }
+        }
     }
 
     // Push-pull for root patch _r_ into _out_: each element's irradiance is the sum of
@@ -147,7 +225,8 @@ class HierarchySolver {
     // --plain-gather); a leaf's radiosity is E + rho H; an inner
     // element's the area-weighted mean of its children's. Tracks the largest change of
     // a leaf's radiosity and the largest leaf radiosity.
-    void PushPull(size_t r, std::vector<double> &out, double &change, double &largest) {
+    void PushPull(size_t r, std::vector<double> &out, std::vector<double> &sentOut, double &change,
+                  double &largest) {
         for (size_t k = treeStart_[r]; k < treeStart_[r + 1]; ++k) {
             uint32_t e = order_[k];
             uint32_t parent = forest_.Parent(e);
@@ -162,13 +241,20 @@ class HierarchySolver {
                 b = emission_[e] + rho_[e] * irradiance_[e];
                 change = std::max(change, std::abs(b - radiosity_[e]));
                 largest = std::max(largest, std::abs(b));
+                if (!emit_.empty())
+                    sentOut[e] = emit_[e] * b;
             } else {
-                double power = 0, area = 0;
+                double power = 0, sent = 0, area = 0;
                 for (int c = 0; c < forest_.Arity(); ++c) {
                     power += area_[first + c] * out[first + c];
                     area += area_[first + c];
                 }
                 b = power / area;
+                if (!emit_.empty()) {
+                    for (int c = 0; c < forest_.Arity(); ++c)
+                        sent += area_[first + c] * sentOut[first + c];
+                    sentOut[e] = sent / area;
+                }
             }
             out[e] = b;
         }
@@ -196,6 +282,8 @@ class HierarchySolver {
     const Forest<Shape> &forest_;
     size_t n_;
     std::vector<double> scale_;
+    std::vector<double> emit_;  // with the reciprocal scale: each leaf's d, by id
+    std::vector<double> sent_;  // with it: d B at the leaves, pulled to inner elements
     std::vector<uint32_t> order_;
     std::vector<size_t> treeStart_;
     std::vector<double> area_, rho_, emission_;
@@ -206,13 +294,19 @@ class HierarchySolver {
     std::vector<double> clusterIrradiance_;  // by root patch
 };
 
-// The bytes the cluster links of _refinement_ add to the solver's.
+// The bytes the cluster links of _refinement_ add to the solver's; with _reciprocal_
+// (the reciprocal scale may apply), also its arrays: the targets, d, the Sinkhorn
+// iteration's two vectors and what the leaves send, twice (a double each per element).
 template <typename Shape>
-size_t ClusterBytes(const Refinement<Shape> &refinement) {
+size_t ClusterBytes(const Refinement<Shape> &refinement, bool reciprocal) {
     size_t clusters = refinement.clusters.NumClusters();
-    return clusters == 0 ? 0
-                         : ClusterTransfer<Shape>::Bytes(clusters, refinement.forest.NumRoots(),
-                                                         refinement.clusterLinks.size());
+    if (clusters == 0)
+        return 0;
+    return ClusterTransfer<Shape>::Bytes(clusters, refinement.forest.NumRoots(),
+                                         refinement.clusterLinks.size()) +
+           (reciprocal && !refinement.clusterLinks.empty()
+                ? 6 * sizeof(double) * refinement.forest.Size()
+                : 0);
 }
 
 // One solve of _refinement_'s links into _result_, in the units of _unitMaterials_: the
@@ -221,7 +315,7 @@ size_t ClusterBytes(const Refinement<Shape> &refinement) {
 template <typename Shape>
 void SolveLinks(const Patches<Shape> &patches, const Refinement<Shape> &refinement,
                 const RefineOptions &refine, const SolveOptions &options,
-                const std::vector<Material> &unitMaterials, SolveResult &result,
+                const std::vector<Material> &unitMaterials, bool closed, SolveResult &result,
                 std::vector<double> *radiosity) {
     Stopwatch coefficientWatch;
     // One set of occluders weighs the element links and the cluster links alike.
@@ -242,11 +336,25 @@ void SolveLinks(const Patches<Shape> &patches, const Refinement<Shape> &refineme
             ClusterFigures{refinement.clusters.NumClusters(), refinement.clusterLinks.size(), 0,
                            clusters->Rays(), clusters->OccludedLinks()};
     }
+    // With cluster links, the reciprocal scale where each leaf's exact row is known: its
+    // exact form factor sum without occlusion, 1 in a closed scene. Else HSA91's
+    // consistency scale (1 under occlusion), or none with --plain-gather.
+    bool reciprocal = !options.plainGather && clusters && clusters->NumLinks() > 0 &&
+                      (refine.visibility == VisibilityMode::None || closed);
+    std::vector<double> target;
+    if (reciprocal)
+        target = refine.visibility == VisibilityMode::None
+                     ? LeafFormFactorSums(patches, refinement.forest, refine.threads)
+                     : std::vector<double>(refinement.forest.Size(), 1.0);
     std::vector<double> scale =
-        options.plainGather
+        options.plainGather || reciprocal
             ? std::vector<double>(refinement.forest.Size(), 1.0)
             : ConsistencyScales(patches, refinement.forest, refinement.links, coefficients, refine,
                                 clusters ? &clusterCoefficients : nullptr);
+    result.gather = reciprocal ? "reciprocal"
+                    : options.plainGather || refine.visibility != VisibilityMode::None
+                        ? "plain"
+                        : "consistent";
     AddTime(result.coefficients, Elapsed(coefficientWatch));
 
     // Each pass solves from B = E: only the last pass's solution is reported.
@@ -257,6 +365,8 @@ void SolveLinks(const Patches<Shape> &patches, const Refinement<Shape> &refineme
         HierarchySolver<Shape> solver(refinement.forest, refinement.links, coefficients,
                                       std::move(scale), unitMaterials,
                                       clusters ? &*clusters : nullptr);
+        if (reciprocal)
+            solver.ReciprocalScale(target, result.reciprocalSteps, result.reciprocalError);
         solver.Run(options, result);
         if (radiosity)
             *radiosity = solver.Radiosity();
@@ -323,6 +433,9 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
         emission.push_back(m.emission);
     std::optional<RadiosityEstimate<Shape>> estimate(std::in_place, std::move(emission));
     bool bf = refine.oracle == "bf";
+    // Whether the reciprocal scale may take every leaf's row to 1 under occlusion.
+    const bool closed = refine.clusters && !options.plainGather &&
+                        refine.visibility != VisibilityMode::None && IsClosed(scene);
     int passes = bf ? options.passes.value_or(kDefaultPasses) : 1;
     double kernelSeconds = 0, kernelCpuSeconds = 0;
 
@@ -355,7 +468,8 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
                                 refinement.pairs.capacity() * sizeof(PairTally)
                           : 0;
         size_t budget = EffectiveBudget(passOptions);
-        if (HierarchySolver<Shape>::Bytes(links, elements) + ClusterBytes(refinement) >
+        if (HierarchySolver<Shape>::Bytes(links, elements) +
+                ClusterBytes(refinement, !options.plainGather) >
             budget - std::min(budget, used))
             throw LimitError("solving " + std::to_string(links) + " links and " +
                              std::to_string(elements) +
@@ -363,7 +477,7 @@ void SolveShape(const Scene &scene, const RefineOptions &refine, const SolveOpti
                              "eps");
 
         std::vector<double> radiosity;
-        SolveLinks(patches, refinement, refine, options, unitMaterials, result,
+        SolveLinks(patches, refinement, refine, options, unitMaterials, closed, result,
                    last ? nullptr : &radiosity);
         for (double &b : radiosity)
             b *= unit;
@@ -493,8 +607,10 @@ SolveResult SolveRefinement(const Scene &scene, const Refinement<Shape> &refinem
     result.passLinks = {refinement.record.counters.links};
     result.passNodes = {refinement.record.counters.nodes};
     const double unit = EmissionUnit(result.materials);
+    bool closed = refinement.clusterLinks.size() > 0 && !options.plainGather &&
+                  refine.visibility != VisibilityMode::None && IsClosed(scene);
     SolveLinks(scene.Get<Shape>(), refinement, refine, options,
-               InEmissionUnits(result.materials, unit), result, nullptr);
+               InEmissionUnits(result.materials, unit), closed, result, nullptr);
     ToEmissionScale(result.leaves, result.emittedPower, result.absorbedPower, unit);
     result.energyWarning = EnergyBalanceWarning(scene, refine, result);
     return result;

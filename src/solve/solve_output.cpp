@@ -25,9 +25,16 @@ json SolveToJson(const Scene &scene, const RefineOptions &refine, const SolveOpt
     auto optional = [](const std::optional<double> &v) { return v ? json(*v) : json(nullptr); };
     out["solver"] = SolveMethodName(options.method);
     // "consistent": leaves scaled to their exact form factor sums; "plain": HSA91's gather
-    // as published, asked for or forced by visibility (ConsistencyScales).
-    out["gather"] =
-        options.plainGather || refine.visibility != VisibilityMode::None ? "plain" : "consistent";
+    // as published, asked for or forced by visibility (ConsistencyScales); "reciprocal":
+    // with cluster links, the rows scaled both ways (SolveResult::gather).
+    out["gather"] = !result.gather.empty() ? result.gather
+                    : options.plainGather || refine.visibility != VisibilityMode::None
+                        ? "plain"
+                        : "consistent";
+    if (result.gather == "reciprocal") {
+        out["reciprocal_steps"] = result.reciprocalSteps;
+        out["reciprocal_error"] = result.reciprocalError;
+    }
     out["tolerance"] = options.tolerance;
     out["max_iterations"] = options.maxIterations;
     out["emission"] = optional(options.emission);

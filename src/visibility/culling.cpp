@@ -212,6 +212,134 @@ bool CanOcclude(const Scene &scene) {
         scene.patches);
 }
 
+namespace {
+
+// Union-find over _n_ items.
+struct Parts {
+    std::vector<uint32_t> parent;
+    explicit Parts(size_t n) : parent(n) {
+        for (uint32_t r = 0; r < n; ++r)
+            parent[r] = r;
+    }
+    uint32_t Find(uint32_t r) {
+        while (parent[r] != r)
+            r = parent[r] = parent[parent[r]];
+        return r;
+    }
+    void Join(uint32_t a, uint32_t b) { parent[Find(a)] = Find(b); }
+};
+
+template <int D>
+struct PartFigures {
+    double front = 0;  // the measure of the part's front side (signed)
+    std::array<double, D> low, high;
+    PartFigures() { low.fill(std::numeric_limits<double>::infinity()), high.fill(-low[0]); }
+    template <typename V>
+    void Add(const V &p) {
+        for (int k = 0; k < D; ++k)
+            low[k] = std::min(low[k], p[k]), high[k] = std::max(high[k], p[k]);
+    }
+    bool Inside(const PartFigures &other) const {
+        for (int k = 0; k < D; ++k)
+            if (low[k] < other.low[k] || high[k] > other.high[k])
+                return false;
+        return true;
+    }
+};
+
+// Condition (2) and (3) of IsClosed over the parts' figures.
+template <int D>
+bool PartsEnclosed(const std::map<uint32_t, PartFigures<D>> &parts) {
+    bool any = false;
+    for (const auto &[root, part] : parts)
+        any |= part.front > 0;
+    if (!any)
+        return false;
+    for (const auto &[root, part] : parts) {
+        if (part.front > 0)
+            continue;
+        bool inside = false;
+        for (const auto &[other, enclosing] : parts)
+            inside |= enclosing.front > 0 && part.Inside(enclosing);
+        if (!inside)
+            return false;
+    }
+    return true;
+}
+
+bool IsClosedOf(const Patches<Segment> &patches) {
+    if (patches.empty())
+        return false;
+    // Each point: how many segments start there, how many end there, and one that starts.
+    std::map<std::array<double, 2>, std::array<uint32_t, 3>> at;
+    for (uint32_t r = 0; r < patches.size(); ++r) {
+        const Segment &s = patches[r].shape;
+        at[{s.a.x(), s.a.y()}][0]++, at[{s.a.x(), s.a.y()}][2] = r;
+        at[{s.b.x(), s.b.y()}][1]++;
+    }
+    for (const auto &[point, counts] : at)
+        if (counts[0] != 1 || counts[1] != 1)
+            return false;
+    Parts parts(patches.size());
+    for (uint32_t r = 0; r < patches.size(); ++r) {
+        const Segment &s = patches[r].shape;
+        parts.Join(r, at[{s.b.x(), s.b.y()}][2]);
+    }
+    std::map<uint32_t, PartFigures<2>> figures;
+    for (uint32_t r = 0; r < patches.size(); ++r) {
+        const Segment &s = patches[r].shape;
+        PartFigures<2> &f = figures[parts.Find(r)];
+        f.front += (s.a.x() * s.b.y() - s.a.y() * s.b.x()) / 2;  // front on the left
+        f.Add(s.a), f.Add(s.b);
+    }
+    return PartsEnclosed(figures);
+}
+
+bool IsClosedOf(const Patches<Polygon> &patches) {
+    if (patches.empty())
+        return false;
+    using Key = std::array<double, 6>;
+    auto key = [](const Vec3 &a, const Vec3 &b) {
+        return Key{a.x(), a.y(), a.z(), b.x(), b.y(), b.z()};
+    };
+    // Every directed edge with its patch, sorted.
+    std::vector<std::pair<Key, uint32_t>> edges;
+    for (uint32_t r = 0; r < patches.size(); ++r) {
+        const Polygon &p = patches[r].shape;
+        for (int k = 0; k < p.n; ++k)
+            edges.push_back({key(p.v[k], p.v[(k + 1) % p.n]), r});
+    }
+    std::sort(edges.begin(), edges.end());
+    for (size_t e = 1; e < edges.size(); ++e)
+        if (edges[e].first == edges[e - 1].first)
+            return false;  // run the same way twice
+    Parts parts(patches.size());
+    for (const auto &[edge, r] : edges) {
+        Key reverse{edge[3], edge[4], edge[5], edge[0], edge[1], edge[2]};
+        auto back =
+            std::lower_bound(edges.begin(), edges.end(), std::pair<Key, uint32_t>{reverse, 0});
+        if (back == edges.end() || back->first != reverse || back->second == r)
+            return false;
+        parts.Join(r, back->second);
+    }
+    std::map<uint32_t, PartFigures<3>> figures;
+    for (uint32_t r = 0; r < patches.size(); ++r) {
+        const Polygon &p = patches[r].shape;
+        PartFigures<3> &f = figures[parts.Find(r)];
+        for (int k = 1; k + 1 < p.n; ++k)  // front toward the normal: minus the volume
+            f.front -= p.v[0].dot(p.v[k].cross(p.v[k + 1])) / 6;
+        for (int k = 0; k < p.n; ++k)
+            f.Add(p.v[k]);
+    }
+    return PartsEnclosed(figures);
+}
+
+}  // namespace
+
+bool IsClosed(const Scene &scene) {
+    return std::visit([](const auto &patches) { return IsClosedOf(patches); }, scene.patches);
+}
+
 // The connected parts of a mesh: faces that share a corner (the same coordinates) are
 // in one part. Returns each face's part, numbered from 0 in the order of first faces.
 std::vector<uint32_t> ConnectedParts(const Patches<Polygon> &patches) {

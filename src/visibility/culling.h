@@ -32,6 +32,19 @@ PairRelation ClassifyPair(const Polygon &p, const Polygon &q);
 // orientation test per patch and corner of another at most.
 bool CanOcclude(const Scene &scene);
 
+// Whether the scene is closed: every ray leaving the front of a patch meets the front of
+// another (docs/solve.md, "Clusters"), so that each patch's form factors to the others sum
+// to 1. True when (1) every edge of a patch, corners compared exactly, is run the other way
+// by exactly one edge of another patch and by none the same way (2D: every end of a
+// segment is the start of exactly one other), so that the patches bound regions; (2) of
+// the parts that the shared edges join, each either faces inward (the measure of its
+// front side, -1/6 sum (v0 . (v1 x v2)) over its triangles in 3D, the shoelace area in
+// 2D, is positive: its front is the region it bounds) or has its bounding box inside the
+// bounding box of a part that faces inward; and (3) some part faces inward. (2) takes a
+// part of outward fronts inside an inward part's box to be inside that part, which holds
+// for a box, a room or a sphere around objects, not for every concave enclosure.
+bool IsClosed(const Scene &scene);
+
 // A hint (one line, "" for none) when faces holding more than half of the area of a mesh
 // scene (Scene::family "mesh") each have every other face behind or in their plane, a
 // corner strictly behind: every root pair of such a face is culled, and it exchanges no
