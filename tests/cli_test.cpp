@@ -582,7 +582,8 @@ TEST_CASE("capabilities --json lists the options that exclude each other, and ru
             pairs.insert({o["name"].get<std::string>(), x.get<std::string>()});
     }
     // What the analysis's planner reads to keep these options out of a shared --sweep run.
-    CHECK(pairs == std::set<std::pair<std::string, std::string>>{{"clusters", "sweep"},
+    CHECK(pairs == std::set<std::pair<std::string, std::string>>{{"all", "json"},
+                                                                 {"clusters", "sweep"},
                                                                  {"link_form_factors", "sweep"},
                                                                  {"sweep", "method"},
                                                                  {"sweep", "threads"}});
@@ -590,10 +591,14 @@ TEST_CASE("capabilities --json lists the options that exclude each other, and ru
                                                 {"link_form_factors", "--link-form-factors"},
                                                 {"sweep", "--sweep eps=0.5,0.2"},
                                                 {"method", "--method enumerate"},
-                                                {"threads", "--threads 1"}};
+                                                {"threads", "--threads 1"},
+                                                {"all", "--all"},
+                                                {"json", "--json"}};
     for (const auto &[a, b] : pairs)
         for (const std::string &order : {words[a] + " " + words[b], words[b] + " " + words[a]}) {
-            CliResult r = Cli("run parallel l=1 d=1 --count-only " + order);
+            CliResult r = Cli((a == "all" ? "check-links parallel l=1 d=1 --eps 0.5 --links x.dump "
+                                          : "run parallel l=1 d=1 --count-only ") +
+                              order);
             INFO(order);
             CHECK(r.exitCode == 2);
             CHECK_THAT(r.err, Catch::Contains("which") && Catch::Contains("drop one of them"));
@@ -739,9 +744,10 @@ TEST_CASE("Bad input gives one line on stderr and exit code 2", "[cli][errors]")
     CheckError("capabilities parallel --json", 2, "takes no scene");
     CheckError("run parallel --eps 1 --oracle magic", 2,
                "unknown oracle 'magic' (choose one of: garmann, hanrahan, bf)");
-    // --ff-estimate: only for the oracles that read it, only its names.
+    // --ff-estimate: only for the oracles that read it, only its names (check-links judges
+    // it against the dump's oracle unless --oracle is given: check_links_test.cpp).
     for (const char *command : {"run parallel --eps 0.1", "links parallel --eps 0.1 --out x.csv",
-                                "check-links parallel --eps 0.1 --links x.dump",
+                                "check-links parallel --eps 0.1 --oracle garmann --links x.dump",
                                 "solve room lamp=1 --eps 0.1 --min-area 0.01"})
         CheckError(std::string(command) + " --ff-estimate solid-angle", 2,
                    "--ff-estimate applies to the oracles hanrahan and bf only, not to garmann");
