@@ -247,14 +247,13 @@ class HierarchySolver {
                 double power = 0, sent = 0, area = 0;
                 for (int c = 0; c < forest_.Arity(); ++c) {
                     power += area_[first + c] * out[first + c];
+                    if (!emit_.empty())
+                        sent += area_[first + c] * sentOut[first + c];
                     area += area_[first + c];
                 }
                 b = power / area;
-                if (!emit_.empty()) {
-                    for (int c = 0; c < forest_.Arity(); ++c)
-                        sent += area_[first + c] * sentOut[first + c];
+                if (!emit_.empty())
                     sentOut[e] = sent / area;
-                }
             }
             out[e] = b;
         }
